@@ -1,0 +1,112 @@
+//! L-systems as interval-subdivision descriptors ([N] §2.1, [G] §2.1).
+//!
+//! Symbols are small integers (`Sym`) indexing [`LSystem::symbols`]; a word is a `Vec<Sym>`.
+//! π rewrites every symbol of a word simultaneously ([N] eq. (1)).
+
+use std::fmt::Write as _;
+
+/// A symbol, as an index into the alphabet.
+pub type Sym = u8;
+/// A word over the alphabet.
+pub type Word = Vec<Sym>;
+
+/// A context-free L-system with the degree of the B-splines it drives.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LSystem {
+    /// Scheme name (a Rust-identifier-friendly slug such as `binary-ternary`).
+    pub name: String,
+    /// Spline degree d ≥ 1.
+    pub degree: usize,
+    /// The alphabet Σ, in declaration order.
+    pub symbols: Vec<String>,
+    /// π(A) for every symbol A, never empty.
+    pub rules: Vec<Word>,
+    /// The axiom ω: the label of every initial interval (repeated).
+    pub axiom: Word,
+    /// A declared involution σ over Σ ([G] §4.1), as σ[A].
+    pub symmetry: Option<Vec<Sym>>,
+    /// Declared lengths (expressions in ρ), one per symbol, when the eigenvector is not unique.
+    pub lengths: Option<Vec<String>>,
+}
+
+impl LSystem {
+    /// Number of symbols n.
+    pub fn n(&self) -> usize {
+        self.symbols.len()
+    }
+
+    /// π(w): every symbol rewritten.
+    pub fn rewrite(&self, w: &[Sym]) -> Word {
+        w.iter()
+            .flat_map(|&s| self.rules[s as usize].iter().copied())
+            .collect()
+    }
+
+    /// The matrix M of [N] eq. (4): m_ij = number of A_j in π(A_i).
+    pub fn matrix(&self) -> Vec<Vec<i64>> {
+        let n = self.n();
+        let mut m = vec![vec![0i64; n]; n];
+        for (i, rule) in self.rules.iter().enumerate() {
+            for &s in rule {
+                m[i][s as usize] += 1;
+            }
+        }
+        m
+    }
+
+    /// True when every symbol name is a single character, so words print without separators.
+    fn compact(&self) -> bool {
+        self.symbols.iter().all(|s| s.chars().count() == 1)
+    }
+
+    /// Formats a word: `LCR`, or `A1 A2` when some symbol name is longer than one character.
+    pub fn word_str(&self, w: &[Sym]) -> String {
+        let sep = if self.compact() { "" } else { " " };
+        let mut out = String::new();
+        for (i, &s) in w.iter().enumerate() {
+            if i > 0 {
+                out += sep;
+            }
+            let _ = write!(out, "{}", self.symbols[s as usize]);
+        }
+        out
+    }
+
+    /// Mirror σ̄ of a word ([G] eq. (12)): read backwards, each symbol replaced by its twin.
+    pub fn mirror(&self, sigma: &[Sym], w: &[Sym]) -> Word {
+        w.iter().rev().map(|&s| sigma[s as usize]).collect()
+    }
+
+    /// Parses a word written as in scheme files: symbols separated by white space, or, when
+    /// there is no white space, one symbol per character (or the whole text naming one symbol).
+    pub fn parse_word(&self, text: &str) -> Result<Word, String> {
+        parse_word(&self.symbols, text)
+    }
+}
+
+/// Word parser shared by scheme files and the CLI (see [`LSystem::parse_word`]).
+pub fn parse_word(symbols: &[String], text: &str) -> Result<Word, String> {
+    let lookup = |name: &str| -> Result<Sym, String> {
+        symbols
+            .iter()
+            .position(|s| s == name)
+            .map(|i| i as Sym)
+            .ok_or_else(|| {
+                format!(
+                    "unknown symbol `{name}` (the alphabet is {})",
+                    symbols.join(", ")
+                )
+            })
+    };
+    let text = text.trim();
+    if text.is_empty() {
+        return Err("empty word: every word needs at least one symbol".into());
+    }
+    if text.contains(char::is_whitespace) {
+        return text.split_whitespace().map(lookup).collect();
+    }
+    if let Ok(s) = lookup(text) {
+        return Ok(vec![s]);
+    }
+    text.chars().map(|c| lookup(&c.to_string())).collect()
+}

@@ -1,0 +1,170 @@
+//! The exact pipeline: L-system → Q(ρ) → lengths → masks → graph, with the certificates that
+//! make compilation fail when an identity that must hold exactly does not.
+
+use crate::error::Error;
+use crate::field::Elem;
+use crate::graph::{reach, Reach};
+use crate::lsystem::{LSystem, Sym, Word};
+use crate::masks::{mask, Mask};
+use crate::validity::{analyse, Analysis};
+
+/// A compiled scheme: every reachable mask, exact.
+#[derive(Clone, Debug)]
+pub struct Scheme {
+    /// The L-system.
+    pub ls: LSystem,
+    /// File it came from (for messages).
+    pub file: String,
+    /// [N] §3 analysis.
+    pub analysis: Analysis,
+    /// Interval lengths a (smallest 1).
+    pub lengths: Vec<Elem>,
+    /// Reachable (d+1)-words and their transitions.
+    pub graph: Reach,
+    /// One mask per word of `graph.words`, same order.
+    pub masks: Vec<Mask>,
+}
+
+impl Scheme {
+    /// Analyses, derives every reachable mask and checks the certificates.
+    pub fn build(ls: LSystem, file: &str) -> Result<Scheme, Error> {
+        let analysis = analyse(&ls, file)?;
+        let lengths = analysis.require_lengths(&ls, file)?.to_vec();
+        if let Some(sigma) = &ls.symmetry {
+            check_symmetry(&ls, sigma, file)?;
+        }
+        let graph = reach(&ls, ls.degree + 1);
+        let masks = graph
+            .words
+            .iter()
+            .map(|w| mask(&ls, &lengths, &w.word))
+            .collect();
+        let scheme = Scheme {
+            ls,
+            file: file.to_string(),
+            analysis,
+            lengths,
+            graph,
+            masks,
+        };
+        scheme.certify_partition_of_unity()?;
+        scheme.certify_mirror()?;
+        Ok(scheme)
+    }
+
+    /// The mask of any (d+1)-word, from the table or computed now (words the axiom never makes).
+    pub fn mask_of(&self, w: &[Sym]) -> Mask {
+        match self.graph.index.get(w) {
+            Some(&i) => self.masks[i].clone(),
+            None => mask(&self.ls, &self.lengths, w),
+        }
+    }
+
+    /// Every new point's incoming weights sum to exactly 1, for every reachable neighbourhood.
+    ///
+    /// A new point starting in π(u_d) of a (2d+1)-window u has all its parents among the d+1
+    /// old points of u (their supports must contain its support), so the reachable
+    /// (2d+1)-windows cover every configuration.
+    fn certify_partition_of_unity(&self) -> Result<(), Error> {
+        let d = self.ls.degree;
+        let windows = reach(&self.ls, 2 * d + 1);
+        for w in &windows.words {
+            let u = &w.word;
+            let mut offsets = vec![0usize];
+            for &s in u {
+                offsets.push(offsets.last().expect("non-empty") + self.ls.rules[s as usize].len());
+            }
+            for l in offsets[d]..offsets[d + 1] {
+                let mut sum = Elem::zero(&self.analysis.field);
+                for k in 0..=d {
+                    if offsets[k] <= l && l + d < offsets[k + d + 1] {
+                        let m = self.mask_of(&u[k..k + d + 1]);
+                        sum = sum.add(&m.contributions[l - offsets[k]].weight);
+                    }
+                }
+                if sum != Elem::one(&self.analysis.field) {
+                    return Err(Error::scheme(
+                        &self.file,
+                        format!(
+                            "certificate failed: the weights of new point {} of π({}) sum to {sum}, not 1",
+                            l - offsets[d],
+                            self.ls.word_str(u)
+                        ),
+                        None,
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// For a symmetric system: the mask of σ̄(w) is the mask of w reversed, words mirrored.
+    fn certify_mirror(&self) -> Result<(), Error> {
+        let Some(sigma) = &self.ls.symmetry else {
+            return Ok(());
+        };
+        for m in &self.masks {
+            let mirrored = self.mask_of(&self.ls.mirror(sigma, &m.word));
+            let expect: Vec<(Word, &Elem)> = m
+                .contributions
+                .iter()
+                .rev()
+                .map(|c| (self.ls.mirror(sigma, &c.word), &c.weight))
+                .collect();
+            let got: Vec<(Word, &Elem)> = mirrored
+                .contributions
+                .iter()
+                .map(|c| (c.word.clone(), &c.weight))
+                .collect();
+            let child_ok = match (m.child, mirrored.child) {
+                (Some(a), Some(b)) => a + b + 1 == m.contributions.len(),
+                (a, b) => a == b,
+            };
+            if got != expect || !child_ok {
+                return Err(Error::scheme(
+                    &self.file,
+                    format!(
+                        "certificate failed: the mask of {} is not the mirror of the mask of {}",
+                        self.ls.word_str(&mirrored.word),
+                        self.ls.word_str(&m.word)
+                    ),
+                    None,
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// [G] Proposition 4.2: the axiom is symmetric and π(σ(A)) = σ̄(π(A)) for every symbol.
+pub fn check_symmetry(ls: &LSystem, sigma: &[Sym], file: &str) -> Result<(), Error> {
+    if ls.mirror(sigma, &ls.axiom) != ls.axiom {
+        return Err(Error::scheme(
+            file,
+            format!(
+                "the axiom {} is not symmetric under the declared σ ([G] Definition 4.1): its mirror is {}",
+                ls.word_str(&ls.axiom),
+                ls.word_str(&ls.mirror(sigma, &ls.axiom))
+            ),
+            None,
+        ));
+    }
+    for a in 0..ls.n() {
+        let lhs = &ls.rules[sigma[a] as usize];
+        let rhs = ls.mirror(sigma, &ls.rules[a]);
+        if *lhs != rhs {
+            return Err(Error::scheme(
+                file,
+                format!(
+                    "the declared σ is not a symmetry ([G] eq. (14)): π(σ({})) = {} but σ̄(π({})) = {}",
+                    ls.symbols[a],
+                    ls.word_str(lhs),
+                    ls.symbols[a],
+                    ls.word_str(&rhs)
+                ),
+                None,
+            ));
+        }
+    }
+    Ok(())
+}

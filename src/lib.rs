@@ -1,0 +1,1 @@
+//! lsubdiv facade
