@@ -23,7 +23,9 @@ fn f64_lit(x: f64) -> Literal {
 }
 
 fn u32s(xs: impl IntoIterator<Item = usize>) -> Vec<Literal> {
-    xs.into_iter().map(|x| Literal::u32_suffixed(x as u32)).collect()
+    xs.into_iter()
+        .map(|x| Literal::u32_suffixed(x as u32))
+        .collect()
 }
 
 /// The generated source of one scheme (items only, so that `include!` accepts it).
@@ -31,7 +33,7 @@ pub fn generate(s: &Scheme) -> String {
     let ls = &s.ls;
     let d = ls.degree;
     let name = &ls.name;
-    let symbols = &ls.symbols;
+    let symbol_names = ls.symbols.join(" ");
     let mut rule_offsets = vec![0usize];
     let mut rule_symbols = Vec::new();
     for r in &ls.rules {
@@ -93,7 +95,7 @@ pub fn generate(s: &Scheme) -> String {
         pub const TABLES: ::lsubdiv_runtime::CurveTables<'static> = ::lsubdiv_runtime::CurveTables {
             name: #name,
             degree: #d,
-            symbols: &[#(#symbols),*],
+            symbol_names: #symbol_names,
             rule_offsets: &[#(#rule_offsets),*],
             rule_symbols: &[#(#rule_symbols),*],
             axiom: &[#(#axiom),*],
@@ -134,8 +136,14 @@ fn render(tokens: TokenStream) -> String {
 
 /// Source of a registry module: one `pub mod` per scheme plus `NAMES` and dispatch functions.
 pub fn generate_registry(names: &[String]) -> String {
-    let mods: Vec<_> = names.iter().map(|n| format_ident!("{}", module_name(n))).collect();
-    let files: Vec<String> = names.iter().map(|n| format!("/{}.rs", module_name(n))).collect();
+    let mods: Vec<_> = names
+        .iter()
+        .map(|n| format_ident!("{}", module_name(n)))
+        .collect();
+    let files: Vec<String> = names
+        .iter()
+        .map(|n| format!("/{}.rs", module_name(n)))
+        .collect();
     let tokens = quote! {
         #(
             #[allow(clippy::all, missing_docs)]

@@ -54,17 +54,31 @@ fn factors(w: &[u8], k: usize) -> Vec<Word> {
 /// F_0: the k-factors of ω repeated.
 fn initial(ls: &LSystem, k: usize) -> Vec<Word> {
     let reps = k.div_ceil(ls.axiom.len()) + 1;
-    let periodic: Word = ls.axiom.iter().copied().cycle().take(reps * ls.axiom.len()).collect();
+    let periodic: Word = ls
+        .axiom
+        .iter()
+        .copied()
+        .cycle()
+        .take(reps * ls.axiom.len())
+        .collect();
     factors(&periodic[..ls.axiom.len() + k - 1], k)
 }
 
-/// Computes the reachable k-words, the graph, its cycles and the transitional steps.
+/// Computes the k-words reachable from the axiom, the graph, its cycles and transitional steps.
 pub fn reach(ls: &LSystem, k: usize) -> Reach {
+    reach_from(ls, k, initial(ls, k))
+}
+
+/// As [`reach`], from the given initial k-words (F_0) instead of the axiom's.
+pub fn reach_from(ls: &LSystem, k: usize, start: Vec<Word>) -> Reach {
     // Breadth-first closure: the BFS depth of a word is its first step.
     let mut words: Vec<Word> = Vec::new();
     let mut first: Vec<usize> = Vec::new();
     let mut index: HashMap<Word, usize> = HashMap::new();
-    for w in initial(ls, k) {
+    for w in start {
+        if index.contains_key(&w) {
+            continue;
+        }
         index.insert(w.clone(), words.len());
         words.push(w);
         first.push(0);
@@ -117,7 +131,10 @@ pub fn reach(ls: &LSystem, k: usize) -> Reach {
                 steps[v].push(s);
             }
         }
-        level = level.iter().flat_map(|&v| succ[v].iter().copied()).collect();
+        level = level
+            .iter()
+            .flat_map(|&v| succ[v].iter().copied())
+            .collect();
     }
 
     // Renumber: by first step, then symbols.

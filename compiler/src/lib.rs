@@ -4,9 +4,10 @@
 //! Papers: [N] Nivoliers, Gérot, Ostromoukhov, Stewart 2012 (univariate);
 //! [G] Gérot, Ivrissimtzis 2023 (bivariate).
 
-pub mod error;
 pub mod codegen;
+pub mod error;
 pub mod field;
+pub mod generic;
 pub mod graph;
 pub mod linalg;
 pub mod lsystem;
@@ -16,6 +17,6 @@ pub mod poly;
 pub mod scheme;
 pub mod validity;
 
+pub use codegen::{compile, Config};
 pub use error::Error;
 pub use pipeline::Scheme;
-pub use codegen::{compile, Config};

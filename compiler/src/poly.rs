@@ -167,14 +167,21 @@ impl QPoly {
         self.div_rem(d).1
     }
 
-    /// Monic greatest common divisor (zero if both are zero).
+    /// Monic greatest common divisor (zero if both are zero). Computed by a primitive
+    /// pseudo-remainder sequence over Z, which avoids rational coefficient blow-up.
     pub fn gcd(&self, o: &Self) -> Self {
-        let (mut a, mut b) = (self.monic(), o.monic());
-        while !b.is_zero() {
-            let r = a.rem(&b).monic();
+        if self.is_zero() || o.is_zero() {
+            return self.add(o).monic();
+        }
+        let (mut a, mut b) = (self.primitive_integer(), o.primitive_integer());
+        if a.len() < b.len() {
+            std::mem::swap(&mut a, &mut b);
+        }
+        while !b.is_empty() {
+            let r = zp_primitive(zp_prem_positive(&a, &b));
             a = std::mem::replace(&mut b, r);
         }
-        a
+        QPoly::from_bigints(&a).monic()
     }
 
     /// Extended Euclid: returns (g, s, t) with s*self + t*o = g, g monic gcd.
@@ -250,10 +257,7 @@ impl QPoly {
     /// # Panics
     /// Panics on the zero polynomial.
     pub fn primitive_integer(&self) -> Vec<BigInt> {
-        assert!(
-            !self.is_zero(),
-            "QPoly::primitive_integer: zero polynomial"
-        );
+        assert!(!self.is_zero(), "QPoly::primitive_integer: zero polynomial");
         let mut v = zp_positive_multiple(self);
         if v.last().is_some_and(Signed::is_negative) {
             for c in &mut v {
@@ -352,6 +356,28 @@ fn zp_positive_multiple(q: &QPoly) -> Vec<BigInt> {
     v.iter().map(|a| a / &g).collect()
 }
 
+/// A positive integer multiple of the remainder of `a` by `b` (`b` nonzero): pseudo-division
+/// using the multiplier |lc(b)| at each step.
+fn zp_prem_positive(a: &[BigInt], b: &[BigInt]) -> Vec<BigInt> {
+    let lb = b.last().expect("zp_prem_positive: zero divisor");
+    let (alb, sb) = (lb.abs(), lb.signum());
+    let m = b.len() - 1;
+    let mut r = a.to_vec();
+    zp_trim(&mut r);
+    while r.len() > m {
+        let k = r.len() - 1 - m;
+        let lr = r.pop().expect("nonempty") * &sb;
+        for c in &mut r {
+            *c *= &alb;
+        }
+        for j in 0..m {
+            r[k + j] -= &lr * &b[j];
+        }
+        zp_trim(&mut r);
+    }
+    r
+}
+
 fn zp_mul(a: &[BigInt], b: &[BigInt]) -> Vec<BigInt> {
     if a.is_empty() || b.is_empty() {
         return Vec::new();
@@ -423,9 +449,7 @@ fn zp_sign_at(a: &[BigInt], x: &BigRational) -> i8 {
 }
 
 fn cmp_qpoly(a: &QPoly, b: &QPoly) -> Ordering {
-    a.degree()
-        .cmp(&b.degree())
-        .then_with(|| a.0.cmp(&b.0))
+    a.degree().cmp(&b.degree()).then_with(|| a.0.cmp(&b.0))
 }
 
 // ---------------------------------------------------------------------------
@@ -705,7 +729,9 @@ fn berlekamp_basis(f: &[u64], p: u64) -> Vec<Vec<u64>> {
         }
     }
     // v is in the kernel iff sum_i v_i rows[i] = 0, i.e. rows^T v = 0.
-    let t: Vec<Vec<u64>> = (0..n).map(|j| (0..n).map(|i| rows[i][j]).collect()).collect();
+    let t: Vec<Vec<u64>> = (0..n)
+        .map(|j| (0..n).map(|i| rows[i][j]).collect())
+        .collect();
     fp_nullspace(t, p).into_iter().map(fp_trim).collect()
 }
 
@@ -869,7 +895,11 @@ fn zassenhaus(g: &[BigInt]) -> Result<Vec<Vec<BigInt>>, String> {
                 if basis.len() == 1 {
                     return Ok(vec![g.to_vec()]);
                 }
-                if best.as_ref().is_none_or(|b| basis.len() < b.2.len()) {
+                let better = match &best {
+                    None => true,
+                    Some(b) => basis.len() < b.2.len(),
+                };
+                if better {
                     best = Some((p, gp, basis));
                 }
                 good += 1;
@@ -890,10 +920,7 @@ fn zassenhaus(g: &[BigInt]) -> Result<Vec<Vec<BigInt>>, String> {
         pk *= &pb;
         k += 1;
     }
-    let lc_inv = lc
-        .mod_floor(&pk)
-        .modinv(&pk)
-        .expect("lc is a unit mod p^k");
+    let lc_inv = lc.mod_floor(&pk).modinv(&pk).expect("lc is a unit mod p^k");
     let f: Vec<BigInt> = g.iter().map(|c| (c * &lc_inv).mod_floor(&pk)).collect();
     let mut remaining = hensel_lift_all(&f, &modular, p, k);
 
@@ -949,6 +976,19 @@ fn zassenhaus(g: &[BigInt]) -> Result<Vec<Vec<BigInt>>, String> {
     Ok(out)
 }
 
+/// True if `g mod p` is square-free of full degree for one of the first few odd primes
+/// (a sufficient condition for `g` to be square-free over Q).
+fn is_square_free_mod_small_prime(g: &[BigInt]) -> bool {
+    let lc = g.last().expect("nonzero");
+    (3u64..200).filter(|&p| is_small_prime(p)).any(|p| {
+        if (lc % p).is_zero() {
+            return false;
+        }
+        let gp = fp_monic(&fp_from_z(g, p), p);
+        fp_gcd(&gp, &fp_deriv(&gp, p), p).len() == 1
+    })
+}
+
 /// Yun's square-free decomposition of a nonzero polynomial: pairwise coprime monic
 /// square-free `a_i` of positive degree with `f = c * prod a_i^i`.
 fn yun(f: &QPoly) -> Vec<(QPoly, usize)> {
@@ -985,8 +1025,18 @@ pub fn factor(p: &QPoly) -> Result<Vec<(QPoly, usize)>, String> {
     if p.is_zero() {
         return Err("factor: the zero polynomial has no factorisation".to_string());
     }
+    if p.degree() == Some(0) {
+        return Ok(Vec::new());
+    }
+    let z = p.primitive_integer();
+    // Fast path: square-free modulo a small prime not dividing lc implies square-free.
+    let parts = if is_square_free_mod_small_prime(&z) {
+        vec![(QPoly::from_bigints(&z), 1)]
+    } else {
+        yun(&p.monic())
+    };
     let mut out = Vec::new();
-    for (a, mult) in yun(&p.monic()) {
+    for (a, mult) in parts {
         for fac in zassenhaus(&a.primitive_integer())? {
             out.push((QPoly::from_bigints(&fac), mult));
         }
@@ -1021,13 +1071,12 @@ impl Sturm {
         }
         while chain.len() >= 2 {
             let n = chain.len();
-            let r = QPoly::from_bigints(&chain[n - 2])
-                .rem(&QPoly::from_bigints(&chain[n - 1]))
-                .neg();
-            if r.is_zero() {
+            let r = zp_prem_positive(&chain[n - 2], &chain[n - 1]);
+            if r.is_empty() {
                 break;
             }
-            chain.push(zp_positive_multiple(&r));
+            let r: Vec<BigInt> = r.iter().map(|c| -c).collect();
+            chain.push(zp_positive_multiple(&QPoly::from_bigints(&r)));
         }
         Sturm { chain }
     }
@@ -1269,17 +1318,18 @@ mod tests {
 
     fn assert_irreducible(p: &QPoly) {
         let f = QPoly::from_bigints(&p.primitive_integer());
-        assert_eq!(factor(p).unwrap(), vec![(f, 1)], "{p} should be irreducible");
+        assert_eq!(
+            factor(p).unwrap(),
+            vec![(f, 1)],
+            "{p} should be irreducible"
+        );
     }
 
     #[test]
     fn arithmetic_and_display() {
         let a = ints(&[-2, 0, -1, 1]);
         assert_eq!(a.to_string(), "x^3 - x^2 - 2");
-        assert_eq!(
-            QPoly::new(vec![q(3, 1), q(1, 2)]).to_string(),
-            "1/2 x + 3"
-        );
+        assert_eq!(QPoly::new(vec![q(3, 1), q(1, 2)]).to_string(), "1/2 x + 3");
         assert_eq!(ints(&[0, -3, 0, -1]).to_string(), "-x^3 - 3 x");
         assert_eq!(QPoly::zero().to_string(), "0");
         assert_eq!(QPoly::new(vec![q(1, 1), q(0, 1)]), QPoly::one());
@@ -1378,7 +1428,10 @@ mod tests {
                     .iter()
                     .map(|r| r.iter().map(|&x| BigInt::from(-x)).collect())
                     .collect();
-                assert_eq!(rat(det_bareiss(a)), p.coeffs().first().cloned().unwrap_or_default());
+                assert_eq!(
+                    rat(det_bareiss(a)),
+                    p.coeffs().first().cloned().unwrap_or_default()
+                );
             }
         }
     }
@@ -1450,10 +1503,10 @@ mod tests {
     #[test]
     fn factor_degree_12() {
         let fs: [&[i64]; 4] = [
-            &[-1, -1, 1],           // x^2 - x - 1
-            &[-2, 0, 0, 1],         // x^3 - 2 (Eisenstein)
-            &[-2, 0, -1, 1],        // x^3 - x^2 - 2 (no rational root)
-            &[14, 7, 0, 21, 5],     // Eisenstein at 7
+            &[-1, -1, 1],       // x^2 - x - 1
+            &[-2, 0, 0, 1],     // x^3 - 2 (Eisenstein)
+            &[-2, 0, -1, 1],    // x^3 - x^2 - 2 (no rational root)
+            &[14, 7, 0, 21, 5], // Eisenstein at 7
         ];
         let p = fs.iter().fold(QPoly::one(), |acc, f| acc.mul(&ints(f)));
         assert_eq!(p.degree(), Some(12));
@@ -1470,9 +1523,21 @@ mod tests {
         // Four quartics, Eisenstein at 2, 3, 5, 7; coefficients up to ~10^6.
         let fs: [&[i64]; 4] = [
             &[2 * 499_999, 2 * 123_457, -2 * 98_765, 2 * 31_337, 999_983],
-            &[3 * 333_331, -3 * 271_828, 3 * 141_421, 3 * 173_205, 1_000_003],
+            &[
+                3 * 333_331,
+                -3 * 271_828,
+                3 * 141_421,
+                3 * 173_205,
+                1_000_003,
+            ],
             &[5 * 199_999, 5 * 161_803, -5 * 57_721, -5 * 66_743, 999_979],
-            &[7 * 142_857, -7 * 111_111, 7 * 123_456, 7 * 100_001, 1_000_033],
+            &[
+                7 * 142_857,
+                -7 * 111_111,
+                7 * 123_456,
+                7 * 100_001,
+                1_000_033,
+            ],
         ];
         let p = fs.iter().fold(QPoly::one(), |acc, f| acc.mul(&ints(f)));
         let facs = factor(&p).unwrap();
@@ -1481,6 +1546,52 @@ mod tests {
         for f in fs {
             assert!(facs.contains(&(ints(f), 1)), "missing {}", ints(f));
         }
+    }
+
+    #[test]
+    fn factor_random_products_consistent() {
+        let mut rng = Lcg(2024);
+        for _ in 0..12 {
+            let k = rng.range(2, 4) as usize;
+            let mut p = QPoly::one();
+            let mut parts = Vec::new();
+            for _ in 0..k {
+                let d = rng.range(1, 4) as usize;
+                let mut c: Vec<i64> = (0..d).map(|_| rng.range(-9, 9)).collect();
+                c.push(rng.range(1, 6));
+                let m = rng.range(1, 2) as usize;
+                let f = ints(&c);
+                p = p.mul(&pow(&f, m));
+                parts.push((f, m));
+            }
+            let facs = factor(&p).unwrap();
+            check_factorisation(&p, &facs);
+            // Every factor of every part appears with at least the expected multiplicity.
+            for (f, m) in &parts {
+                for (g, e) in factor(f).unwrap() {
+                    let found = facs.iter().find(|(h, _)| *h == g).expect("factor present");
+                    assert!(found.1 >= e * m);
+                }
+            }
+            // Returned factors are irreducible (stable under re-factorisation).
+            for (g, _) in &facs {
+                assert_eq!(factor(g).unwrap(), vec![(g.clone(), 1)]);
+            }
+        }
+        // Non-monic linear factors and a Swinnerton-Dyer factor.
+        let p = ints(&[-1, 2])
+            .mul(&ints(&[5, 3]))
+            .mul(&ints(&[-11, 7]))
+            .mul(&ints(&[1, 0, -10, 0, 1]));
+        assert_factors(
+            &p,
+            &[
+                (&[-11, 7], 1),
+                (&[-1, 2], 1),
+                (&[5, 3], 1),
+                (&[1, 0, -10, 0, 1], 1),
+            ],
+        );
     }
 
     #[test]
@@ -1570,5 +1681,60 @@ mod tests {
         let p = pow(&ints(&[-1, 3]), 2);
         let (l, h) = refine_root(&p, &q(0, 1), &q(1, 1), &w);
         assert!(l < q(1, 3) && q(1, 3) <= h && &h - &l <= w);
+    }
+}
+#[cfg(test)]
+mod xcheck {
+    use super::*;
+    #[test]
+    fn xcheck_dump() {
+        let mut s: u64 = 99;
+        let mut next = |lo: i64, hi: i64| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + ((s >> 33) % ((hi - lo + 1) as u64)) as i64
+        };
+        let mut out = String::new();
+        for _ in 0..300 {
+            let k = next(1, 4);
+            let mut p = QPoly::one();
+            for _ in 0..k {
+                let d = next(0, 5) as usize;
+                let mut c: Vec<i64> = (0..=d).map(|_| next(-6, 6)).collect();
+                if c[d] == 0 {
+                    c[d] = 1;
+                }
+                let m = next(1, 3) as usize;
+                for _ in 0..m {
+                    p = p.mul(&QPoly::from_ints(&c));
+                }
+            }
+            if p.is_zero() {
+                continue;
+            }
+            let f = factor(&p).unwrap();
+            let pc: Vec<String> = p
+                .primitive_integer()
+                .iter()
+                .map(|c| c.to_string())
+                .collect();
+            let fs: Vec<String> = f
+                .iter()
+                .map(|(g, m)| {
+                    format!(
+                        "{}:{}",
+                        g.primitive_integer()
+                            .iter()
+                            .map(|c| c.to_string())
+                            .collect::<Vec<_>>()
+                            .join(","),
+                        m
+                    )
+                })
+                .collect();
+            out.push_str(&format!("{}|{}\n", pc.join(","), fs.join(";")));
+        }
+        std::fs::write("/tmp/xcheck.txt", out).unwrap();
     }
 }

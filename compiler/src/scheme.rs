@@ -48,7 +48,12 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     }
 
     let name = cx.string(root, "name")?;
-    if name.1.is_empty() || !name.1.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+    if name.1.is_empty()
+        || !name
+            .1
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+    {
         return Err(cx.err(
             name.0,
             format!("scheme name `{}` is not a slug", name.1),
@@ -65,12 +70,20 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     })?;
     let symbols: Vec<String> = rules_item.iter().map(|(k, _)| k.to_string()).collect();
     if symbols.is_empty() {
-        return Err(cx.err(cx.span_of_key(root, "rules"), "`[rules]` is empty".into(), None));
+        return Err(cx.err(
+            cx.span_of_key(root, "rules"),
+            "`[rules]` is empty".into(),
+            None,
+        ));
     }
     if symbols.len() > Sym::MAX as usize {
         return Err(cx.err(
             cx.span_of_key(root, "rules"),
-            format!("{} symbols: at most {} are supported", symbols.len(), Sym::MAX),
+            format!(
+                "{} symbols: at most {} are supported",
+                symbols.len(),
+                Sym::MAX
+            ),
             None,
         ));
     }
@@ -96,9 +109,8 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
         rules.push(word);
     }
     let axiom_raw = cx.string(root, "axiom")?;
-    let axiom = parse_word(&symbols, &axiom_raw.1).map_err(|m| {
-        cx.err(axiom_raw.0.clone(), format!("axiom: {m}"), None)
-    })?;
+    let axiom = parse_word(&symbols, &axiom_raw.1)
+        .map_err(|m| cx.err(axiom_raw.0.clone(), format!("axiom: {m}"), None))?;
 
     let symmetry = match cx.table(root, "symmetry")? {
         None => None,
@@ -122,7 +134,10 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
                     return Err(cx.err(
                         cx.span_of_key(root, "lengths"),
                         format!("`[lengths]` has no entry for symbol `{s}`"),
-                        Some("give every symbol a length, e.g. `L = \"1\"`, `C = \"rho - 1\"`".into()),
+                        Some(
+                            "give every symbol a length, e.g. `L = \"1\"`, `C = \"rho - 1\"`"
+                                .into(),
+                        ),
                     ));
                 }
                 out.push(cx.value_str(t, s)?.1);
@@ -183,7 +198,11 @@ impl Cx<'_> {
     fn value_str(&self, t: &dyn TableLike, key: &str) -> Result<(Range<usize>, String), Error> {
         let (span, v) = self.item(t, key).expect("key listed by the table");
         let s = v.as_str().ok_or_else(|| {
-            self.err(span.clone(), format!("value of `{key}` must be a string"), None)
+            self.err(
+                span.clone(),
+                format!("value of `{key}` must be a string"),
+                None,
+            )
         })?;
         Ok((span, s.to_string()))
     }
@@ -209,12 +228,17 @@ impl Cx<'_> {
         Ok(d as usize)
     }
 
-    fn table<'t>(&self, t: &'t dyn TableLike, key: &str) -> Result<Option<&'t dyn TableLike>, Error> {
+    fn table<'t>(
+        &self,
+        t: &'t dyn TableLike,
+        key: &str,
+    ) -> Result<Option<&'t dyn TableLike>, Error> {
         match self.item(t, key) {
             None => Ok(None),
-            Some((span, item)) => item.as_table_like().map(Some).ok_or_else(|| {
-                self.err(span, format!("`{key}` must be a table"), None)
-            }),
+            Some((span, item)) => item
+                .as_table_like()
+                .map(Some)
+                .ok_or_else(|| self.err(span, format!("`{key}` must be a table"), None)),
         }
     }
 
@@ -224,11 +248,19 @@ impl Cx<'_> {
         for (k, _) in t.iter() {
             let span = self.span_of_key(t, k);
             let a = symbols.iter().position(|s| s == k).ok_or_else(|| {
-                self.err(span.clone(), format!("`[symmetry]` names unknown symbol `{k}`"), None)
+                self.err(
+                    span.clone(),
+                    format!("`[symmetry]` names unknown symbol `{k}`"),
+                    None,
+                )
             })?;
             let (vspan, v) = self.value_str(t, k)?;
             let b = symbols.iter().position(|s| *s == v).ok_or_else(|| {
-                self.err(vspan.clone(), format!("`[symmetry]` maps `{k}` to unknown symbol `{v}`"), None)
+                self.err(
+                    vspan.clone(),
+                    format!("`[symmetry]` maps `{k}` to unknown symbol `{v}`"),
+                    None,
+                )
             })?;
             for (x, y) in [(a, b), (b, a)] {
                 match sigma[x] {

@@ -125,7 +125,9 @@ pub fn analyse(ls: &LSystem, file: &str) -> Result<Analysis, Error> {
     let eigenspace_dim = eigen.len();
 
     let reason = if rho.cmp_exact(&one).is_le() {
-        Some(format!("ρ(M) = {rho} is not greater than 1, so intervals never shrink"))
+        Some(format!(
+            "ρ(M) = {rho} is not greater than 1, so intervals never shrink"
+        ))
     } else if classes.iter().any(|c| c.basic != c.is_final) {
         let names = |pick: fn(&Class) -> bool| -> String {
             classes
@@ -163,7 +165,10 @@ pub fn analyse(ls: &LSystem, file: &str) -> Result<Analysis, Error> {
     if let [s] = left.as_mut_slice() {
         let sum = s.iter().fold(Elem::zero(&field), |a, x| a.add(x));
         if !sum.is_zero() {
-            *s = s.iter().map(|x| x.div(&sum).expect("nonzero sum")).collect();
+            *s = s
+                .iter()
+                .map(|x| x.div(&sum).expect("nonzero sum"))
+                .collect();
         }
     }
 
@@ -238,7 +243,8 @@ fn lengths_for(
         if eigen.len() == 1 {
             return Err(Error::scheme(
                 file,
-                "`[lengths]` given, but the eigenvector of ρ is unique: lengths are not free".into(),
+                "`[lengths]` given, but the eigenvector of ρ is unique: lengths are not free"
+                    .into(),
                 Some("remove `[lengths]`; the compiler derives them ([N] eq. (4))".into()),
             ));
         }
@@ -257,10 +263,9 @@ fn lengths_for(
             a.push(v);
         }
         for (i, row) in m.iter().enumerate() {
-            let ma = row
-                .iter()
-                .zip(&a)
-                .fold(Elem::zero(field), |acc, (&k, x)| acc.add(&Elem::int(field, k).mul(x)));
+            let ma = row.iter().zip(&a).fold(Elem::zero(field), |acc, (&k, x)| {
+                acc.add(&Elem::int(field, k).mul(x))
+            });
             if ma != rho.mul(&a[i]) {
                 return Err(Error::scheme(
                     file,

@@ -14,8 +14,8 @@ pub struct CurveTables<'a> {
     pub name: &'a str,
     /// Spline degree d.
     pub degree: usize,
-    /// Symbol names.
-    pub symbols: &'a [&'a str],
+    /// Symbol names separated by single spaces, in symbol order.
+    pub symbol_names: &'a str,
     /// π(A) is `rule_symbols[rule_offsets[A]..rule_offsets[A + 1]]`.
     pub rule_offsets: &'a [u32],
     /// Concatenated right-hand sides.
@@ -55,10 +55,16 @@ impl CurveTables<'_> {
         self.mask_offsets[i] as usize..self.mask_offsets[i + 1] as usize
     }
 
-    /// A word for messages.
+    /// Number of symbols.
+    pub fn symbol_count(&self) -> usize {
+        self.rule_offsets.len() - 1
+    }
+
+    /// A word for messages (`LCR`, or `A1 A2` when a symbol name is longer than one character).
     pub fn word_str(&self, w: &[u8]) -> String {
-        let compact = self.symbols.iter().all(|s| s.chars().count() == 1);
-        let names: Vec<&str> = w.iter().map(|&s| self.symbols[s as usize]).collect();
+        let all: Vec<&str> = self.symbol_names.split(' ').collect();
+        let compact = all.iter().all(|s| s.chars().count() == 1);
+        let names: Vec<&str> = w.iter().map(|&s| all[s as usize]).collect();
         names.join(if compact { "" } else { " " })
     }
 }
@@ -176,7 +182,11 @@ impl<const D: usize> Curve<D> {
                 got: self.labels.len(),
             });
         }
-        match self.labels.iter().find(|&&s| s as usize >= t.symbols.len()) {
+        match self
+            .labels
+            .iter()
+            .find(|&&s| s as usize >= t.symbol_count())
+        {
             Some(&s) => Err(CurveError::UnknownSymbol(s)),
             None => Ok(()),
         }

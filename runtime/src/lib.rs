@@ -17,7 +17,7 @@ pub use curve::{refine, Curve, CurveError, CurveScheme, CurveTables};
 #[macro_export]
 macro_rules! include_scheme {
     ($name:ident) => {
-        #[allow(clippy::all, clippy::pedantic, missing_docs)]
+#[allow(clippy::all, clippy::pedantic, missing_docs)]
         #[rustfmt::skip]
         pub mod $name {
             include!(concat!(env!("OUT_DIR"), "/", stringify!($name), ".rs"));

@@ -1,0 +1,111 @@
+//! The generic path: run-time tables for any scheme file, with masks computed on demand (exactly)
+//! for words the axiom never produces. It shares the driver of `lsubdiv_runtime` with the
+//! generated path, and the same nearest-f64 weights, so both give the same bits.
+
+use crate::graph::reach_from;
+use crate::lsystem::Word;
+use crate::pipeline::Scheme;
+use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};
+use std::collections::HashMap;
+
+/// Owned tables built from a compiled [`Scheme`].
+#[derive(Clone, Debug)]
+pub struct GenericScheme {
+    scheme: Scheme,
+    symbol_names: String,
+    rule_offsets: Vec<u32>,
+    rule_symbols: Vec<u8>,
+    words: Vec<u8>,
+    index: HashMap<Word, u32>,
+    mask_offsets: Vec<u32>,
+    mask_words: Vec<u32>,
+    mask_weights: Vec<f64>,
+}
+
+impl GenericScheme {
+    /// Tables of every word reachable from the axiom.
+    pub fn new(scheme: Scheme) -> GenericScheme {
+        let mut rule_offsets = vec![0u32];
+        let mut rule_symbols = Vec::new();
+        for r in &scheme.ls.rules {
+            rule_symbols.extend_from_slice(r);
+            rule_offsets.push(rule_symbols.len() as u32);
+        }
+        let mut g = GenericScheme {
+            symbol_names: scheme.ls.symbols.join(" "),
+            rule_offsets,
+            rule_symbols,
+            words: Vec::new(),
+            index: HashMap::new(),
+            mask_offsets: vec![0],
+            mask_words: Vec::new(),
+            mask_weights: Vec::new(),
+            scheme,
+        };
+        let words: Vec<Word> = g
+            .scheme
+            .graph
+            .words
+            .iter()
+            .map(|w| w.word.clone())
+            .collect();
+        g.add_words(words);
+        g
+    }
+
+    /// The exact scheme behind the tables.
+    pub fn scheme(&self) -> &Scheme {
+        &self.scheme
+    }
+
+    /// Adds the masks of the curve's words and of every word reachable from them.
+    pub fn prepare<const D: usize>(&mut self, curve: &Curve<D>) {
+        let d = self.scheme.ls.degree;
+        let n = self.scheme.ls.n();
+        let start: Vec<Word> = (0..curve.points.len())
+            .map(|k| curve.word(k, d))
+            .filter(|w| w.iter().all(|&s| (s as usize) < n) && !self.index.contains_key(w))
+            .collect();
+        if start.is_empty() || curve.check(&self.tables()).is_err() {
+            return;
+        }
+        let reach = reach_from(&self.scheme.ls, d + 1, start);
+        self.add_words(reach.words.into_iter().map(|w| w.word).collect());
+    }
+
+    fn add_words(&mut self, words: Vec<Word>) {
+        let new: Vec<Word> = words
+            .into_iter()
+            .filter(|w| !self.index.contains_key(w))
+            .collect();
+        for w in &new {
+            self.index.insert(w.clone(), self.index.len() as u32);
+            self.words.extend_from_slice(w);
+        }
+        for w in &new {
+            let m = self.scheme.mask_of(w);
+            for c in &m.contributions {
+                self.mask_words.push(self.index[&c.word]);
+                self.mask_weights.push(c.weight.to_f64());
+            }
+            self.mask_offsets.push(self.mask_words.len() as u32);
+        }
+    }
+}
+
+impl CurveScheme for GenericScheme {
+    fn tables(&self) -> CurveTables<'_> {
+        CurveTables {
+            name: &self.scheme.ls.name,
+            degree: self.scheme.ls.degree,
+            symbol_names: &self.symbol_names,
+            rule_offsets: &self.rule_offsets,
+            rule_symbols: &self.rule_symbols,
+            axiom: &self.scheme.ls.axiom,
+            words: &self.words,
+            mask_offsets: &self.mask_offsets,
+            mask_words: &self.mask_words,
+            mask_weights: &self.mask_weights,
+        }
+    }
+}

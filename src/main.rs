@@ -1,0 +1,296 @@
+//! The `lsubdiv` command line. Exit status: 0 ok, 2 bad input (scheme, points, labels), 1
+//! internal error.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use lsubdiv::points::{self, Points};
+use lsubdiv::{report, resolve, Curve, CurveError, Resolved};
+use lsubdiv_compiler::codegen::{generate, write_atomic};
+use lsubdiv_compiler::generic::GenericScheme;
+use lsubdiv_compiler::validity::analyse;
+use lsubdiv_compiler::{Error, Scheme};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "lsubdiv",
+    version,
+    about = "Exact non-uniform B-spline subdivision from L-systems"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Validity, M, ρ, lengths, eigenvectors, masks (exact and f64), SCCs, transitional steps.
+    Inspect {
+        /// Scheme file, or the name of a shipped scheme (`lsubdiv schemes` lists them).
+        scheme: String,
+        /// Override the scheme's degree.
+        #[arg(long)]
+        degree: Option<usize>,
+        /// One JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The transition graph between (d+1)-words.
+    Graph {
+        scheme: String,
+        #[arg(long)]
+        degree: Option<usize>,
+        /// Graphviz DOT output (the only format for now).
+        #[arg(long, required = true)]
+        dot: bool,
+    },
+    /// Writes the generated Rust source of a scheme.
+    Codegen {
+        scheme: String,
+        #[arg(long)]
+        degree: Option<usize>,
+        /// Output file (written whole or not at all).
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+    },
+    /// Refines a control polygon (one point per line, 2 or 3 coordinates).
+    Curve {
+        scheme: String,
+        /// Number of subdivision steps.
+        #[arg(long)]
+        steps: usize,
+        /// Input points.
+        input: std::path::PathBuf,
+        /// Output points, full f64 precision.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The polygon is closed (cyclic).
+        #[arg(long)]
+        closed: bool,
+        /// Interval labels (a word: m + d symbols for an open polygon of m points, m if closed);
+        /// default: the axiom repeated from the first interval on.
+        #[arg(long)]
+        labels: Option<String>,
+        #[arg(long)]
+        degree: Option<usize>,
+        /// Which implementation refines: the generated kernels of a shipped scheme, the generic
+        /// table-driven path, or `auto` (generated when available).
+        #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
+        path: PathChoice,
+    },
+    /// Lists the shipped schemes.
+    Schemes,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum PathChoice {
+    Auto,
+    Generated,
+    Generic,
+}
+
+/// A failure and its exit status.
+struct Failure {
+    code: u8,
+    message: String,
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure {
+            code: 2,
+            message: e.to_string(),
+        }
+    }
+}
+
+fn bad(message: String) -> Failure {
+    Failure { code: 2, message }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("{}", f.message);
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+fn load(scheme: &str, degree: Option<usize>) -> Result<Resolved, Failure> {
+    let mut r = resolve(scheme)?;
+    if let Some(d) = degree {
+        if d == 0 || d > lsubdiv_compiler::scheme::MAX_DEGREE {
+            return Err(bad(format!(
+                "error: --degree {d} is out of range (1 to {})",
+                lsubdiv_compiler::scheme::MAX_DEGREE
+            )));
+        }
+        if d != r.ls.degree {
+            r.ls.degree = d;
+            r.builtin = false; // the generated tables are for the file's degree
+        }
+    }
+    Ok(r)
+}
+
+fn build(r: &Resolved) -> Result<Scheme, Failure> {
+    Ok(Scheme::build(r.ls.clone(), &r.file)?)
+}
+
+fn run(command: Option<Command>) -> Result<(), Failure> {
+    match command {
+        None => demo(),
+        Some(Command::Schemes) => {
+            for n in lsubdiv::builtin_names() {
+                println!("{n}");
+            }
+            Ok(())
+        }
+        Some(Command::Inspect {
+            scheme,
+            degree,
+            json,
+        }) => {
+            let r = load(&scheme, degree)?;
+            let a = analyse(&r.ls, &r.file)?;
+            let compiled = if a.valid && a.lengths.is_some() {
+                Some(build(&r)?)
+            } else {
+                None
+            };
+            if json {
+                println!("{}", report::json(&r.ls, &a, compiled.as_ref()));
+            } else {
+                print!("{}", report::text(&r.ls, &a, compiled.as_ref()));
+            }
+            match &a.reason {
+                Some(reason) => Err(bad(format!(
+                    "{}: error: L-system `{}` is not valid ([N] Definition 3.1): {reason}",
+                    r.file, r.ls.name
+                ))),
+                None => Ok(()),
+            }
+        }
+        Some(Command::Graph { scheme, degree, .. }) => {
+            let s = build(&load(&scheme, degree)?)?;
+            print!("{}", report::dot(&s));
+            Ok(())
+        }
+        Some(Command::Codegen {
+            scheme,
+            degree,
+            output,
+        }) => {
+            let s = build(&load(&scheme, degree)?)?;
+            write_atomic(&output, generate(&s).as_bytes())?;
+            Ok(())
+        }
+        Some(Command::Curve {
+            scheme,
+            steps,
+            input,
+            output,
+            closed,
+            labels,
+            degree,
+            path,
+        }) => {
+            let r = load(&scheme, degree)?;
+            let in_name = input.display().to_string();
+            let text = std::fs::read_to_string(&input)
+                .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
+            let pts = points::parse(&in_name, &text).map_err(bad)?;
+            let out = match pts {
+                Points::D2(p) => points::format(&refine_cli(&r, p, closed, labels, steps, path)?),
+                Points::D3(p) => points::format(&refine_cli(&r, p, closed, labels, steps, path)?),
+            };
+            write_atomic(&output, out.as_bytes())?;
+            Ok(())
+        }
+    }
+}
+
+/// Refines with the requested path; `auto` uses the generated kernels for shipped schemes and
+/// the generic path otherwise (or when the labels make words the generated tables lack).
+fn refine_cli<const D: usize>(
+    r: &Resolved,
+    points: Vec<[f64; D]>,
+    closed: bool,
+    labels: Option<String>,
+    steps: usize,
+    path: PathChoice,
+) -> Result<Vec<[f64; D]>, Failure> {
+    let scheme = build(r)?;
+    let mut generic = GenericScheme::new(scheme);
+    let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), points, closed);
+    if let Some(l) = labels {
+        curve.labels =
+            r.ls.parse_word(&l)
+                .map_err(|e| bad(format!("error: --labels: {e}")))?;
+    }
+    let curve_err = |e: CurveError| bad(format!("error: {e}"));
+    let generated = || -> Option<Result<Curve<D>, CurveError>> {
+        r.builtin
+            .then(|| lsubdiv::generated::refine_curve(&r.ls.name, &curve, steps))
+            .flatten()
+    };
+    let refined = match path {
+        PathChoice::Generated => generated()
+            .ok_or_else(|| bad(format!("error: `{}` has no generated code (only shipped schemes at their own degree do)", r.ls.name)))?
+            .map_err(curve_err)?,
+        PathChoice::Auto => match generated() {
+            Some(Ok(c)) => c,
+            Some(Err(CurveError::UnknownWord(_))) | None => {
+                generic.prepare(&curve);
+                lsubdiv::refine(&generic, &curve, steps).map_err(curve_err)?
+            }
+            Some(Err(e)) => return Err(curve_err(e)),
+        },
+        PathChoice::Generic => {
+            generic.prepare(&curve);
+            lsubdiv::refine(&generic, &curve, steps).map_err(curve_err)?
+        }
+    };
+    Ok(refined.points)
+}
+
+/// The default job: inspect the shipped Fibonacci scheme and refine a closed polygon with both
+/// paths, checking that they agree bit for bit.
+fn demo() -> Result<(), Failure> {
+    let r = load("fibonacci", None)?;
+    let a = analyse(&r.ls, &r.file)?;
+    let s = build(&r)?;
+    print!("{}", report::text(&r.ls, &a, Some(&s)));
+    let n = 12;
+    let polygon: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            [t.cos(), t.sin(), if i % 2 == 0 { 0.25 } else { -0.25 }]
+        })
+        .collect();
+    let generic = GenericScheme::new(s);
+    let curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), polygon, true);
+    let steps = 8;
+    let a = lsubdiv::refine(&generic, &curve, steps).map_err(|e| bad(e.to_string()))?;
+    let b = lsubdiv::generated::refine_curve(&r.ls.name, &curve, steps)
+        .ok_or_else(|| bad("fibonacci is not generated".into()))?
+        .map_err(|e| bad(e.to_string()))?;
+    println!(
+        "\nrefined a closed {n}-gon {steps} times: {} points; generic and generated paths {}",
+        a.points.len(),
+        if a == b {
+            "agree bit for bit"
+        } else {
+            "DIFFER"
+        }
+    );
+    if a != b {
+        return Err(Failure {
+            code: 1,
+            message: "internal error: generic and generated paths differ".into(),
+        });
+    }
+    Ok(())
+}

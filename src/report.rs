@@ -1,0 +1,235 @@
+//! What `lsubdiv inspect` and `lsubdiv graph` print: a text report, a JSON object, DOT.
+
+use lsubdiv_compiler::field::Elem;
+use lsubdiv_compiler::lsystem::LSystem;
+use lsubdiv_compiler::validity::{Analysis, LengthSource};
+use lsubdiv_compiler::Scheme;
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+
+fn exact(e: &Elem) -> Value {
+    json!({ "value": e.to_f64(), "exact": e.to_string() })
+}
+
+fn per_symbol(ls: &LSystem, v: &[Elem]) -> Value {
+    Value::Object(
+        ls.symbols
+            .iter()
+            .zip(v)
+            .map(|(s, e)| (s.clone(), exact(e)))
+            .collect(),
+    )
+}
+
+fn source_name(s: LengthSource) -> &'static str {
+    match s {
+        LengthSource::Unique => "unique eigenvector",
+        LengthSource::Declared => "declared in [lengths]",
+        LengthSource::SymmetryInvariant => "sigma-invariant eigenvector ([G] Prop. 5.1)",
+    }
+}
+
+/// The JSON object of `inspect --json`. `scheme` is None when the L-system is invalid or its
+/// lengths are undetermined (no masks then).
+pub fn json(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> Value {
+    let minpoly: Vec<Value> = a
+        .field
+        .minpoly_integer()
+        .iter()
+        .map(|c| serde_json::from_str(&c.to_string()).unwrap_or(Value::Null))
+        .collect();
+    let rules: serde_json::Map<String, Value> = ls
+        .symbols
+        .iter()
+        .zip(&ls.rules)
+        .map(|(s, r)| (s.clone(), Value::String(ls.word_str(r))))
+        .collect();
+    let masks: Vec<Value> = scheme.map_or_else(Vec::new, |s| {
+        s.graph
+            .words
+            .iter()
+            .zip(&s.masks)
+            .map(|(w, m)| {
+                let contributions: Vec<Value> = m
+                    .contributions
+                    .iter()
+                    .enumerate()
+                    .map(|(j, c)| {
+                        json!({
+                            "word": ls.word_str(&c.word),
+                            "weight": c.weight.to_f64(),
+                            "exact": c.weight.to_string(),
+                            "child": m.child == Some(j),
+                        })
+                    })
+                    .collect();
+                json!({
+                    "word": ls.word_str(&w.word),
+                    "transitional": w.transitional,
+                    "first_step": w.first_step,
+                    "steps": if w.transitional { json!(w.steps) } else { Value::Null },
+                    "contributions": contributions,
+                })
+            })
+            .collect()
+    });
+    let sccs: Vec<Value> = scheme.map_or_else(Vec::new, |s| {
+        s.graph
+            .sccs
+            .iter()
+            .map(|c| {
+                json!(c
+                    .iter()
+                    .map(|&i| ls.word_str(&s.graph.words[i].word))
+                    .collect::<Vec<_>>())
+            })
+            .collect()
+    });
+    json!({
+        "name": ls.name,
+        "degree": ls.degree,
+        "symbols": ls.symbols,
+        "rules": rules,
+        "axiom": ls.word_str(&ls.axiom),
+        "valid": a.valid,
+        "reason": a.reason,
+        "matrix": a.matrix,
+        "rho": a.rho.to_f64(),
+        "rho_exact": a.rho.to_string(),
+        "minimal_polynomial": minpoly,
+        "characteristic_polynomial": a.char_poly.to_string(),
+        "strongly_connected": a.strongly_connected,
+        "theorem_3_7": a.theorem_3_7,
+        "eigenspace_dim": a.eigenspace_dim,
+        "lengths": a.lengths.as_ref().map(|(l, _)| per_symbol(ls, l)),
+        "lengths_source": a.lengths.as_ref().map(|(_, s)| source_name(*s)),
+        "lengths_problem": a.lengths_problem,
+        "left_eigenvectors": a.left.iter().map(|v| per_symbol(ls, v)).collect::<Vec<_>>(),
+        "masks": masks,
+        "sccs": sccs,
+    })
+}
+
+/// The human-readable report of `inspect`.
+pub fn text(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> String {
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(
+        w,
+        "scheme {} (degree {}), axiom {}",
+        ls.name,
+        ls.degree,
+        ls.word_str(&ls.axiom)
+    );
+    for (sym, r) in ls.symbols.iter().zip(&ls.rules) {
+        let _ = writeln!(w, "  {sym} -> {}", ls.word_str(r));
+    }
+    let _ = writeln!(w, "M = {:?}", a.matrix);
+    let _ = writeln!(w, "characteristic polynomial: {}", a.char_poly);
+    let _ = writeln!(
+        w,
+        "rho = {} ≈ {}, minimal polynomial {}",
+        a.rho,
+        a.rho.to_f64(),
+        a.field.minpoly()
+    );
+    match &a.reason {
+        None => {
+            let _ = writeln!(w, "valid ([N] Definition 3.1)");
+        }
+        Some(r) => {
+            let _ = writeln!(w, "INVALID: {r}");
+        }
+    }
+    let _ = writeln!(
+        w,
+        "strongly connected: {}; Theorem 3.7 condition: {}; eigenspace dimension: {}",
+        a.strongly_connected, a.theorem_3_7, a.eigenspace_dim
+    );
+    match (&a.lengths, &a.lengths_problem) {
+        (Some((l, src)), _) => {
+            let _ = writeln!(w, "lengths ({}):", source_name(*src));
+            for (sym, e) in ls.symbols.iter().zip(l) {
+                let _ = writeln!(w, "  {sym}: {e} ≈ {}", e.to_f64());
+            }
+        }
+        (None, Some(p)) => {
+            let _ = writeln!(w, "lengths: {p}");
+        }
+        (None, None) => {}
+    }
+    for (i, v) in a.left.iter().enumerate() {
+        let entries: Vec<String> = ls
+            .symbols
+            .iter()
+            .zip(v)
+            .map(|(s, e)| format!("{s}: {e}"))
+            .collect();
+        let _ = writeln!(w, "left eigenvector {}: {}", i + 1, entries.join(", "));
+    }
+    if let Some(sc) = scheme {
+        let tr = sc.graph.words.iter().filter(|w| w.transitional).count();
+        let _ = writeln!(w, "{} masks ({} transitional):", sc.masks.len(), tr);
+        for (info, m) in sc.graph.words.iter().zip(&sc.masks) {
+            let tag = if info.transitional {
+                format!("  (transitional, steps {:?})", info.steps)
+            } else {
+                format!("  (from step {})", info.first_step)
+            };
+            let _ = writeln!(w, "  {}{tag}", ls.word_str(&m.word));
+            for (j, c) in m.contributions.iter().enumerate() {
+                let child = if m.child == Some(j) { "  <- child" } else { "" };
+                let _ = writeln!(
+                    w,
+                    "    {}  {:>20}  = {}{child}",
+                    ls.word_str(&c.word),
+                    format!("{:.17}", c.weight.to_f64()),
+                    c.weight
+                );
+            }
+        }
+        for (i, c) in sc.graph.sccs.iter().enumerate() {
+            let names: Vec<String> = c
+                .iter()
+                .map(|&j| ls.word_str(&sc.graph.words[j].word))
+                .collect();
+            let _ = writeln!(w, "SCC {}: {}", i + 1, names.join(" "));
+        }
+    }
+    s
+}
+
+/// The transition graph in DOT: SCC members filled, transitional words dashed.
+pub fn dot(s: &Scheme) -> String {
+    let ls = &s.ls;
+    let mut out = format!(
+        "digraph \"{}\" {{\n  rankdir=LR;\n  node [shape=box, fontname=\"monospace\"];\n",
+        ls.name
+    );
+    let in_scc: Vec<Option<usize>> = (0..s.graph.words.len())
+        .map(|i| s.graph.sccs.iter().position(|c| c.contains(&i)))
+        .collect();
+    let palette = [
+        "#cfe2ff", "#d1e7dd", "#fff3cd", "#f8d7da", "#e2d9f3", "#d3f1f4",
+    ];
+    for (i, w) in s.graph.words.iter().enumerate() {
+        let mut attrs = vec![format!("label=\"{}\"", ls.word_str(&w.word))];
+        if let Some(c) = in_scc[i] {
+            attrs.push(format!(
+                "style=filled, fillcolor=\"{}\"",
+                palette[c % palette.len()]
+            ));
+        }
+        if w.transitional {
+            attrs.push(format!("style=dashed, xlabel=\"steps {:?}\"", w.steps));
+        }
+        let _ = writeln!(out, "  w{i} [{}];", attrs.join(", "));
+    }
+    for (i, succ) in s.graph.edges.iter().enumerate() {
+        for j in succ {
+            let _ = writeln!(out, "  w{i} -> w{j};");
+        }
+    }
+    out.push_str("}\n");
+    out
+}
