@@ -68,7 +68,8 @@ pub fn mask(ls: &LSystem, lengths: &[Elem], w: &[Sym]) -> Mask {
         })
         .collect();
     // The new point whose middle knot u_{j+(d+1)/2} is the old middle knot.
-    let child = (d % 2 == 1).then(|| boundaries[(d + 1) / 2] - (d + 1) / 2);
+    let half = d.div_ceil(2);
+    let child = (d % 2 == 1).then(|| boundaries[half] - half);
     Mask {
         word: w.to_vec(),
         contributions,

@@ -530,7 +530,7 @@ fn fp_pow(mut b: u64, mut e: u64, p: u64) -> u64 {
 }
 
 fn fp_inv(a: u64, p: u64) -> u64 {
-    debug_assert!(a % p != 0);
+    debug_assert!(!Integer::is_multiple_of(&a, &p));
     fp_pow(a, p - 2, p)
 }
 
@@ -776,7 +776,7 @@ fn is_small_prime(n: u64) -> bool {
     }
     let mut d = 2;
     while d * d <= n {
-        if n % d == 0 {
+        if Integer::is_multiple_of(&n, &d) {
             return false;
         }
         d += 1;
@@ -1681,60 +1681,5 @@ mod tests {
         let p = pow(&ints(&[-1, 3]), 2);
         let (l, h) = refine_root(&p, &q(0, 1), &q(1, 1), &w);
         assert!(l < q(1, 3) && q(1, 3) <= h && &h - &l <= w);
-    }
-}
-#[cfg(test)]
-mod xcheck {
-    use super::*;
-    #[test]
-    fn xcheck_dump() {
-        let mut s: u64 = 99;
-        let mut next = |lo: i64, hi: i64| {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            lo + ((s >> 33) % ((hi - lo + 1) as u64)) as i64
-        };
-        let mut out = String::new();
-        for _ in 0..300 {
-            let k = next(1, 4);
-            let mut p = QPoly::one();
-            for _ in 0..k {
-                let d = next(0, 5) as usize;
-                let mut c: Vec<i64> = (0..=d).map(|_| next(-6, 6)).collect();
-                if c[d] == 0 {
-                    c[d] = 1;
-                }
-                let m = next(1, 3) as usize;
-                for _ in 0..m {
-                    p = p.mul(&QPoly::from_ints(&c));
-                }
-            }
-            if p.is_zero() {
-                continue;
-            }
-            let f = factor(&p).unwrap();
-            let pc: Vec<String> = p
-                .primitive_integer()
-                .iter()
-                .map(|c| c.to_string())
-                .collect();
-            let fs: Vec<String> = f
-                .iter()
-                .map(|(g, m)| {
-                    format!(
-                        "{}:{}",
-                        g.primitive_integer()
-                            .iter()
-                            .map(|c| c.to_string())
-                            .collect::<Vec<_>>()
-                            .join(","),
-                        m
-                    )
-                })
-                .collect();
-            out.push_str(&format!("{}|{}\n", pc.join(","), fs.join(";")));
-        }
-        std::fs::write("/tmp/xcheck.txt", out).unwrap();
     }
 }
