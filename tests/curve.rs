@@ -1,0 +1,259 @@
+//! Curve refinement beyond the tables: the refined polygon is the control polygon of the same
+//! spline on the refined knots (checked by independent de Boor evaluation), it converges to the
+//! spline, and the generic and generated paths agree bit for bit.
+
+use lsubdiv::compiler::generic::GenericScheme;
+use lsubdiv::compiler::Scheme;
+use lsubdiv::{generated, resolve, Curve, CurveError, CurveScheme};
+
+/// Deterministic pseudo-random numbers in [-1, 1).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+    fn points<const D: usize>(&mut self, m: usize) -> Vec<[f64; D]> {
+        (0..m)
+            .map(|_| std::array::from_fn(|_| self.next()))
+            .collect()
+    }
+}
+
+fn generic(name: &str, degree: Option<usize>) -> GenericScheme {
+    let mut r = resolve(name).expect("shipped scheme");
+    if let Some(d) = degree {
+        r.ls.degree = d;
+    }
+    GenericScheme::new(Scheme::build(r.ls, &r.file).expect("compiles"))
+}
+
+/// Evaluates the spline with knots `t` (len m + d + 1) and points `p` at x ∈ [t_d, t_m] (de Boor).
+fn de_boor<const D: usize>(t: &[f64], p: &[[f64; D]], d: usize, x: f64) -> [f64; D] {
+    let m = p.len();
+    let mut mu = d;
+    while mu + 1 < m && t[mu + 1] <= x {
+        mu += 1;
+    }
+    let mut q: Vec<[f64; D]> = p[mu - d..=mu].to_vec();
+    for r in 1..=d {
+        for j in (r..=d).rev() {
+            let i = mu - d + j;
+            let a = (x - t[i]) / (t[i + d + 1 - r] - t[i]);
+            for c in 0..D {
+                q[j][c] = (1.0 - a) * q[j - 1][c] + a * q[j][c];
+            }
+        }
+    }
+    q[d]
+}
+
+/// Knots of a curve at step s: starting at `start`, interval lengths ℓ(label)/ρ^s. A closed
+/// curve is unrolled into an open one covering one period (points p_0..p_{m+d−1} cyclically).
+fn knots_and_points<const D: usize>(
+    c: &Curve<D>,
+    lengths: &[f64],
+    scale: f64,
+    start: f64,
+    d: usize,
+) -> (Vec<f64>, Vec<[f64; D]>) {
+    let (n_int, pts) = if c.closed {
+        let m = c.points.len();
+        (m + 2 * d, (0..m + d).map(|j| c.points[j % m]).collect())
+    } else {
+        (c.labels.len(), c.points.clone())
+    };
+    let mut t = vec![start];
+    for j in 0..n_int {
+        let l = lengths[c.labels[j % c.labels.len()] as usize] * scale;
+        t.push(t[j] + l);
+    }
+    (t, pts)
+}
+
+fn max_dist<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    (0..D).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max)
+}
+
+/// Checks that `fine` (after `steps` steps of `coarse`) is the same spline, at 400 parameters.
+fn assert_same_spline<const D: usize>(
+    s: &GenericScheme,
+    coarse: &Curve<D>,
+    fine: &Curve<D>,
+    steps: usize,
+) {
+    let a = &s.scheme().analysis;
+    let d = s.scheme().ls.degree;
+    let lengths: Vec<f64> = s.scheme().lengths.iter().map(|l| l.to_f64()).collect();
+    let rho = a.rho.to_f64();
+    let (t0, p0) = knots_and_points(coarse, &lengths, 1.0, 0.0, d);
+    // Open: the domain start t_d is invariant. Closed: the first knot is.
+    let start = if coarse.closed {
+        0.0
+    } else {
+        let (u, _) = knots_and_points(fine, &lengths, rho.powi(-(steps as i32)), 0.0, d);
+        t0[d] - u[d]
+    };
+    let (t1, p1) = knots_and_points(fine, &lengths, rho.powi(-(steps as i32)), start, d);
+    let (m0, m1) = (p0.len(), p1.len());
+    let lo = t0[d].max(t1[d]);
+    let hi = t0[m0].min(t1[m1]);
+    assert!(hi > lo, "empty common domain");
+    for i in 0..=400 {
+        let x = lo + (hi - lo) * i as f64 / 400.0 * (1.0 - 1e-12);
+        let (y0, y1) = (de_boor(&t0, &p0, d, x), de_boor(&t1, &p1, d, x));
+        let err = max_dist(&y0, &y1);
+        assert!(
+            err < 1e-12,
+            "{}: x = {x}: {y0:?} vs {y1:?} ({err:e})",
+            s.scheme().ls.name
+        );
+    }
+}
+
+fn check_scheme(name: &str, degree: Option<usize>, seed: u64) {
+    let s = generic(name, degree);
+    let mut rng = Lcg(seed);
+    for closed in [false, true] {
+        let m = 9 + (seed as usize % 5);
+        let coarse = Curve::with_axiom(&s.tables(), rng.points::<3>(m), closed);
+        for steps in 1..=3 {
+            let fine = lsubdiv::refine(&s, &coarse, steps).expect("refines");
+            assert_same_spline(&s, &coarse, &fine, steps);
+            // Counts: m + d intervals (open) or m (closed) after every step.
+            let d = s.scheme().ls.degree;
+            let extra = if closed { 0 } else { d };
+            assert_eq!(fine.labels.len(), fine.points.len() + extra);
+        }
+    }
+}
+
+#[test]
+fn refined_polygon_is_the_same_spline_for_every_shipped_scheme() {
+    for (i, name) in generated::NAMES.iter().enumerate() {
+        check_scheme(name, None, 17 + i as u64);
+    }
+}
+
+#[test]
+fn refined_polygon_is_the_same_spline_at_other_degrees() {
+    for d in 1..=6 {
+        check_scheme("fibonacci-curve", Some(d), 100 + d as u64);
+        check_scheme("binary-ternary", Some(d), 200 + d as u64);
+    }
+}
+
+#[test]
+fn polygons_converge_to_the_spline() {
+    // Distance of each control point to the curve at its Greville abscissa shrinks with the
+    // knot spacing ([N] Theorem 3.2).
+    let s = generic("fibonacci", None);
+    let d = 3;
+    let lengths: Vec<f64> = s.scheme().lengths.iter().map(|l| l.to_f64()).collect();
+    let rho = s.scheme().analysis.rho.to_f64();
+    let coarse = Curve::with_axiom(&s.tables(), Lcg(5).points::<2>(8), true);
+    let mut errors = Vec::new();
+    for steps in 0..=8i32 {
+        let c = lsubdiv::refine(&s, &coarse, steps as usize).unwrap();
+        let (t, p) = knots_and_points(&c, &lengths, rho.powi(-steps), 0.0, d);
+        // Unrolled points d−1..=m have their Greville abscissae inside the period [t_d, t_{m+d}].
+        let err = (d - 1..=c.points.len())
+            .map(|k| {
+                let g = t[k + 1..=k + d].iter().sum::<f64>() / d as f64;
+                max_dist(&p[k], &de_boor(&t, &p, d, g))
+            })
+            .fold(0.0, f64::max);
+        errors.push(err);
+    }
+    for w in errors.windows(2).skip(1) {
+        assert!(w[1] < w[0], "not decreasing: {errors:?}");
+    }
+    // Quadratic in the spacing: about ρ^-2 per step.
+    assert!(errors[8] < errors[2] * rho.powi(-2 * 6) * 4.0, "{errors:?}");
+}
+
+#[test]
+fn generic_and_generated_paths_agree_bit_for_bit() {
+    for (i, name) in generated::NAMES.iter().enumerate() {
+        let s = generic(name, None);
+        let mut rng = Lcg(1000 + i as u64);
+        for closed in [false, true] {
+            let c2 = Curve::with_axiom(&s.tables(), rng.points::<2>(11), closed);
+            let c3 = Curve::with_axiom(&s.tables(), rng.points::<3>(11), closed);
+            let a2 = lsubdiv::refine(&s, &c2, 4).unwrap();
+            let b2 = generated::refine_curve(name, &c2, 4).unwrap().unwrap();
+            let a3 = lsubdiv::refine(&s, &c3, 4).unwrap();
+            let b3 = generated::refine_curve(name, &c3, 4).unwrap().unwrap();
+            let bits = |c: &Curve<2>| {
+                c.points
+                    .iter()
+                    .flatten()
+                    .map(|x| x.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            let bits3 = |c: &Curve<3>| {
+                c.points
+                    .iter()
+                    .flatten()
+                    .map(|x| x.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&a2), bits(&b2), "{name} 2D closed={closed}");
+            assert_eq!(bits3(&a3), bits3(&b3), "{name} 3D closed={closed}");
+            assert_eq!(a3.labels, b3.labels);
+        }
+    }
+}
+
+#[test]
+fn user_labels_outside_the_tables_use_masks_computed_on_demand() {
+    // "SS" never occurs in Fibonacci words, so no table has SSS: the generated path refuses,
+    // the generic path computes the masks exactly and refines the same spline.
+    let mut s = generic("fibonacci-curve", None);
+    let points = Lcg(9).points::<2>(6);
+    let labels = s.scheme().ls.parse_word("SSLSSLSS").unwrap(); // m + d = 8
+    let curve = Curve {
+        points,
+        labels,
+        closed: false,
+    };
+    match generated::refine_curve("fibonacci-curve", &curve, 2).unwrap() {
+        Err(CurveError::UnknownWord(w)) => assert_eq!(w, "SSL"),
+        other => panic!("expected UnknownWord, got {other:?}"),
+    }
+    assert!(matches!(
+        lsubdiv::refine(&s, &curve, 2),
+        Err(CurveError::UnknownWord(_))
+    ));
+    s.prepare(&curve);
+    let fine = lsubdiv::refine(&s, &curve, 3).unwrap();
+    assert_same_spline(&s, &curve, &fine, 3);
+}
+
+#[test]
+fn bad_curves_are_refused() {
+    let s = generic("binary-ternary", None);
+    let t = s.tables();
+    let mut c = Curve::with_axiom(&t, Lcg(1).points::<2>(5), false);
+    c.labels.pop();
+    assert_eq!(
+        lsubdiv::refine(&s, &c, 1),
+        Err(CurveError::LabelCount {
+            expected: 8,
+            got: 7
+        })
+    );
+    c.labels.push(9);
+    assert_eq!(
+        lsubdiv::refine(&s, &c, 1),
+        Err(CurveError::UnknownSymbol(9))
+    );
+    let closed = Curve::with_axiom(&t, Lcg(1).points::<2>(3), true);
+    assert_eq!(
+        lsubdiv::refine(&s, &closed, 1),
+        Err(CurveError::TooFewPoints { needed: 4, got: 3 })
+    );
+}
