@@ -1,0 +1,36 @@
+//! insta snapshots of the exact tables (radical form for quadratic fields, polynomials in ρ for
+//! the others) of every shipped scheme, and of one generated source file. Reviewed and committed;
+//! insta never writes snapshots under CI.
+
+use lsubdiv::compiler::codegen::generate;
+use lsubdiv::compiler::validity::analyse;
+use lsubdiv::compiler::Scheme;
+use lsubdiv::{report, resolve};
+
+fn report_of(name: &str) -> String {
+    let r = resolve(name).unwrap();
+    let a = analyse(&r.ls, &r.file).unwrap();
+    let s = Scheme::build(r.ls.clone(), &r.file).unwrap();
+    report::text(&r.ls, &a, Some(&s))
+}
+
+#[test]
+fn exact_tables_of_shipped_schemes() {
+    for name in lsubdiv::builtin_names() {
+        insta::assert_snapshot!(format!("inspect_{name}"), report_of(name));
+    }
+}
+
+#[test]
+fn generated_source_of_fibonacci_curve() {
+    let r = resolve("fibonacci-curve").unwrap();
+    let s = Scheme::build(r.ls, &r.file).unwrap();
+    insta::assert_snapshot!("codegen_fibonacci_curve", generate(&s));
+}
+
+#[test]
+fn transition_graph_of_binary_ternary() {
+    let r = resolve("binary-ternary").unwrap();
+    let s = Scheme::build(r.ls, &r.file).unwrap();
+    insta::assert_snapshot!("graph_binary_ternary", report::dot(&s));
+}
