@@ -1,0 +1,170 @@
+//! The command line as a user runs it: JSON shape, errors with places and exit status 2,
+//! point files in and out, DOT and codegen outputs.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn lsubdiv(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+#[test]
+fn inspect_json_has_the_documented_fields() {
+    let o = lsubdiv(&["inspect", "fibonacci", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["valid"], true);
+    assert!(v["reason"].is_null());
+    assert!((v["rho"].as_f64().unwrap() - 1.618033988749895).abs() < 1e-15);
+    assert_eq!(v["minimal_polynomial"], serde_json::json!([-1, -1, 1]));
+    assert_eq!(v["lengths"]["S"]["exact"], "2");
+    assert_eq!(v["lengths"]["L"]["exact"], "(1 + √5)/2");
+    let masks = v["masks"].as_array().unwrap();
+    assert_eq!(masks.len(), 20);
+    let ssss = masks.iter().find(|m| m["word"] == "SSSS").unwrap();
+    assert_eq!(ssss["transitional"], true);
+    let c = ssss["contributions"].as_array().unwrap();
+    assert_eq!(c.len(), 5);
+    assert_eq!(c[2]["word"], "LRLR");
+    assert_eq!(c[2]["exact"], "3/4");
+    assert_eq!(c[2]["weight"], 0.75);
+    assert_eq!(c[2]["child"], true);
+    assert_eq!(c[1]["child"], false);
+}
+
+#[test]
+fn inspect_with_degree_override() {
+    let o = lsubdiv(&["inspect", "uniform-binary", "--degree", "2", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let w: Vec<&str> = v["masks"][0]["contributions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["exact"].as_str().unwrap())
+        .collect();
+    assert_eq!(w, ["1/4", "3/4", "3/4", "1/4"]);
+}
+
+#[test]
+fn invalid_lsystem_reports_and_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "swap.toml", "name = \"swap\"\ndegree = 3\naxiom = \"A1\"\n[rules]\nA1 = \"A2\"\nA2 = \"A1\"\n");
+    let o = lsubdiv(&["inspect", &f, "--json"]);
+    assert_eq!(o.status.code(), Some(2));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["valid"], false);
+    assert!(v["reason"].as_str().unwrap().contains("not greater than 1"));
+    assert!(stderr(&o).contains("swap.toml"), "{}", stderr(&o));
+    let o = lsubdiv(&["codegen", &f, "-o", &dir.path().join("x.rs").display().to_string()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!dir.path().join("x.rs").exists(), "no output on failure");
+}
+
+#[test]
+fn malformed_scheme_names_file_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LX\"\n", ":5:5: error: rule for `L`: unknown symbol `X`"),
+        ("name = \"x\"\ndegree = 0\naxiom = \"L\"\n[rules]\nL = \"LL\"\n", ":2:10: error: degree 0 is out of range"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"\"\n", ":5:5: error: rule for `L`: empty word"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"Q\"\n[rules]\nL = \"LL\"\n", ":3:9: error: axiom: unknown symbol `Q`"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\nL = \"L\"\n", ":6:1: error: duplicate key"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\nrules = 4\n", ":4:9: error: `rules` must be a table"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nR = \"RC\"\nC = \"LCR\"\n[symmetry]\nL = \"R\"\n", "the declared σ is not a symmetry ([G] eq. (14)): π(σ(L)) = RC but σ̄(π(L)) = CR"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LR\"\nR = \"LR\"\n[symmetry]\nL = \"R\"\n", "the axiom L is not symmetric"),
+    ];
+    for (i, (text, expect)) in cases.iter().enumerate() {
+        let f = write(dir.path(), &format!("bad{i}.toml"), text);
+        let o = lsubdiv(&["inspect", &f]);
+        assert_eq!(o.status.code(), Some(2), "case {i}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(e.contains(&format!("bad{i}.toml")) && e.contains(expect), "case {i}: {e}");
+        assert!(!e.contains("panicked"), "case {i}: {e}");
+    }
+}
+
+#[test]
+fn unknown_scheme_name_exits_2() {
+    let o = lsubdiv(&["inspect", "no-such-scheme"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("fibonacci"), "lists the shipped schemes: {}", stderr(&o));
+}
+
+#[test]
+fn curve_reads_and_writes_point_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "in.txt", "# a square\n0 0\n1 0\n\n1 1\n0 1\n");
+    let out = dir.path().join("out.txt").display().to_string();
+    for path in ["generated", "generic"] {
+        let o = lsubdiv(&["curve", "binary-ternary", "--steps", "2", "--closed", "--path", path, &input, "-o", &out]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        // 4 intervals labelled C: π²(C) = LCLCRCR has 7 symbols, so 28 closed points.
+        assert_eq!(text.lines().count(), 28);
+        for line in text.lines() {
+            let xs: Vec<f64> = line.split(' ').map(|t| t.parse().unwrap()).collect();
+            assert_eq!(xs.len(), 2);
+        }
+    }
+    let o = lsubdiv(&["curve", "fibonacci-curve", "--steps", "3", "--labels", "SSLSSL", &input, "-o", &out]);
+    assert!(o.status.success(), "labels outside the tables go generic: {}", stderr(&o));
+}
+
+#[test]
+fn curve_rejects_bad_points_and_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.txt");
+    let out_s = out.display().to_string();
+    std::fs::write(&out, "previous\n").unwrap();
+    let bad = write(dir.path(), "bad.txt", "0 0\n1 x\n");
+    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &bad, "-o", &out_s]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.txt:2: error: `x` is not a number"), "{}", stderr(&o));
+    let mixed = write(dir.path(), "mixed.txt", "0 0\n1 1 1\n");
+    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &mixed, "-o", &out_s]);
+    assert!(stderr(&o).contains("mixed.txt:2"), "{}", stderr(&o));
+    let ok = write(dir.path(), "ok.txt", "0 0\n1 0\n1 1\n0 1\n");
+    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", "--labels", "SSZ", &ok, "-o", &out_s]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("unknown symbol `Z`"), "{}", stderr(&o));
+    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", "--labels", "SS", &ok, "-o", &out_s]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("2 interval labels given, 7 needed"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n", "failed runs leave the output intact");
+}
+
+#[test]
+fn graph_dot_and_codegen() {
+    let o = lsubdiv(&["graph", "fibonacci", "--dot"]);
+    assert!(o.status.success());
+    let dot = String::from_utf8(o.stdout).unwrap();
+    assert!(dot.starts_with("digraph \"fibonacci\""));
+    assert_eq!(dot.matches("style=dashed").count(), 7, "7 transitional words");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fib.rs");
+    let o = lsubdiv(&["codegen", "fibonacci", "-o", &out.display().to_string()]);
+    assert!(o.status.success());
+    let src = std::fs::read_to_string(out).unwrap();
+    assert!(src.starts_with("// @generated"));
+    assert!(src.contains("impl ::lsubdiv_runtime::CurveScheme for Scheme"));
+}
+
+#[test]
+fn default_job_runs() {
+    let o = lsubdiv(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("agree bit for bit"));
+}
