@@ -61,14 +61,23 @@ fn inspect_with_degree_override() {
 #[test]
 fn invalid_lsystem_reports_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
-    let f = write(dir.path(), "swap.toml", "name = \"swap\"\ndegree = 3\naxiom = \"A1\"\n[rules]\nA1 = \"A2\"\nA2 = \"A1\"\n");
+    let f = write(
+        dir.path(),
+        "swap.toml",
+        "name = \"swap\"\ndegree = 3\naxiom = \"A1\"\n[rules]\nA1 = \"A2\"\nA2 = \"A1\"\n",
+    );
     let o = lsubdiv(&["inspect", &f, "--json"]);
     assert_eq!(o.status.code(), Some(2));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["valid"], false);
     assert!(v["reason"].as_str().unwrap().contains("not greater than 1"));
     assert!(stderr(&o).contains("swap.toml"), "{}", stderr(&o));
-    let o = lsubdiv(&["codegen", &f, "-o", &dir.path().join("x.rs").display().to_string()]);
+    let o = lsubdiv(&[
+        "codegen",
+        &f,
+        "-o",
+        &dir.path().join("x.rs").display().to_string(),
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!dir.path().join("x.rs").exists(), "no output on failure");
 }
@@ -91,7 +100,10 @@ fn malformed_scheme_names_file_line_and_column() {
         let o = lsubdiv(&["inspect", &f]);
         assert_eq!(o.status.code(), Some(2), "case {i}: {}", stderr(&o));
         let e = stderr(&o);
-        assert!(e.contains(&format!("bad{i}.toml")) && e.contains(expect), "case {i}: {e}");
+        assert!(
+            e.contains(&format!("bad{i}.toml")) && e.contains(expect),
+            "case {i}: {e}"
+        );
         assert!(!e.contains("panicked"), "case {i}: {e}");
     }
 }
@@ -100,7 +112,11 @@ fn malformed_scheme_names_file_line_and_column() {
 fn unknown_scheme_name_exits_2() {
     let o = lsubdiv(&["inspect", "no-such-scheme"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("fibonacci"), "lists the shipped schemes: {}", stderr(&o));
+    assert!(
+        stderr(&o).contains("fibonacci"),
+        "lists the shipped schemes: {}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -109,7 +125,18 @@ fn curve_reads_and_writes_point_files() {
     let input = write(dir.path(), "in.txt", "# a square\n0 0\n1 0\n\n1 1\n0 1\n");
     let out = dir.path().join("out.txt").display().to_string();
     for path in ["generated", "generic"] {
-        let o = lsubdiv(&["curve", "binary-ternary", "--steps", "2", "--closed", "--path", path, &input, "-o", &out]);
+        let o = lsubdiv(&[
+            "curve",
+            "binary-ternary",
+            "--steps",
+            "2",
+            "--closed",
+            "--path",
+            path,
+            &input,
+            "-o",
+            &out,
+        ]);
         assert!(o.status.success(), "{}", stderr(&o));
         let text = std::fs::read_to_string(&out).unwrap();
         // 4 intervals labelled C: π²(C) = LCLCRCR has 7 symbols, so 28 closed points.
@@ -119,8 +146,22 @@ fn curve_reads_and_writes_point_files() {
             assert_eq!(xs.len(), 2);
         }
     }
-    let o = lsubdiv(&["curve", "fibonacci-curve", "--steps", "3", "--labels", "SSLSSL", &input, "-o", &out]);
-    assert!(o.status.success(), "labels outside the tables go generic: {}", stderr(&o));
+    let o = lsubdiv(&[
+        "curve",
+        "fibonacci-curve",
+        "--steps",
+        "3",
+        "--labels",
+        "SSLSSL",
+        &input,
+        "-o",
+        &out,
+    ]);
+    assert!(
+        o.status.success(),
+        "labels outside the tables go generic: {}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -132,18 +173,50 @@ fn curve_rejects_bad_points_and_labels() {
     let bad = write(dir.path(), "bad.txt", "0 0\n1 x\n");
     let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &bad, "-o", &out_s]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("bad.txt:2: error: `x` is not a number"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("bad.txt:2: error: `x` is not a number"),
+        "{}",
+        stderr(&o)
+    );
     let mixed = write(dir.path(), "mixed.txt", "0 0\n1 1 1\n");
     let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &mixed, "-o", &out_s]);
     assert!(stderr(&o).contains("mixed.txt:2"), "{}", stderr(&o));
     let ok = write(dir.path(), "ok.txt", "0 0\n1 0\n1 1\n0 1\n");
-    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", "--labels", "SSZ", &ok, "-o", &out_s]);
+    let o = lsubdiv(&[
+        "curve",
+        "fibonacci",
+        "--steps",
+        "1",
+        "--labels",
+        "SSZ",
+        &ok,
+        "-o",
+        &out_s,
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("unknown symbol `Z`"), "{}", stderr(&o));
-    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", "--labels", "SS", &ok, "-o", &out_s]);
+    let o = lsubdiv(&[
+        "curve",
+        "fibonacci",
+        "--steps",
+        "1",
+        "--labels",
+        "SS",
+        &ok,
+        "-o",
+        &out_s,
+    ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("2 interval labels given, 7 needed"), "{}", stderr(&o));
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n", "failed runs leave the output intact");
+    assert!(
+        stderr(&o).contains("2 interval labels given, 7 needed"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "previous\n",
+        "failed runs leave the output intact"
+    );
 }
 
 #[test]
@@ -152,7 +225,11 @@ fn graph_dot_and_codegen() {
     assert!(o.status.success());
     let dot = String::from_utf8(o.stdout).unwrap();
     assert!(dot.starts_with("digraph \"fibonacci\""));
-    assert_eq!(dot.matches("style=dashed").count(), 7, "7 transitional words");
+    assert_eq!(
+        dot.matches("style=dashed").count(),
+        7,
+        "7 transitional words"
+    );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fib.rs");
     let o = lsubdiv(&["codegen", "fibonacci", "-o", &out.display().to_string()]);

@@ -140,17 +140,8 @@ pub fn generate_registry(names: &[String]) -> String {
         .iter()
         .map(|n| format_ident!("{}", module_name(n)))
         .collect();
-    let files: Vec<String> = names
-        .iter()
-        .map(|n| format!("/{}.rs", module_name(n)))
-        .collect();
     let tokens = quote! {
-        #(
-            #[allow(clippy::all, missing_docs)]
-            pub mod #mods {
-                include!(concat!(env!("OUT_DIR"), #files));
-            }
-        )*
+        #(::lsubdiv_runtime::include_scheme!(#mods);)*
 
         /// Names of the compiled schemes.
         pub const NAMES: &[&str] = &[#(#names),*];

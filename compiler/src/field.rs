@@ -559,3 +559,105 @@ impl ExprParser<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::poly::isolate_real_roots;
+
+    fn field(coeffs: &[i64]) -> FieldRef {
+        let p = QPoly::from_ints(coeffs);
+        let (lo, hi) = isolate_real_roots(&p).pop().unwrap();
+        Field::new(&p, lo, hi)
+    }
+
+    /// `to_f64` is correctly rounded: the exact value lies within half an ulp of the result
+    /// (decided exactly, in the field).
+    #[test]
+    fn to_f64_is_correctly_rounded() {
+        for coeffs in [
+            &[-1, -1, 1][..],
+            &[-1, -2, 1],
+            &[-2, 0, -1, 1],
+            &[-2, 0, 0, 0, 0, 0, 1],
+        ] {
+            let f = field(coeffs);
+            let rho = f.rho();
+            let mut x = Elem::one(&f);
+            for k in 0..40 {
+                // Varied elements: ρ^k/7 − k/3.
+                let e = x
+                    .div(&Elem::int(&f, 7))
+                    .unwrap()
+                    .sub(&Elem::rational(&f, BigRational::new(k.into(), 3.into())));
+                let v = e.to_f64();
+                let exact = |y: f64| Elem::rational(&f, BigRational::from_float(y).unwrap());
+                let half_ulp = |y: f64| (f64::from_bits(y.to_bits() + 1) - y).abs() / 2.0;
+                let below = exact(v).sub(&Elem::rational(
+                    &f,
+                    BigRational::from_float(half_ulp(v)).unwrap(),
+                ));
+                let above = exact(v).add(&Elem::rational(
+                    &f,
+                    BigRational::from_float(half_ulp(v)).unwrap(),
+                ));
+                assert!(
+                    e.cmp_exact(&below).is_ge() && e.cmp_exact(&above).is_le(),
+                    "{e} -> {v}"
+                );
+                x = x.mul(&rho);
+            }
+        }
+    }
+
+    #[test]
+    fn arithmetic_signs_and_display() {
+        let f = field(&[-1, -2, 1]); // ρ = 1 + √2
+        let rho = f.rho();
+        let sqrt2 = rho.sub(&Elem::one(&f));
+        assert_eq!(sqrt2.mul(&sqrt2), Elem::int(&f, 2));
+        let x = Elem::int(&f, 5)
+            .sub(&Elem::int(&f, 3).mul(&sqrt2))
+            .div(&Elem::int(&f, 7))
+            .unwrap();
+        assert_eq!(x.to_string(), "(5 - 3√2)/7");
+        assert_eq!(
+            Elem::int(&f, 5)
+                .mul(&sqrt2)
+                .sub(&Elem::int(&f, 7))
+                .to_string(),
+            "5√2 - 7"
+        );
+        assert_eq!(x.signum(), 1); // 5 > 3√2 ≈ 4.243
+        assert_eq!(
+            Elem::int(&f, 99)
+                .sub(&Elem::int(&f, 70).mul(&sqrt2))
+                .signum(),
+            1
+        ); // 99 − 70√2 ≈ 0.00505
+        assert_eq!(
+            Elem::int(&f, 70)
+                .mul(&sqrt2)
+                .sub(&Elem::int(&f, 99))
+                .signum(),
+            -1
+        );
+        assert_eq!(x.mul(&x.inv().unwrap()), Elem::one(&f));
+        assert!(Elem::zero(&f).inv().is_none());
+        let c = field(&[-2, 0, -1, 1]);
+        let r = c.rho();
+        assert_eq!(r.mul(&r).mul(&r), r.mul(&r).add(&Elem::int(&c, 2)));
+        assert_eq!(
+            parse_expr(&c, "rho^2 - rho").unwrap().to_string(),
+            "ρ^2 - ρ"
+        );
+        assert_eq!(parse_expr(&c, "(1 + rho)/2 * 2 - 1").unwrap(), r);
+        assert_eq!(
+            parse_expr(&c, "2/rho").unwrap(),
+            Elem::int(&c, 2).div(&r).unwrap()
+        );
+        assert!(parse_expr(&c, "rho +").is_err());
+        assert!(parse_expr(&c, "1/0").is_err());
+        assert!(parse_expr(&c, "x").is_err());
+    }
+}

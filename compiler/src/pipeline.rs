@@ -168,3 +168,41 @@ pub fn check_symmetry(ls: &LSystem, sigma: &[Sym], file: &str) -> Result<(), Err
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scheme;
+
+    fn binary_ternary() -> Scheme {
+        let text = "name = \"bt\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nC = \"LCR\"\nR = \"CR\"\n[symmetry]\nL = \"R\"\n";
+        Scheme::build(scheme::parse("bt.toml", text).unwrap(), "bt.toml").unwrap()
+    }
+
+    #[test]
+    fn partition_of_unity_certificate_catches_a_wrong_weight() {
+        let mut s = binary_ternary();
+        assert!(s.certify_partition_of_unity().is_ok());
+        let w = &mut s.masks[3].contributions[1].weight;
+        *w = w.add(
+            &Elem::int(w.field(), 1)
+                .div(&Elem::int(w.field(), 1000))
+                .unwrap(),
+        );
+        let e = s.certify_partition_of_unity().unwrap_err().to_string();
+        assert!(
+            e.contains("certificate failed") && e.contains("not 1"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn mirror_certificate_catches_an_asymmetric_mask() {
+        let mut s = binary_ternary();
+        assert!(s.certify_mirror().is_ok());
+        let m = &mut s.masks[4];
+        m.contributions.swap(0, 1);
+        let e = s.certify_mirror().unwrap_err().to_string();
+        assert!(e.contains("is not the mirror"), "{e}");
+    }
+}

@@ -3,6 +3,7 @@
 //!
 //! Each scheme is a module (`fibonacci`, `binary_ternary`, …) holding `Scheme`, which implements
 //! [`lsubdiv_runtime::CurveScheme`], and its `TABLES`. [`NAMES`] lists them and
-//! [`refine_curve`] dispatches by name.
+//! [`refine_curve`] dispatches by name. Generated code must compile warning-free.
+#![deny(warnings)]
 
 include!(concat!(env!("OUT_DIR"), "/registry.rs"));
