@@ -4,16 +4,15 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 fn main() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let dir = root.join("schemes");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("schemes");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("schemes/ folder")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    let mut out = String::from("/// Shipped schemes: (file stem, file path, TOML text).\npub const BUILTIN: &[(&str, &str, &str)] = &[\n");
+    let files = lsubdiv_compiler::scheme::scheme_files(&dir).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(1)
+    });
+    let mut out = String::from(
+        "/// Shipped schemes: (file stem, file path, TOML text).\npub const BUILTIN: &[(&str, &str, &str)] = &[\n",
+    );
     for f in &files {
         println!("cargo:rerun-if-changed={}", f.display());
         let stem = f
@@ -28,7 +27,8 @@ fn main() {
     }
     out.push_str("];\n");
     let dest = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR")).join("builtin.rs");
-    if std::fs::read_to_string(&dest).ok().as_deref() != Some(out.as_str()) {
-        std::fs::write(dest, out).expect("write builtin.rs");
-    }
+    lsubdiv_compiler::codegen::write_if_changed(&dest, &out).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(1)
+    });
 }

@@ -30,7 +30,9 @@ fn median_secs(mut f: impl FnMut()) -> f64 {
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("curve");
-    group.measurement_time(Duration::from_secs(3)).sample_size(20);
+    group
+        .measurement_time(Duration::from_secs(3))
+        .sample_size(20);
     for name in ["fibonacci", "binary-ternary", "uniform-binary"] {
         let r = resolve(name).unwrap();
         let generic = GenericScheme::new(Scheme::build(r.ls, &r.file).unwrap());
@@ -40,7 +42,10 @@ fn bench(c: &mut Criterion) {
         let mut out = coarse.points.len();
         while out < 1_000_000 {
             steps += 1;
-            out = lsubdiv::refine(&generic, &coarse, steps).unwrap().points.len();
+            out = lsubdiv::refine(&generic, &coarse, steps)
+                .unwrap()
+                .points
+                .len();
         }
         group.throughput(Throughput::Elements(out as u64));
         group.bench_with_input(BenchmarkId::new("generated", name), &coarse, |b, c| {
@@ -50,7 +55,9 @@ fn bench(c: &mut Criterion) {
             b.iter(|| lsubdiv::refine(&generic, c, steps).unwrap())
         });
         let tg = median_secs(|| {
-            generated::refine_curve(name, &coarse, steps).unwrap().unwrap();
+            generated::refine_curve(name, &coarse, steps)
+                .unwrap()
+                .unwrap();
         });
         let tb = median_secs(|| {
             lsubdiv::refine(&generic, &coarse, steps).unwrap();

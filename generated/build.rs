@@ -6,16 +6,12 @@ use std::path::PathBuf;
 fn main() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../schemes");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("schemes/ folder")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
-    if let Err(e) = lsubdiv_compiler::Config::new()
-        .registry("registry.rs")
-        .compile(&files)
-    {
+    let result = lsubdiv_compiler::scheme::scheme_files(&dir).and_then(|files| {
+        lsubdiv_compiler::Config::new()
+            .registry("registry.rs")
+            .compile(&files)
+    });
+    if let Err(e) = result {
         eprintln!("{e}");
         std::process::exit(1);
     }

@@ -182,36 +182,24 @@ fn curve_rejects_bad_points_and_labels() {
     let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &mixed, "-o", &out_s]);
     assert!(stderr(&o).contains("mixed.txt:2"), "{}", stderr(&o));
     let ok = write(dir.path(), "ok.txt", "0 0\n1 0\n1 1\n0 1\n");
-    let o = lsubdiv(&[
-        "curve",
-        "fibonacci",
-        "--steps",
-        "1",
-        "--labels",
-        "SSZ",
-        &ok,
-        "-o",
-        &out_s,
-    ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("unknown symbol `Z`"), "{}", stderr(&o));
-    let o = lsubdiv(&[
-        "curve",
-        "fibonacci",
-        "--steps",
-        "1",
-        "--labels",
-        "SS",
-        &ok,
-        "-o",
-        &out_s,
-    ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        stderr(&o).contains("2 interval labels given, 7 needed"),
-        "{}",
-        stderr(&o)
-    );
+    for (labels, expect) in [
+        ("SSZ", "unknown symbol `Z`"),
+        ("SS", "2 interval labels given, 7 needed"),
+    ] {
+        let o = lsubdiv(&[
+            "curve",
+            "fibonacci",
+            "--steps",
+            "1",
+            "--labels",
+            labels,
+            &ok,
+            "-o",
+            &out_s,
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(stderr(&o).contains(expect), "{}", stderr(&o));
+    }
     assert_eq!(
         std::fs::read_to_string(&out).unwrap(),
         "previous\n",

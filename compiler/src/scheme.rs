@@ -4,11 +4,28 @@
 use crate::error::{Error, Location};
 use crate::lsystem::{parse_word, LSystem, Sym};
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use toml_edit::{ImDocument, Item, TableLike};
 
 /// Largest degree accepted (masks have |π(w)| − d entries; beyond this tables explode).
 pub const MAX_DEGREE: usize = 15;
+
+/// The scheme files (`*.toml`) of a folder, sorted.
+pub fn scheme_files(dir: &Path) -> Result<Vec<PathBuf>, Error> {
+    let io = |e: std::io::Error| Error::Io {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    };
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(io)? {
+        let p = entry.map_err(io)?.path();
+        if p.extension().is_some_and(|e| e == "toml") {
+            files.push(p);
+        }
+    }
+    files.sort();
+    Ok(files)
+}
 
 /// Reads and parses a scheme file.
 pub fn load(path: &Path) -> Result<LSystem, Error> {
