@@ -35,7 +35,7 @@ fn bench(c: &mut Criterion) {
         .sample_size(20);
     for name in ["fibonacci", "binary-ternary", "uniform-binary"] {
         let r = resolve(name).unwrap();
-        let generic = GenericScheme::new(Scheme::build(r.ls, &r.file).unwrap());
+        let generic = GenericScheme::new(Scheme::build(r.ls).unwrap());
         let coarse = Curve::with_axiom(&generic.tables(), polygon(1000), true);
         // Enough steps for ~1e6 output points.
         let mut steps = 0;

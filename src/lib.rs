@@ -25,10 +25,8 @@ mod builtin {
 /// shipped scheme (so that its generated code applies).
 #[derive(Clone, Debug)]
 pub struct Resolved {
-    /// The parsed L-system.
+    /// The parsed L-system (its `source` names the file).
     pub ls: LSystem,
-    /// The file it was read from (for messages).
-    pub file: String,
     /// True for a shipped scheme given by name.
     pub builtin: bool,
 }
@@ -44,14 +42,12 @@ pub fn resolve(arg: &str) -> Result<Resolved, Error> {
     if path.exists() {
         return Ok(Resolved {
             ls: scheme::load(path)?,
-            file: arg.to_string(),
             builtin: false,
         });
     }
     match builtin::BUILTIN.iter().find(|(n, _, _)| *n == arg) {
         Some((_, file, text)) => Ok(Resolved {
             ls: scheme::parse(file, text)?,
-            file: file.to_string(),
             builtin: true,
         }),
         None => Err(Error::Io {

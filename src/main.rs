@@ -136,7 +136,7 @@ fn load(scheme: &str, degree: Option<usize>) -> Result<Resolved, Failure> {
 }
 
 fn build(r: &Resolved) -> Result<Scheme, Failure> {
-    Ok(Scheme::build(r.ls.clone(), &r.file)?)
+    Ok(Scheme::build(r.ls.clone())?)
 }
 
 fn run(command: Option<Command>) -> Result<(), Failure> {
@@ -154,7 +154,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             json,
         }) => {
             let r = load(&scheme, degree)?;
-            let a = analyse(&r.ls, &r.file)?;
+            let a = analyse(&r.ls)?;
             let compiled = if a.valid && a.lengths.is_some() {
                 Some(build(&r)?)
             } else {
@@ -168,7 +168,8 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             match &a.reason {
                 Some(reason) => Err(bad(format!(
                     "{}: error: L-system `{}` is not valid ([N] Definition 3.1): {reason}",
-                    r.file, r.ls.name
+                    r.ls.locate(lsubdiv_compiler::lsystem::Part::Rules),
+                    r.ls.name
                 ))),
                 None => Ok(()),
             }
@@ -260,7 +261,7 @@ fn refine_cli<const D: usize>(
 /// paths, checking that they agree bit for bit.
 fn demo() -> Result<(), Failure> {
     let r = load("fibonacci", None)?;
-    let a = analyse(&r.ls, &r.file)?;
+    let a = analyse(&r.ls)?;
     let s = build(&r)?;
     print!("{}", report::text(&r.ls, &a, Some(&s)));
     let n = 12;

@@ -92,8 +92,11 @@ fn malformed_scheme_names_file_line_and_column() {
         ("name = \"x\"\ndegree = 3\naxiom = \"Q\"\n[rules]\nL = \"LL\"\n", ":3:9: error: axiom: unknown symbol `Q`"),
         ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\nL = \"L\"\n", ":6:1: error: duplicate key"),
         ("name = \"x\"\ndegree = 3\naxiom = \"L\"\nrules = 4\n", ":4:9: error: `rules` must be a table"),
-        ("name = \"x\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nR = \"RC\"\nC = \"LCR\"\n[symmetry]\nL = \"R\"\n", "the declared σ is not a symmetry ([G] eq. (14)): π(σ(L)) = RC but σ̄(π(L)) = CR"),
-        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LR\"\nR = \"LR\"\n[symmetry]\nL = \"R\"\n", "the axiom L is not symmetric"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n[lengths]\nS = \"1\"\nL = \"1\"\nC = \"rho - 1\"\nD = \"rho - 1\"\nR = \"1\"\n",
+         ":11:5: error: `[lengths]` do not satisfy [N] eq. (3) for `S`"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"A\"\n[rules]\nA = \"B\"\nB = \"A\"\n", ":4:2: error: L-system `x` is not valid"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nR = \"RC\"\nC = \"LCR\"\n[symmetry]\nL = \"R\"\n", ":8:2: error: the declared σ is not a symmetry ([G] eq. (14)): π(σ(L)) = RC but σ̄(π(L)) = CR"),
+        ("name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LR\"\nR = \"LR\"\n[symmetry]\nL = \"R\"\n", ":7:2: error: the axiom L is not symmetric"),
     ];
     for (i, (text, expect)) in cases.iter().enumerate() {
         let f = write(dir.path(), &format!("bad{i}.toml"), text);

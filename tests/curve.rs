@@ -28,7 +28,7 @@ fn generic(name: &str, degree: Option<usize>) -> GenericScheme {
     if let Some(d) = degree {
         r.ls.degree = d;
     }
-    GenericScheme::new(Scheme::build(r.ls, &r.file).expect("compiles"))
+    GenericScheme::new(Scheme::build(r.ls).expect("compiles"))
 }
 
 /// Evaluates the spline with knots `t` (len m + d + 1) and points `p` at x ∈ [t_d, t_m] (de Boor).

@@ -9,8 +9,8 @@ use lsubdiv::{report, resolve};
 
 fn report_of(name: &str) -> String {
     let r = resolve(name).unwrap();
-    let a = analyse(&r.ls, &r.file).unwrap();
-    let s = Scheme::build(r.ls.clone(), &r.file).unwrap();
+    let a = analyse(&r.ls).unwrap();
+    let s = Scheme::build(r.ls.clone()).unwrap();
     report::text(&r.ls, &a, Some(&s))
 }
 
@@ -24,13 +24,13 @@ fn exact_tables_of_shipped_schemes() {
 #[test]
 fn generated_source_of_fibonacci_curve() {
     let r = resolve("fibonacci-curve").unwrap();
-    let s = Scheme::build(r.ls, &r.file).unwrap();
+    let s = Scheme::build(r.ls).unwrap();
     insta::assert_snapshot!("codegen_fibonacci_curve", generate(&s));
 }
 
 #[test]
 fn transition_graph_of_binary_ternary() {
     let r = resolve("binary-ternary").unwrap();
-    let s = Scheme::build(r.ls, &r.file).unwrap();
+    let s = Scheme::build(r.ls).unwrap();
     insta::assert_snapshot!("graph_binary_ternary", report::dot(&s));
 }

@@ -209,7 +209,7 @@ impl Config {
             let p = p.as_ref();
             println!("cargo:rerun-if-changed={}", p.display());
             let ls = scheme::load(p)?;
-            let compiled = Scheme::build(ls, &p.display().to_string())?;
+            let compiled = Scheme::build(ls)?;
             if names.contains(&compiled.ls.name) {
                 return Err(Error::scheme(
                     &p.display().to_string(),

@@ -3,6 +3,7 @@
 //! Symbols are small integers (`Sym`) indexing [`LSystem::symbols`]; a word is a `Vec<Sym>`.
 //! π rewrites every symbol of a word simultaneously ([N] eq. (1)).
 
+use crate::error::{Error, Location};
 use std::fmt::Write as _;
 
 /// A symbol, as an index into the alphabet.
@@ -27,9 +28,69 @@ pub struct LSystem {
     pub symmetry: Option<Vec<Sym>>,
     /// Declared lengths (expressions in ρ), one per symbol, when the eigenvector is not unique.
     pub lengths: Option<Vec<String>>,
+    /// Where the parts were written, for error messages.
+    pub source: Source,
+}
+
+/// Where the parts of an L-system were written (empty for systems built in code).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Source {
+    /// File name.
+    pub file: String,
+    /// The `[rules]` table.
+    pub rules: Option<Location>,
+    /// Each symbol's rule.
+    pub rule: Vec<Location>,
+    /// The `[symmetry]` table.
+    pub symmetry: Option<Location>,
+    /// Each symbol's `[lengths]` entry.
+    pub lengths: Vec<Location>,
+}
+
+/// A part of a scheme file that an error can point at.
+#[derive(Clone, Copy, Debug)]
+pub enum Part {
+    /// The `[rules]` table (the L-system as a whole).
+    Rules,
+    /// The rule of one symbol.
+    Rule(usize),
+    /// The `[symmetry]` table.
+    Symmetry,
+    /// The `[lengths]` entry of one symbol.
+    Length(usize),
 }
 
 impl LSystem {
+    /// The location of a part, or the start of the file when it is not known.
+    pub fn locate(&self, part: Part) -> Location {
+        let s = &self.source;
+        let found = match part {
+            Part::Rules => s.rules.clone(),
+            Part::Rule(i) => s.rule.get(i).cloned(),
+            Part::Symmetry => s.symmetry.clone(),
+            Part::Length(i) => s.lengths.get(i).cloned(),
+        };
+        found.unwrap_or_else(|| Location::file(self.file()))
+    }
+
+    /// The file name for messages (`<scheme>` for systems built in code).
+    pub fn file(&self) -> &str {
+        if self.source.file.is_empty() {
+            "<scheme>"
+        } else {
+            &self.source.file
+        }
+    }
+
+    /// A scheme error at a part of this L-system.
+    pub fn error(&self, part: Part, message: String, hint: Option<String>) -> Error {
+        Error::Scheme {
+            at: self.locate(part),
+            message,
+            hint,
+        }
+    }
+
     /// Number of symbols n.
     pub fn n(&self) -> usize {
         self.symbols.len()

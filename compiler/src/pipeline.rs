@@ -4,7 +4,7 @@
 use crate::error::Error;
 use crate::field::Elem;
 use crate::graph::{reach, Reach};
-use crate::lsystem::{LSystem, Sym, Word};
+use crate::lsystem::{LSystem, Part, Sym, Word};
 use crate::masks::{mask, Mask};
 use crate::validity::{analyse, Analysis};
 
@@ -13,8 +13,6 @@ use crate::validity::{analyse, Analysis};
 pub struct Scheme {
     /// The L-system.
     pub ls: LSystem,
-    /// File it came from (for messages).
-    pub file: String,
     /// [N] §3 analysis.
     pub analysis: Analysis,
     /// Interval lengths a (smallest 1).
@@ -27,11 +25,11 @@ pub struct Scheme {
 
 impl Scheme {
     /// Analyses, derives every reachable mask and checks the certificates.
-    pub fn build(ls: LSystem, file: &str) -> Result<Scheme, Error> {
-        let analysis = analyse(&ls, file)?;
-        let lengths = analysis.require_lengths(&ls, file)?.to_vec();
+    pub fn build(ls: LSystem) -> Result<Scheme, Error> {
+        let analysis = analyse(&ls)?;
+        let lengths = analysis.require_lengths(&ls)?.to_vec();
         if let Some(sigma) = &ls.symmetry {
-            check_symmetry(&ls, sigma, file)?;
+            check_symmetry(&ls, sigma)?;
         }
         let graph = reach(&ls, ls.degree + 1);
         let masks = graph
@@ -41,7 +39,6 @@ impl Scheme {
             .collect();
         let scheme = Scheme {
             ls,
-            file: file.to_string(),
             analysis,
             lengths,
             graph,
@@ -83,8 +80,8 @@ impl Scheme {
                     }
                 }
                 if sum != Elem::one(&self.analysis.field) {
-                    return Err(Error::scheme(
-                        &self.file,
+                    return Err(self.ls.error(
+                        Part::Rules,
                         format!(
                             "certificate failed: the weights of new point {} of π({}) sum to {sum}, not 1",
                             l - offsets[d],
@@ -121,8 +118,8 @@ impl Scheme {
                 (a, b) => a == b,
             };
             if got != expect || !child_ok {
-                return Err(Error::scheme(
-                    &self.file,
+                return Err(self.ls.error(
+                    Part::Rules,
                     format!(
                         "certificate failed: the mask of {} is not the mirror of the mask of {}",
                         self.ls.word_str(&mirrored.word),
@@ -137,10 +134,10 @@ impl Scheme {
 }
 
 /// [G] Proposition 4.2: the axiom is symmetric and π(σ(A)) = σ̄(π(A)) for every symbol.
-pub fn check_symmetry(ls: &LSystem, sigma: &[Sym], file: &str) -> Result<(), Error> {
+pub fn check_symmetry(ls: &LSystem, sigma: &[Sym]) -> Result<(), Error> {
     if ls.mirror(sigma, &ls.axiom) != ls.axiom {
-        return Err(Error::scheme(
-            file,
+        return Err(ls.error(
+            Part::Symmetry,
             format!(
                 "the axiom {} is not symmetric under the declared σ ([G] Definition 4.1): its mirror is {}",
                 ls.word_str(&ls.axiom),
@@ -153,8 +150,8 @@ pub fn check_symmetry(ls: &LSystem, sigma: &[Sym], file: &str) -> Result<(), Err
         let lhs = &ls.rules[sigma[a] as usize];
         let rhs = ls.mirror(sigma, &ls.rules[a]);
         if *lhs != rhs {
-            return Err(Error::scheme(
-                file,
+            return Err(ls.error(
+                Part::Symmetry,
                 format!(
                     "the declared σ is not a symmetry ([G] eq. (14)): π(σ({})) = {} but σ̄(π({})) = {}",
                     ls.symbols[a],
@@ -176,7 +173,7 @@ mod tests {
 
     fn binary_ternary() -> Scheme {
         let text = "name = \"bt\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nC = \"LCR\"\nR = \"CR\"\n[symmetry]\nL = \"R\"\n";
-        Scheme::build(scheme::parse("bt.toml", text).unwrap(), "bt.toml").unwrap()
+        Scheme::build(scheme::parse("bt.toml", text).unwrap()).unwrap()
     }
 
     #[test]

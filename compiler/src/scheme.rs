@@ -2,7 +2,7 @@
 //! `[lengths]`. Parsing keeps byte spans so that every error names file, line and column.
 
 use crate::error::{Error, Location};
-use crate::lsystem::{parse_word, LSystem, Sym};
+use crate::lsystem::{parse_word, LSystem, Source, Sym};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml_edit::{ImDocument, Item, TableLike};
@@ -114,8 +114,14 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
         }
     }
     let mut rules = Vec::with_capacity(symbols.len());
+    let mut source = Source {
+        file: file.to_string(),
+        rules: Some(cx.loc(cx.span_of_key(root, "rules"))),
+        ..Source::default()
+    };
     for s in &symbols {
         let (span, text) = cx.value_str(rules_item, s)?;
+        source.rule.push(cx.loc(span.clone()));
         let word = parse_word(&symbols, &text).map_err(|m| {
             cx.err(
                 span,
@@ -131,7 +137,10 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
 
     let symmetry = match cx.table(root, "symmetry")? {
         None => None,
-        Some(t) => Some(cx.symmetry(t, &symbols)?),
+        Some(t) => {
+            source.symmetry = Some(cx.loc(cx.span_of_key(root, "symmetry")));
+            Some(cx.symmetry(t, &symbols)?)
+        }
     };
     let lengths = match cx.table(root, "lengths")? {
         None => None,
@@ -157,7 +166,9 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
                         ),
                     ));
                 }
-                out.push(cx.value_str(t, s)?.1);
+                let (span, text) = cx.value_str(t, s)?;
+                source.lengths.push(cx.loc(span));
+                out.push(text);
             }
             Some(out)
         }
@@ -170,6 +181,7 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
         axiom,
         symmetry,
         lengths,
+        source,
     })
 }
 
@@ -179,9 +191,13 @@ struct Cx<'a> {
 }
 
 impl Cx<'_> {
+    fn loc(&self, span: Range<usize>) -> Location {
+        Location::from_offset(self.file, self.text, span.start)
+    }
+
     fn err(&self, span: Range<usize>, message: String, hint: Option<String>) -> Error {
         Error::Scheme {
-            at: Location::from_offset(self.file, self.text, span.start),
+            at: self.loc(span),
             message,
             hint,
         }

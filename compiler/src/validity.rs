@@ -9,7 +9,7 @@
 use crate::error::Error;
 use crate::field::{parse_expr, Elem, Field, FieldRef};
 use crate::linalg::{null_space, shifted, transpose};
-use crate::lsystem::LSystem;
+use crate::lsystem::{LSystem, Part};
 use crate::poly::{char_poly, factor, isolate_real_roots, QPoly, Sturm};
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
@@ -69,10 +69,10 @@ pub struct Analysis {
 
 impl Analysis {
     /// The lengths, or an error explaining why there are none (for stages that need them).
-    pub fn require_lengths(&self, ls: &LSystem, file: &str) -> Result<&[Elem], Error> {
+    pub fn require_lengths(&self, ls: &LSystem) -> Result<&[Elem], Error> {
         if !self.valid {
-            return Err(Error::scheme(
-                file,
+            return Err(ls.error(
+                Part::Rules,
                 format!(
                     "L-system `{}` is not valid ([N] Definition 3.1): {}",
                     ls.name,
@@ -83,8 +83,8 @@ impl Analysis {
         }
         match (&self.lengths, &self.lengths_problem) {
             (Some((l, _)), _) => Ok(l),
-            (None, p) => Err(Error::scheme(
-                file,
+            (None, p) => Err(ls.error(
+                Part::Rules,
                 p.clone().unwrap_or_else(|| "lengths undetermined".into()),
                 Some("declare `[lengths]` (expressions in `rho`) satisfying [N] eq. (3)".into()),
             )),
@@ -108,12 +108,12 @@ fn perron_field(cp: &QPoly) -> Result<FieldRef, String> {
     Ok(Field::new(f, lo, hi))
 }
 
-/// Analyses an L-system; `file` names the scheme in errors about declared lengths.
-pub fn analyse(ls: &LSystem, file: &str) -> Result<Analysis, Error> {
+/// Analyses an L-system.
+pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
     let m = ls.matrix();
     let n = ls.n();
     let cp = char_poly(&m);
-    let field = perron_field(&cp).map_err(|e| Error::scheme(file, e, None))?;
+    let field = perron_field(&cp).map_err(|e| ls.error(Part::Rules, e, None))?;
     let rho = field.rho();
     let one = Elem::one(&field);
 
@@ -153,7 +153,7 @@ pub fn analyse(ls: &LSystem, file: &str) -> Result<Analysis, Error> {
     let mut lengths = None;
     let mut lengths_problem = None;
     if valid {
-        match lengths_for(ls, file, &field, &m, &rho, &eigen)? {
+        match lengths_for(ls, &field, &m, &rho, &eigen)? {
             Ok(l) => lengths = Some(l),
             Err(p) => lengths_problem = Some(p),
         }
@@ -232,7 +232,6 @@ fn classes(m: &[Vec<i64>], field: &FieldRef) -> Vec<Class> {
 #[allow(clippy::type_complexity)]
 fn lengths_for(
     ls: &LSystem,
-    file: &str,
     field: &FieldRef,
     m: &[Vec<i64>],
     rho: &Elem,
@@ -241,21 +240,25 @@ fn lengths_for(
     let n = ls.n();
     if let Some(decl) = &ls.lengths {
         if eigen.len() == 1 {
-            return Err(Error::scheme(
-                file,
+            return Err(ls.error(
+                Part::Length(0),
                 "`[lengths]` given, but the eigenvector of ρ is unique: lengths are not free"
                     .into(),
                 Some("remove `[lengths]`; the compiler derives them ([N] eq. (4))".into()),
             ));
         }
         let mut a = Vec::with_capacity(n);
-        for (s, text) in ls.symbols.iter().zip(decl) {
+        for (i, (s, text)) in ls.symbols.iter().zip(decl).enumerate() {
             let v = parse_expr(field, text).map_err(|e| {
-                Error::scheme(file, format!("`[lengths]` entry for `{s}`: {e}"), None)
+                ls.error(
+                    Part::Length(i),
+                    format!("`[lengths]` entry for `{s}`: {e}"),
+                    None,
+                )
             })?;
             if v.signum() <= 0 {
-                return Err(Error::scheme(
-                    file,
+                return Err(ls.error(
+                    Part::Length(i),
                     format!("`[lengths]` entry for `{s}` is {v}, not positive"),
                     None,
                 ));
@@ -267,8 +270,8 @@ fn lengths_for(
                 acc.add(&Elem::int(field, k).mul(x))
             });
             if ma != rho.mul(&a[i]) {
-                return Err(Error::scheme(
-                    file,
+                return Err(ls.error(
+                    Part::Length(i),
                     format!(
                         "`[lengths]` do not satisfy [N] eq. (3) for `{}`: ρ·a = {} but the lengths of π({}) sum to {}",
                         ls.symbols[i],

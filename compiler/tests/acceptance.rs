@@ -12,7 +12,7 @@ use num_bigint::BigInt;
 fn shipped(name: &str) -> Scheme {
     let p = format!("{}/../schemes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     let ls = scheme::load(std::path::Path::new(&p)).expect("shipped scheme parses");
-    Scheme::build(ls, &p).unwrap_or_else(|e| panic!("{e}"))
+    Scheme::build(ls).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn system(text: &str) -> LSystem {
@@ -43,7 +43,7 @@ fn minpoly(f: &FieldRef) -> Vec<i64> {
 
 #[test]
 fn n_section_3_invalid_no_positive_eigenvector() {
-    let a = analyse(&two_symbols("A1 A1 A2", "A2"), "t").unwrap();
+    let a = analyse(&two_symbols("A1 A1 A2", "A2")).unwrap();
     assert!(!a.valid);
     assert!(a
         .reason
@@ -55,7 +55,7 @@ fn n_section_3_invalid_no_positive_eigenvector() {
 
 #[test]
 fn n_section_3_invalid_rho_one() {
-    let a = analyse(&two_symbols("A2", "A1"), "t").unwrap();
+    let a = analyse(&two_symbols("A2", "A1")).unwrap();
     assert!(!a.valid);
     assert!(a.strongly_connected, "[N]: strongly connected yet invalid");
     assert!(!a.theorem_3_7);
@@ -65,7 +65,7 @@ fn n_section_3_invalid_rho_one() {
 
 #[test]
 fn n_section_3_valid_not_strongly_connected() {
-    let a = analyse(&two_symbols("A1 A2", "A2 A2 A2"), "t").unwrap();
+    let a = analyse(&two_symbols("A1 A2", "A2 A2 A2")).unwrap();
     assert!(a.valid, "{:?}", a.reason);
     assert!(!a.strongly_connected);
     assert_eq!(minpoly(&a.field), vec![-3, 1]);
@@ -76,21 +76,21 @@ fn n_section_3_valid_not_strongly_connected() {
 
 #[test]
 fn n_section_3_eigenspace_of_dimension_two() {
-    let a = analyse(&two_symbols("A1 A1", "A2 A2"), "t").unwrap();
+    let a = analyse(&two_symbols("A1 A1", "A2 A2")).unwrap();
     assert!(a.valid);
     assert_eq!(a.eigenspace_dim, 2);
     assert!(a.lengths.is_none());
     assert!(a.lengths_problem.unwrap().contains("not unique"));
     // Declared lengths are then accepted when they satisfy eq. (3)...
     let ok = system("name = \"t\"\ndegree = 2\naxiom = \"A1\"\n[rules]\nA1 = \"A1 A1\"\nA2 = \"A2 A2\"\n[lengths]\nA1 = \"1\"\nA2 = \"3/2\"\n");
-    let a = analyse(&ok, "t").unwrap();
+    let a = analyse(&ok).unwrap();
     assert_eq!(
         a.lengths.unwrap().0[1],
         Elem::rational(&a.field, num_rational::BigRational::new(3.into(), 2.into()))
     );
     // ...and refused where the eigenvector is unique.
     let fixed = system("name = \"t\"\ndegree = 2\naxiom = \"L\"\n[rules]\nL = \"SL\"\nS = \"L\"\n[lengths]\nL = \"rho\"\nS = \"1\"\n");
-    let e = analyse(&fixed, "t").unwrap_err().to_string();
+    let e = analyse(&fixed).unwrap_err().to_string();
     assert!(e.contains("not free"), "{e}");
 }
 
@@ -135,7 +135,7 @@ fn n_fibonacci_has_d_plus_2_recurring_words() {
         let g = reach(&ls, d + 1);
         let recurring = g.words.iter().filter(|w| !w.transitional).count();
         assert_eq!(recurring, d + 2, "degree {d}");
-        Scheme::build(ls, "fibonacci-curve").unwrap_or_else(|e| panic!("degree {d}: {e}"));
+        Scheme::build(ls).unwrap_or_else(|e| panic!("degree {d}: {e}"));
     }
 }
 
@@ -156,7 +156,7 @@ fn n_delay_queue_rho_is_nth_root_of_two() {
         let ls = system(&format!(
             "name = \"dq\"\ndegree = 3\naxiom = \"A1\"\n[rules]\n{rules}"
         ));
-        let a = analyse(&ls, "dq").unwrap();
+        let a = analyse(&ls).unwrap();
         assert!(a.valid && a.theorem_3_7, "n = {n}");
         let mut expect = vec![0i64; n + 1];
         expect[0] = -2;
@@ -172,7 +172,7 @@ fn n_delay_queue_rho_is_nth_root_of_two() {
             );
         }
         assert!((a.rho.to_f64() - 2f64.powf(1.0 / n as f64)).abs() < 1e-15);
-        Scheme::build(ls, "dq").unwrap();
+        Scheme::build(ls).unwrap();
     }
 }
 
@@ -184,7 +184,7 @@ fn uniform_binary_chaikin_and_cubic() {
         (3, vec![(1, 8), (1, 2), (3, 4), (1, 2), (1, 8)]),
     ] {
         ls.degree = d;
-        let s = Scheme::build(ls.clone(), "uniform-binary").unwrap();
+        let s = Scheme::build(ls.clone()).unwrap();
         assert_eq!(s.masks.len(), 1);
         let f = &s.analysis.field;
         let got: Vec<Elem> = s.masks[0]
