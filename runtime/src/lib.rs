@@ -9,7 +9,7 @@ pub use curve::{refine, Curve, CurveError, CurveScheme, CurveTables};
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`.
 ///
-/// ```ignore
+/// ```text
 /// // build.rs: lsubdiv_compiler::compile(&["schemes/my_scheme.toml"]).unwrap();
 /// lsubdiv_runtime::include_scheme!(my_scheme);
 /// let fine = lsubdiv_runtime::refine(&my_scheme::Scheme, &coarse, 3)?;
