@@ -6,6 +6,7 @@
 
 pub mod codegen;
 pub mod error;
+pub mod ev;
 pub mod field;
 pub mod generic;
 pub mod graph;
@@ -15,6 +16,7 @@ pub mod masks;
 pub mod pipeline;
 pub mod poly;
 pub mod scheme;
+pub mod symmetry;
 pub mod validity;
 
 pub use codegen::{compile, Config};

@@ -6,6 +6,7 @@ use crate::field::Elem;
 use crate::graph::{reach, Reach};
 use crate::lsystem::{LSystem, Part, Sym, Word};
 use crate::masks::{mask, Mask};
+use crate::symmetry::check_symmetry;
 use crate::validity::{analyse, Analysis};
 
 /// A compiled scheme: every reachable mask, exact.
@@ -131,39 +132,6 @@ impl Scheme {
         }
         Ok(())
     }
-}
-
-/// [G] Proposition 4.2: the axiom is symmetric and π(σ(A)) = σ̄(π(A)) for every symbol.
-pub fn check_symmetry(ls: &LSystem, sigma: &[Sym]) -> Result<(), Error> {
-    if ls.mirror(sigma, &ls.axiom) != ls.axiom {
-        return Err(ls.error(
-            Part::Symmetry,
-            format!(
-                "the axiom {} is not symmetric under the declared σ ([G] Definition 4.1): its mirror is {}",
-                ls.word_str(&ls.axiom),
-                ls.word_str(&ls.mirror(sigma, &ls.axiom))
-            ),
-            None,
-        ));
-    }
-    for a in 0..ls.n() {
-        let lhs = &ls.rules[sigma[a] as usize];
-        let rhs = ls.mirror(sigma, &ls.rules[a]);
-        if *lhs != rhs {
-            return Err(ls.error(
-                Part::Symmetry,
-                format!(
-                    "the declared σ is not a symmetry ([G] eq. (14)): π(σ({})) = {} but σ̄(π({})) = {}",
-                    ls.symbols[a],
-                    ls.word_str(lhs),
-                    ls.symbols[a],
-                    ls.word_str(&rhs)
-                ),
-                None,
-            ));
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

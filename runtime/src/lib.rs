@@ -4,6 +4,7 @@
 //! Generated code is pulled in with [`include_scheme!`], in the style of `tonic::include_proto!`.
 
 pub mod curve;
+pub mod ev;
 
 pub use curve::{refine, Curve, CurveError, CurveScheme, CurveTables};
 

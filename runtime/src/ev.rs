@@ -1,0 +1,203 @@
+//! Eigenanalysis at an extraordinary vertex and the choice of α ([G] §4.2.3). Numeric (f64):
+//! this is the one place where floating point chooses a value.
+//!
+//! Around an EV of valence n in its stationary configuration, the local subdivision matrix maps
+//! the old 1-ring (EV, radial neighbours R_k, diagonal neighbours D_k) to the new 1-ring (EV child,
+//! r_k, d_k). It is block-circulant over the n sectors, so the discrete Fourier transform splits
+//! it into a 3×3 block for Fourier index 0 (the only one where α enters) and 2×2 blocks for
+//! indices i ≥ 1, all with closed-form eigenvalues. λ_i is the main eigenvalue of block i, μ_0
+//! the second of block 0; α is chosen so that μ_0 = λ_1².
+
+use std::f64::consts::TAU;
+use std::fmt;
+
+/// The stencil weights of the stationary 1-ring, from the scheme's masks (see the compiler's
+/// `ev` module for their derivation). Names read "source to target".
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EvCoefficients {
+    /// EV → r_k: h(1)·h(0), h the second half of the radial mask.
+    pub ev_to_radial: f64,
+    /// EV → d_k: h(1)².
+    pub ev_to_diagonal: f64,
+    /// R_k → r_k.
+    pub radial_to_radial: f64,
+    /// R_{k±1} → r_k (each).
+    pub side_to_radial: f64,
+    /// D_k and D_{k−1} → r_k (each).
+    pub diagonal_to_radial: f64,
+    /// R_k and R_{k+1} → d_k (each).
+    pub radial_to_diagonal: f64,
+    /// D_k → d_k.
+    pub diagonal_to_diagonal: f64,
+    /// R_k → EV child (before normalisation).
+    pub radial_to_ev: f64,
+    /// D_k → EV child (before normalisation).
+    pub diagonal_to_ev: f64,
+}
+
+/// The spectrum at valence n with the chosen α.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spectrum {
+    /// Valence.
+    pub n: usize,
+    /// Central entry of the EV mask.
+    pub alpha: f64,
+    /// Main eigenvalue of Fourier index 1 (subdominant).
+    pub lambda1: f64,
+    /// Main eigenvalue of Fourier index 2.
+    pub lambda2: f64,
+    /// Second eigenvalue of Fourier index 0 (equals λ1² by the choice of α).
+    pub mu0: f64,
+    /// What the EV child is divided by: α + n·(radial_to_ev + diagonal_to_ev).
+    pub normalisation: f64,
+}
+
+/// Why no α could be found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EvError {
+    /// Valence below 3.
+    Valence(usize),
+    /// μ0(α) − λ1² does not change sign on the searched range.
+    NoRoot {
+        /// Valence.
+        n: usize,
+    },
+    /// A block has complex eigenvalues where real ones are needed.
+    Complex {
+        /// Valence.
+        n: usize,
+        /// Fourier index.
+        index: usize,
+    },
+}
+
+impl fmt::Display for EvError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EvError::Valence(n) => {
+                write!(f, "valence {n}: extraordinary vertices have valence ≥ 3")
+            }
+            EvError::NoRoot { n } => write!(f, "valence {n}: no α in [0, 64n] gives μ0 = λ1²"),
+            EvError::Complex { n, index } => write!(
+                f,
+                "valence {n}: Fourier block {index} has complex eigenvalues"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for EvError {}
+
+impl EvCoefficients {
+    /// Eigenvalues (larger, smaller) of the 2×2 block of Fourier index `i` ≥ 1.
+    pub fn block(&self, n: usize, i: usize) -> Result<(f64, f64), EvError> {
+        let c = (TAU * i as f64 / n as f64).cos();
+        let a = self.radial_to_radial + 2.0 * self.side_to_radial * c;
+        let b = self.diagonal_to_diagonal;
+        // Off-diagonal product: A3 (1 + e^{−iθ}) · B1 (1 + e^{iθ}) = A3 B1 · 2(1 + cos θ).
+        let off = self.diagonal_to_radial * self.radial_to_diagonal * 2.0 * (1.0 + c);
+        let disc = ((a - b) / 2.0).powi(2) + off;
+        if disc < 0.0 {
+            return Err(EvError::Complex { n, index: i });
+        }
+        let s = disc.sqrt();
+        Ok(((a + b) / 2.0 + s, (a + b) / 2.0 - s))
+    }
+
+    /// The 3×3 block of Fourier index 0 (rows and columns: EV, radial, diagonal).
+    pub fn block0(&self, n: usize, alpha: f64) -> [[f64; 3]; 3] {
+        let nf = n as f64;
+        let norm = self.normalisation(n, alpha);
+        [
+            [
+                alpha / norm,
+                nf * self.radial_to_ev / norm,
+                nf * self.diagonal_to_ev / norm,
+            ],
+            [
+                self.ev_to_radial,
+                self.radial_to_radial + 2.0 * self.side_to_radial,
+                2.0 * self.diagonal_to_radial,
+            ],
+            [
+                self.ev_to_diagonal,
+                2.0 * self.radial_to_diagonal,
+                self.diagonal_to_diagonal,
+            ],
+        ]
+    }
+
+    /// α + n·(R → EV + D → EV): the sum of the weights the EV child receives.
+    pub fn normalisation(&self, n: usize, alpha: f64) -> f64 {
+        alpha + n as f64 * (self.radial_to_ev + self.diagonal_to_ev)
+    }
+
+    /// μ0(α): block 0 has the eigenvalue 1 (rows sum to 1); the other two are the roots of
+    /// x² − (tr − 1)x + det; μ0 is the larger.
+    pub fn mu0(&self, n: usize, alpha: f64) -> Result<f64, EvError> {
+        let m = self.block0(n, alpha);
+        let tr = m[0][0] + m[1][1] + m[2][2];
+        let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        let t = tr - 1.0;
+        let disc = t * t - 4.0 * det;
+        if disc < 0.0 {
+            return Err(EvError::Complex { n, index: 0 });
+        }
+        Ok((t + disc.sqrt()) / 2.0)
+    }
+
+    /// α with μ0(α) = λ1², by scanning [0, 64n] for a sign change and bisecting to f64 precision.
+    pub fn alpha(&self, n: usize) -> Result<f64, EvError> {
+        if n < 3 {
+            return Err(EvError::Valence(n));
+        }
+        let target = self.block(n, 1)?.0.powi(2);
+        let f = |a: f64| self.mu0(n, a).map(|m| m - target);
+        let hi_end = 64.0 * n as f64;
+        let steps = 4096;
+        let mut lo = 0.0;
+        let mut flo = f(lo)?;
+        for k in 1..=steps {
+            let hi = hi_end * k as f64 / steps as f64;
+            let fhi = f(hi)?;
+            if flo == 0.0 {
+                return Ok(lo);
+            }
+            if flo.signum() != fhi.signum() {
+                let (mut a, mut b, mut fa) = (lo, hi, flo);
+                for _ in 0..200 {
+                    let mid = 0.5 * (a + b);
+                    if mid <= a || mid >= b {
+                        break;
+                    }
+                    let fm = f(mid)?;
+                    if fm.signum() == fa.signum() {
+                        a = mid;
+                        fa = fm;
+                    } else {
+                        b = mid;
+                    }
+                }
+                return Ok(0.5 * (a + b));
+            }
+            lo = hi;
+            flo = fhi;
+        }
+        Err(EvError::NoRoot { n })
+    }
+
+    /// α and the spectrum at valence n.
+    pub fn spectrum(&self, n: usize) -> Result<Spectrum, EvError> {
+        let alpha = self.alpha(n)?;
+        Ok(Spectrum {
+            n,
+            alpha,
+            lambda1: self.block(n, 1)?.0,
+            lambda2: self.block(n, 2)?.0,
+            mu0: self.mu0(n, alpha)?,
+            normalisation: self.normalisation(n, alpha),
+        })
+    }
+}
