@@ -77,6 +77,31 @@ enum Command {
         #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
         path: PathChoice,
     },
+    /// α and the spectrum at extraordinary vertices ([G] §4.2.3), per valence.
+    Ev {
+        scheme: String,
+        /// A valence `n` or a range `a..b` (inclusive).
+        #[arg(long, default_value = "3..16")]
+        valence: String,
+        /// One JSON object per valence, in an array.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Refines a closed quad mesh (OBJ) of any topology.
+    Subdivide {
+        scheme: String,
+        /// Number of subdivision steps.
+        #[arg(long)]
+        steps: usize,
+        /// Input mesh (OBJ).
+        input: std::path::PathBuf,
+        /// Output mesh: OBJ, or PLY when the name ends in `.ply` (written whole or not at all).
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// Which implementation refines (as for `curve`).
+        #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
+        path: PathChoice,
+    },
     /// Lists the shipped schemes.
     Schemes,
 }
@@ -174,6 +199,18 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                 None => Ok(()),
             }
         }
+        Some(Command::Ev {
+            scheme,
+            valence,
+            json,
+        }) => ev_report(&scheme, &valence, json),
+        Some(Command::Subdivide {
+            scheme,
+            steps,
+            input,
+            output,
+            path,
+        }) => subdivide(&scheme, steps, &input, &output, path),
         Some(Command::Graph { scheme, degree, .. }) => {
             let s = build(&load(&scheme, degree)?)?;
             print!("{}", report::dot(&s));
@@ -255,6 +292,105 @@ fn refine_cli<const D: usize>(
         }
     };
     Ok(refined.points)
+}
+
+/// Parses `n`, `a..b` or `a..=b` (both inclusive).
+fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Failure> {
+    let bad_range = || {
+        bad(format!(
+            "error: --valence `{text}`: expected `n` or `a..b` with 3 ≤ a ≤ b"
+        ))
+    };
+    let parse = |s: &str| s.trim().parse::<usize>().map_err(|_| bad_range());
+    let (a, b) = match text.split_once("..") {
+        Some((a, b)) => (parse(a)?, parse(b.trim_start_matches('='))?),
+        None => {
+            let n = parse(text)?;
+            (n, n)
+        }
+    };
+    if a < 3 || b < a || b > 10_000 {
+        return Err(bad_range());
+    }
+    Ok(a..=b)
+}
+
+/// `lsubdiv ev`: α, λ1, λ2, μ0 and the EV normalisation per valence.
+fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
+    let range = valences(valence)?;
+    let s = build(&load(scheme, None)?)?;
+    let a = lsubdiv_compiler::ev::analyse(&s)?;
+    let c = a.coefficients_f64();
+    let mut rows = Vec::new();
+    for n in range {
+        let sp = c.spectrum(n).map_err(|e| bad(format!("error: {e}")))?;
+        rows.push(sp);
+    }
+    if json {
+        let v: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|sp| {
+                serde_json::json!({
+                    "n": sp.n, "alpha": sp.alpha, "lambda1": sp.lambda1, "lambda2": sp.lambda2,
+                    "mu0": sp.mu0, "normalisation": sp.normalisation,
+                })
+            })
+            .collect();
+        println!("{}", serde_json::Value::Array(v));
+    } else {
+        print!("{}", report::ev_text(&s, &a, &rows));
+    }
+    Ok(())
+}
+
+/// `lsubdiv subdivide`: reads an OBJ, refines, writes OBJ or PLY atomically.
+fn subdivide(
+    scheme: &str,
+    steps: usize,
+    input: &std::path::Path,
+    output: &std::path::Path,
+    path: PathChoice,
+) -> Result<(), Failure> {
+    use lsubdiv::runtime::mesh;
+    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
+    let r = load(scheme, None)?;
+    let in_name = input.display().to_string();
+    let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
+    let (m, warnings) =
+        mesh::parse_obj(&text).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
+    for w in warnings {
+        eprintln!("{in_name}: warning: {w}");
+    }
+    lsubdiv::runtime::topology::Topology::build(&m)
+        .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
+    let surface = lsubdiv_compiler::generic::GenericSurface::new(build(&r)?)?;
+    let start = LabelledMesh::with_axiom(&lsubdiv::CurveScheme::tables(&surface), m)
+        .map_err(|e| bad(format!("error: {e}")))?;
+    let generated = r
+        .builtin
+        .then(|| lsubdiv::generated::refine_surface(&r.ls.name, &start, steps))
+        .flatten();
+    let result = match (path, generated) {
+        (PathChoice::Generic, _) | (PathChoice::Auto, None) => {
+            refine_surface(&surface, &start, steps)
+        }
+        (_, Some(res)) => res,
+        (PathChoice::Generated, None) => {
+            return Err(bad(format!(
+                "error: `{}` has no generated surface code",
+                r.ls.name
+            )))
+        }
+    };
+    let (fine, _) = result.map_err(|e| bad(format!("error: {e}")))?;
+    let bytes = if output.extension().is_some_and(|e| e == "ply") {
+        mesh::to_ply(&fine.mesh)
+    } else {
+        mesh::to_obj(&fine.mesh)
+    };
+    mesh::write_atomic(output, bytes.as_bytes())
+        .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
+    Ok(())
 }
 
 /// The default job: inspect the shipped Fibonacci scheme and refine a closed polygon with both

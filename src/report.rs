@@ -233,3 +233,93 @@ pub fn dot(s: &Scheme) -> String {
     out.push_str("}\n");
     out
 }
+
+/// The text report of `lsubdiv ev`: the EV conditions, the configuration per step, the exact
+/// stationary stencils and the spectrum per valence.
+pub fn ev_text(
+    s: &Scheme,
+    a: &lsubdiv_compiler::ev::SurfaceAnalysis,
+    rows: &[lsubdiv_runtime::ev::Spectrum],
+) -> String {
+    let ls = &s.ls;
+    let mut out = String::new();
+    let w = &mut out;
+    let sigma: Vec<String> = a
+        .sigma
+        .iter()
+        .enumerate()
+        .filter(|(i, &t)| *i < t as usize)
+        .map(|(i, &t)| format!("{}<->{}", ls.symbols[i], ls.symbols[t as usize]))
+        .collect();
+    let _ = writeln!(
+        w,
+        "scheme {}: sigma {} ({}; {} involution(s) make it symmetric)",
+        ls.name,
+        if sigma.is_empty() {
+            "identity".into()
+        } else {
+            sigma.join(" ")
+        },
+        if a.declared { "declared" } else { "found" },
+        a.involutions.len()
+    );
+    let _ = writeln!(
+        w,
+        "EV configuration stationary from step {} ([G] Lemma 4.6 / Prop. 4.7); masks contained from step {} (Prop. 4.8)",
+        a.stationary_from, a.contained_from
+    );
+    for st in &a.steps {
+        let _ = writeln!(
+            w,
+            "  step {}: ray {}, radial word {}, contained {}, EV child divided by alpha + n * {} (≈ {:.12})",
+            st.step,
+            ls.word_str(&st.ray),
+            ls.word_str(&st.radial_word),
+            st.contained,
+            st.ring_weight,
+            st.ring_weight.to_f64()
+        );
+    }
+    let names = [
+        "EV -> r",
+        "EV -> d",
+        "R_k -> r_k",
+        "R_k±1 -> r_k",
+        "D -> r",
+        "R -> d",
+        "D_k -> d_k",
+        "R -> EV",
+        "D -> EV",
+    ];
+    let _ = writeln!(w, "stationary 1-ring stencils (exact):");
+    for (n, v) in names.iter().zip(&a.coefficients.values) {
+        let _ = writeln!(w, "  {n:>13}: {v} ≈ {:.12}", v.to_f64());
+    }
+    if !a.first_step_stencils.is_empty() {
+        let _ = writeln!(
+            w,
+            "first-step stencils (masks not contained; products of the radial mask):"
+        );
+        for st in &a.first_step_stencils {
+            let parts: Vec<String> = st
+                .weights
+                .iter()
+                .map(|((i, j), v)| format!("({i},{j}): {v}"))
+                .collect();
+            let _ = writeln!(w, "  new point {:?}: {}", st.at, parts.join(", "));
+        }
+    }
+    let _ = writeln!(
+        w,
+        "{:>4} {:>18} {:>18} {:>18} {:>18} {:>18}",
+        "n", "alpha", "lambda1", "lambda2", "mu0", "normalisation"
+    );
+    for r in rows {
+        let _ = writeln!(
+            w,
+            "{:>4} {:>18.15} {:>18.15} {:>18.15} {:>18.15} {:>18.15}",
+            r.n, r.alpha, r.lambda1, r.lambda2, r.mu0, r.normalisation
+        );
+    }
+    out
+}

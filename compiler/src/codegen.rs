@@ -4,6 +4,7 @@
 //! f64 appears here only as the nearest double of each exact weight, for the emitted tables.
 
 use crate::error::Error;
+use crate::ev::{self, SurfaceAnalysis};
 use crate::pipeline::Scheme;
 use crate::scheme;
 use proc_macro2::{Literal, TokenStream};
@@ -28,8 +29,104 @@ fn u32s(xs: impl IntoIterator<Item = usize>) -> Vec<Literal> {
         .collect()
 }
 
-/// The generated source of one scheme (items only, so that `include!` accepts it).
+/// Largest valence whose α is tabulated; the runtime computes larger ones with the same solver.
+pub const MAX_TABULATED_VALENCE: usize = 32;
+
+/// Per word: (1 − h(0)²)/4 with h(0) the child weight (what each sector gives an EV child).
+pub fn ring_weights(s: &Scheme) -> Vec<f64> {
+    s.masks
+        .iter()
+        .map(|m| {
+            m.child.map_or(0.0, |c| {
+                let h0 = &m.contributions[c].weight;
+                let one = crate::field::Elem::one(h0.field());
+                let four = crate::field::Elem::int(h0.field(), 4);
+                one.sub(&h0.mul(h0)).div(&four).expect("nonzero").to_f64()
+            })
+        })
+        .collect()
+}
+
+/// α for valences 3..=MAX_TABULATED_VALENCE, by the runtime's solver.
+pub fn alpha_table(a: &SurfaceAnalysis) -> Result<Vec<f64>, String> {
+    let c = a.coefficients_f64();
+    (3..=MAX_TABULATED_VALENCE)
+        .map(|n| c.alpha(n).map_err(|e| e.to_string()))
+        .collect()
+}
+
+/// The surface part of a generated file, for schemes that pass [G] §4.2.
+fn surface_items(s: &Scheme, a: &SurfaceAnalysis) -> TokenStream {
+    let sigma = &a.sigma;
+    let rings: Vec<Literal> = ring_weights(s).into_iter().map(f64_lit).collect();
+    let alpha: Vec<Literal> = match alpha_table(a) {
+        Ok(v) => v.into_iter().map(f64_lit).collect(),
+        Err(e) => {
+            let msg = format!("no α: {e}");
+            return quote! { compile_error!(#msg); };
+        }
+    };
+    let c = a.coefficients_f64();
+    let [v0, v1, v2, v3, v4, v5, v6, v7, v8] = [
+        c.ev_to_radial,
+        c.ev_to_diagonal,
+        c.radial_to_radial,
+        c.side_to_radial,
+        c.diagonal_to_radial,
+        c.radial_to_diagonal,
+        c.diagonal_to_diagonal,
+        c.radial_to_ev,
+        c.diagonal_to_ev,
+    ]
+    .map(f64_lit);
+    let exact: Vec<String> = a
+        .coefficients
+        .values
+        .iter()
+        .map(|e| e.to_string())
+        .collect();
+    let doc = format!(
+        " Surface data: EV configuration stationary from step {}, masks contained from step {}.",
+        a.stationary_from, a.contained_from
+    );
+    quote! {
+        #[doc = #doc]
+        pub const SURFACE: ::lsubdiv_runtime::surface::SurfaceTables<'static> =
+            ::lsubdiv_runtime::surface::SurfaceTables {
+                sigma: &[#(#sigma),*],
+                ring_weights: &[#(#rings),*],
+                alpha: &[#(#alpha),*],
+                ev: ::lsubdiv_runtime::ev::EvCoefficients {
+                    ev_to_radial: #v0,
+                    ev_to_diagonal: #v1,
+                    radial_to_radial: #v2,
+                    side_to_radial: #v3,
+                    diagonal_to_radial: #v4,
+                    radial_to_diagonal: #v5,
+                    diagonal_to_diagonal: #v6,
+                    radial_to_ev: #v7,
+                    diagonal_to_ev: #v8,
+                },
+            };
+        /// The exact 1-ring stencils (order of `EvCoefficients`' fields).
+        pub const EV_EXACT: &[&str] = &[#(#exact),*];
+
+        impl ::lsubdiv_runtime::surface::SurfaceScheme for Scheme {
+            fn surface(&self) -> ::lsubdiv_runtime::surface::SurfaceTables<'_> {
+                SURFACE
+            }
+        }
+    }
+}
+
+/// The generated source of one scheme (items only, so that `include!` accepts it), with its
+/// surface part when the scheme passes [G] §4.2.
 pub fn generate(s: &Scheme) -> String {
+    generate_with(s, ev::analyse(s).as_ref().ok())
+}
+
+/// As [`generate`], with the surface analysis already done (None: curves only).
+pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
     let ls = &s.ls;
     let d = ls.degree;
     let name = &ls.name;
@@ -62,6 +159,11 @@ pub fn generate(s: &Scheme) -> String {
         arms.push(quote! { #i => { #(#adds)* } });
     }
     let mask_offsets = u32s(mask_offsets);
+    let children: Vec<Literal> = s
+        .masks
+        .iter()
+        .map(|m| Literal::u32_suffixed(m.child.map_or(u32::MAX, |c| c as u32)))
+        .collect();
     let mask_words = u32s(mask_words);
     let rho = f64_lit(s.analysis.rho.to_f64());
     let minpoly: Vec<String> = s
@@ -79,6 +181,7 @@ pub fn generate(s: &Scheme) -> String {
         s.masks.len()
     );
     let ty = format_ident!("Scheme");
+    let surface = surface.map(|a| surface_items(s, a));
     let tokens: TokenStream = quote! {
         #[doc = #doc]
         #[derive(Clone, Copy, Debug, Default)]
@@ -103,6 +206,7 @@ pub fn generate(s: &Scheme) -> String {
             mask_offsets: &[#(#mask_offsets),*],
             mask_words: &[#(#mask_words),*],
             mask_weights: &[#(#weights),*],
+            mask_children: &[#(#children),*],
         };
 
         #[inline(always)]
@@ -125,6 +229,8 @@ pub fn generate(s: &Scheme) -> String {
                 }
             }
         }
+
+        #surface
     };
     render(tokens)
 }
@@ -134,8 +240,13 @@ fn render(tokens: TokenStream) -> String {
     format!("{HEADER}\n{}", prettyplease::unparse(&file))
 }
 
-/// Source of a registry module: one `pub mod` per scheme plus `NAMES` and dispatch functions.
-pub fn generate_registry(names: &[String]) -> String {
+/// Source of a registry module: one `pub mod` per scheme plus `NAMES` and dispatch functions;
+/// `surfaces` names the schemes with surface tables.
+pub fn generate_registry(names: &[String], surfaces: &[String]) -> String {
+    let smods: Vec<_> = surfaces
+        .iter()
+        .map(|n| format_ident!("{}", module_name(n)))
+        .collect();
     let mods: Vec<_> = names
         .iter()
         .map(|n| format_ident!("{}", module_name(n)))
@@ -162,6 +273,24 @@ pub fn generate_registry(names: &[String]) -> String {
         ) -> Option<Result<::lsubdiv_runtime::Curve<D>, ::lsubdiv_runtime::CurveError>> {
             match name {
                 #(#names => Some(::lsubdiv_runtime::refine(&#mods::Scheme, curve, steps)),)*
+                _ => None,
+            }
+        }
+
+        /// Names of the compiled schemes that refine surfaces.
+        pub const SURFACE_NAMES: &[&str] = &[#(#surfaces),*];
+
+        /// Refines a labelled quad mesh with the generated tables of the scheme called `name`.
+        pub fn refine_surface(
+            name: &str,
+            mesh: &::lsubdiv_runtime::surface::LabelledMesh,
+            steps: usize,
+        ) -> Option<Result<
+            (::lsubdiv_runtime::surface::LabelledMesh, Vec<::lsubdiv_runtime::surface::StepStats>),
+            ::lsubdiv_runtime::surface::SurfaceError,
+        >> {
+            match name {
+                #(#surfaces => Some(::lsubdiv_runtime::surface::refine_surface(&#smods::Scheme, mesh, steps)),)*
                 _ => None,
             }
         }
@@ -205,6 +334,7 @@ impl Config {
             })?),
         };
         let mut names = Vec::new();
+        let mut surfaces = Vec::new();
         for p in paths {
             let p = p.as_ref();
             println!("cargo:rerun-if-changed={}", p.display());
@@ -218,11 +348,15 @@ impl Config {
                 ));
             }
             let file = out_dir.join(format!("{}.rs", module_name(&compiled.ls.name)));
-            write_if_changed(&file, &generate(&compiled))?;
+            let surface = ev::analyse(&compiled).ok();
+            write_if_changed(&file, &generate_with(&compiled, surface.as_ref()))?;
+            if surface.is_some() {
+                surfaces.push(compiled.ls.name.clone());
+            }
             names.push(compiled.ls.name);
         }
         if let Some(r) = &self.registry {
-            write_if_changed(&out_dir.join(r), &generate_registry(&names))?;
+            write_if_changed(&out_dir.join(r), &generate_registry(&names, &surfaces))?;
         }
         Ok(names)
     }

@@ -2,9 +2,14 @@
 //! for words the axiom never produces. It shares the driver of `lsubdiv_runtime` with the
 //! generated path, and the same nearest-f64 weights, so both give the same bits.
 
+use crate::codegen::{alpha_table, ring_weights};
+use crate::error::Error;
+use crate::ev::{self, SurfaceAnalysis};
 use crate::graph::reach_from;
-use crate::lsystem::Word;
+use crate::lsystem::{Part, Word};
 use crate::pipeline::Scheme;
+use lsubdiv_runtime::ev::EvCoefficients;
+use lsubdiv_runtime::surface::{SurfaceScheme, SurfaceTables};
 use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};
 use std::collections::HashMap;
 
@@ -20,6 +25,7 @@ pub struct GenericScheme {
     mask_offsets: Vec<u32>,
     mask_words: Vec<u32>,
     mask_weights: Vec<f64>,
+    mask_children: Vec<u32>,
 }
 
 impl GenericScheme {
@@ -40,6 +46,7 @@ impl GenericScheme {
             mask_offsets: vec![0],
             mask_words: Vec::new(),
             mask_weights: Vec::new(),
+            mask_children: Vec::new(),
             scheme,
         };
         let words: Vec<Word> = g
@@ -89,6 +96,8 @@ impl GenericScheme {
                 self.mask_weights.push(c.weight.to_f64());
             }
             self.mask_offsets.push(self.mask_words.len() as u32);
+            self.mask_children
+                .push(m.child.map_or(u32::MAX, |c| c as u32));
         }
     }
 }
@@ -106,6 +115,61 @@ impl CurveScheme for GenericScheme {
             mask_offsets: &self.mask_offsets,
             mask_words: &self.mask_words,
             mask_weights: &self.mask_weights,
+            mask_children: &self.mask_children,
+        }
+    }
+}
+
+/// The generic path for surfaces: the generic tables plus the surface data derived at run time.
+#[derive(Clone, Debug)]
+pub struct GenericSurface {
+    generic: GenericScheme,
+    analysis: SurfaceAnalysis,
+    ring_weights: Vec<f64>,
+    alpha: Vec<f64>,
+    ev: EvCoefficients,
+}
+
+impl GenericSurface {
+    /// Checks the surface conditions ([G] §4) and prepares the tables.
+    pub fn new(scheme: Scheme) -> Result<GenericSurface, Error> {
+        let analysis = ev::analyse(&scheme)?;
+        let alpha = alpha_table(&analysis).map_err(|e| scheme.ls.error(Part::Rules, e, None))?;
+        let ring_weights = ring_weights(&scheme);
+        let ev = analysis.coefficients_f64();
+        Ok(GenericSurface {
+            generic: GenericScheme::new(scheme),
+            analysis,
+            ring_weights,
+            alpha,
+            ev,
+        })
+    }
+
+    /// The surface analysis.
+    pub fn analysis(&self) -> &SurfaceAnalysis {
+        &self.analysis
+    }
+
+    /// The exact scheme.
+    pub fn scheme(&self) -> &Scheme {
+        self.generic.scheme()
+    }
+}
+
+impl CurveScheme for GenericSurface {
+    fn tables(&self) -> CurveTables<'_> {
+        self.generic.tables()
+    }
+}
+
+impl SurfaceScheme for GenericSurface {
+    fn surface(&self) -> SurfaceTables<'_> {
+        SurfaceTables {
+            sigma: &self.analysis.sigma,
+            ring_weights: &self.ring_weights,
+            alpha: &self.alpha,
+            ev: self.ev,
         }
     }
 }

@@ -30,6 +30,9 @@ pub struct CurveTables<'a> {
     pub mask_words: &'a [u32],
     /// Weight of each mask entry (nearest f64 to the exact weight).
     pub mask_weights: &'a [f64],
+    /// Entry index (within its mask) of the child of each word, for odd degrees; `u32::MAX` for
+    /// even degrees (no child).
+    pub mask_children: &'a [u32],
 }
 
 impl CurveTables<'_> {

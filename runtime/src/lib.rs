@@ -5,6 +5,10 @@
 
 pub mod curve;
 pub mod ev;
+pub mod generators;
+pub mod mesh;
+pub mod surface;
+pub mod topology;
 
 pub use curve::{refine, Curve, CurveError, CurveScheme, CurveTables};
 

@@ -1,0 +1,454 @@
+//! Surface refinement of closed quad meshes by mask diffusion ([G] §2.2).
+//!
+//! Every face stores the label of its edge 0 (corner 0 → 1) and of the edge corner 0 → 3;
+//! opposite edges carry the same label in parallel directions, so a face splits into a
+//! |π(a)| × |π(b)| grid. Each old vertex scatters its mask quadrant by quadrant, one quadrant per
+//! face around it: an ordinary vertex the tensor product of its two 1D masks, an EV the tensor
+//! product of the second half of its radial mask with itself and α at the centre. Quadrant
+//! entries beyond the vertex's faces walk across face strips; an entry that would pass *through*
+//! an EV (along a line or across a corner) has no well-defined target and is dropped — this only
+//! happens in steps whose masks are not contained ([G] Prop. 4.8, e.g. Binary-Ternary's first
+//! step). Afterwards the EV child is divided by α + n·(ring weight) and any other new vertex whose
+//! weights do not sum to 1 by its weight sum (the ad hoc generalisation of [G] §3.1.2).
+
+use crate::curve::{CurveScheme, CurveTables};
+use crate::ev::{EvCoefficients, EvError};
+use crate::mesh::{MeshError, QuadMesh};
+use crate::topology::Topology;
+use std::collections::HashMap;
+use std::fmt;
+
+/// Surface data of a scheme, beyond its curve tables.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceTables<'a> {
+    /// The involution σ.
+    pub sigma: &'a [u8],
+    /// Per word: (1 − h(0)²)/4, what each sector gives an EV child whose radial word it is.
+    pub ring_weights: &'a [f64],
+    /// α for valences 3, 4, 5, … (entry n − 3).
+    pub alpha: &'a [f64],
+    /// Stationary 1-ring stencils, for α beyond the table.
+    pub ev: EvCoefficients,
+}
+
+/// A scheme that refines surfaces.
+pub trait SurfaceScheme: CurveScheme {
+    /// The surface tables.
+    fn surface(&self) -> SurfaceTables<'_>;
+}
+
+/// A quad mesh with edge labels (see the module documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LabelledMesh {
+    /// The mesh.
+    pub mesh: QuadMesh,
+    /// Per face: labels of edge corner 0 → 1 and of edge corner 0 → 3.
+    pub labels: Vec<[u8; 2]>,
+}
+
+/// What one step did, for checks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// EV children divided by α + n·(ring weight).
+    pub ev_children: usize,
+    /// Other new vertices whose weights did not sum to 1 and were normalised.
+    pub normalised: usize,
+    /// Mask entries dropped because they would pass through an EV.
+    pub dropped: usize,
+}
+
+/// Why a surface cannot be refined.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SurfaceError {
+    /// The mesh is not a closed 2-manifold quad mesh.
+    Mesh(MeshError),
+    /// The axiom is not a single symbol.
+    Axiom,
+    /// A vertex's word has no mask in the tables.
+    UnknownWord(String),
+    /// No α for a valence.
+    Ev(EvError),
+}
+
+impl fmt::Display for SurfaceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SurfaceError::Mesh(e) => write!(f, "{e}"),
+            SurfaceError::Axiom => write!(f, "surfaces need a one-symbol axiom"),
+            SurfaceError::UnknownWord(w) => write!(f, "word {w} has no tabulated mask"),
+            SurfaceError::Ev(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for SurfaceError {}
+
+impl From<MeshError> for SurfaceError {
+    fn from(e: MeshError) -> Self {
+        SurfaceError::Mesh(e)
+    }
+}
+
+impl LabelledMesh {
+    /// Every edge labelled with the (one-symbol) axiom.
+    pub fn with_axiom(t: &CurveTables<'_>, mesh: QuadMesh) -> Result<LabelledMesh, SurfaceError> {
+        let [a] = t.axiom else {
+            return Err(SurfaceError::Axiom);
+        };
+        let labels = vec![[*a, *a]; mesh.faces.len()];
+        Ok(LabelledMesh { mesh, labels })
+    }
+}
+
+/// Refines `steps` times; returns the mesh and per-step statistics.
+pub fn refine_surface<S: SurfaceScheme>(
+    scheme: &S,
+    mesh: &LabelledMesh,
+    steps: usize,
+) -> Result<(LabelledMesh, Vec<StepStats>), SurfaceError> {
+    let t = scheme.tables();
+    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+    let mut cur = mesh.clone();
+    let mut stats = Vec::with_capacity(steps);
+    for _ in 0..steps {
+        let topo = Topology::build(&cur.mesh)?;
+        let cx = Step {
+            t,
+            s: scheme.surface(),
+            lookup: &lookup,
+            lm: &cur,
+            topo: &topo,
+        };
+        let (next, st) = cx.run()?;
+        cur = next;
+        stats.push(st);
+    }
+    Ok((cur, stats))
+}
+
+/// One step's context: the old labelled mesh and its topology.
+struct Step<'a> {
+    t: CurveTables<'a>,
+    s: SurfaceTables<'a>,
+    lookup: &'a HashMap<&'a [u8], u32>,
+    lm: &'a LabelledMesh,
+    topo: &'a Topology,
+}
+
+/// Grid offsets of corner c of a p × q face grid, and unit steps toward corners c+1 and c−1.
+const CORNER_AT: [(bool, bool); 4] = [(false, false), (true, false), (true, true), (false, true)];
+const TOWARD_NEXT: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
+const TOWARD_PREV: [(i64, i64); 4] = [(0, 1), (-1, 0), (0, -1), (1, 0)];
+
+impl Step<'_> {
+    fn sigma(&self, a: u8) -> u8 {
+        self.s.sigma[a as usize]
+    }
+
+    /// Label of local edge `local` of face f read from corner `local` to corner `local + 1`.
+    fn label(&self, f: u32, local: u8) -> u8 {
+        let [a, b] = self.lm.labels[f as usize];
+        match local {
+            0 => a,
+            1 => b,
+            2 => self.sigma(a),
+            _ => self.sigma(b),
+        }
+    }
+
+    /// Number of sub-edges local edge `local` of face f splits into.
+    fn count(&self, f: u32, local: u8) -> i64 {
+        self.t.rule(self.label(f, local)).len() as i64
+    }
+
+    /// The edge leaving corner c of face f toward c+1 (`plus`) or c−1: (edge id, local index,
+    /// label read from corner c).
+    fn edge_from(&self, f: u32, c: u8, plus: bool) -> (u32, u8, u8) {
+        if plus {
+            (self.topo.edge_of(f, c), c, self.label(f, c))
+        } else {
+            let l = (c + 3) % 4;
+            (self.topo.edge_of(f, l), l, self.sigma(self.label(f, l)))
+        }
+    }
+
+    /// The edges around v in rotation order E_0..E_{n−1}, E_k shared by wedges k−1 and k,
+    /// as (edge id, label read from v).
+    fn spokes(&self, v: u32) -> Vec<(u32, u8)> {
+        self.topo
+            .rotation(v)
+            .iter()
+            .map(|w| {
+                let (e, _, l) = self.edge_from(w.face, w.corner, !w.next_is_plus);
+                (e, l)
+            })
+            .collect()
+    }
+
+    /// `len` labels along the straight line leaving v by spoke k, read outward. At an ordinary
+    /// vertex the line continues through the opposite edge; at an EV it continues with the
+    /// mirrored label ([G] §2.2.2).
+    fn ray(&self, v: u32, k: usize, len: usize) -> Vec<u8> {
+        let sp = self.spokes(v);
+        let (mut e, mut label) = sp[k];
+        let mut at = v;
+        let mut out = vec![label];
+        while out.len() < len {
+            let [x, y] = self.topo.edge_vertices(e);
+            let q = if x == at { y } else { x };
+            let qs = self.spokes(q);
+            if qs.len() == 4 {
+                let i = qs
+                    .iter()
+                    .position(|s| s.0 == e)
+                    .expect("edge is a spoke of its end");
+                (e, label) = qs[(i + 2) % 4];
+            } else {
+                label = self.sigma(label);
+            }
+            at = q;
+            out.push(label);
+        }
+        out
+    }
+
+    /// The (d+1)-word of v along spoke k, read outward, and its mask index.
+    fn word(&self, v: u32, k: usize, valence: usize) -> Result<u32, SurfaceError> {
+        let half = self.t.degree.div_ceil(2);
+        let ahead = self.ray(v, k, half);
+        let behind = if valence == 4 {
+            self.ray(v, (k + 2) % 4, half)
+        } else {
+            ahead.clone()
+        };
+        let w: Vec<u8> = behind
+            .iter()
+            .rev()
+            .map(|&s| self.sigma(s))
+            .chain(ahead.iter().copied())
+            .collect();
+        self.lookup
+            .get(w.as_slice())
+            .copied()
+            .ok_or_else(|| SurfaceError::UnknownWord(self.t.word_str(&w)))
+    }
+
+    /// The mask of word w from its child on: entry t ≥ 0 is the weight at offset t.
+    fn half_mask(&self, w: u32) -> &[f64] {
+        let r = self.t.mask_range(w as usize);
+        let child = self.t.mask_children[w as usize] as usize;
+        &self.t.mask_weights[r][child..]
+    }
+
+    /// The grid point at offset (x, y) from corner c of face f, x toward c+1 when `plus` (else
+    /// c−1) and y along the other edge, walking across faces; None when the walk would pass
+    /// through an EV.
+    fn locate(
+        &self,
+        mut f: u32,
+        mut c: u8,
+        mut plus: bool,
+        mut x: i64,
+        mut y: i64,
+    ) -> Option<(u32, i64, i64)> {
+        loop {
+            let xl = if plus { c } else { (c + 3) % 4 };
+            let yl = if plus { (c + 3) % 4 } else { c };
+            let (p, q) = (self.count(f, xl), self.count(f, yl));
+            if x <= p && y <= q {
+                let (pf, qf) = (self.count(f, 0), self.count(f, 1));
+                let (cx, cy) = CORNER_AT[c as usize];
+                let (dx, dy) = if plus {
+                    (TOWARD_NEXT[c as usize], TOWARD_PREV[c as usize])
+                } else {
+                    (TOWARD_PREV[c as usize], TOWARD_NEXT[c as usize])
+                };
+                let gx = if cx { pf } else { 0 } + x * dx.0 + y * dy.0;
+                let gy = if cy { qf } else { 0 } + x * dx.1 + y * dy.1;
+                return Some((f, gx, gy));
+            }
+            if x <= p {
+                // Cross along y instead: swap the axes.
+                plus = !plus;
+                std::mem::swap(&mut x, &mut y);
+                continue;
+            }
+            if y > q {
+                // Diagonal: only across an ordinary corner is the next face well defined.
+                let far = self.topo.vertex(f, (c + 2) % 4);
+                if self.topo.valence(far) != 4 {
+                    return None;
+                }
+            }
+            // Cross the edge at the end of the x-edge, parallel to y.
+            let cp = if plus { (c + 1) % 4 } else { (c + 3) % 4 };
+            if y == 0 && self.topo.valence(self.topo.vertex(f, cp)) != 4 {
+                return None; // straight through an EV
+            }
+            let far_local = if plus { cp } else { (cp + 3) % 4 };
+            let (g, gl) = self.topo.across(f, far_local);
+            let vc = self.topo.vertex(f, cp);
+            let gc = if self.topo.vertex(g, gl) == vc {
+                gl
+            } else {
+                (gl + 1) % 4
+            };
+            plus = gc != gl;
+            f = g;
+            c = gc;
+            x -= p;
+        }
+    }
+
+    fn run(&self) -> Result<(LabelledMesh, StepStats), SurfaceError> {
+        let topo = self.topo;
+        let nv = topo.vertex_count();
+        let nf = topo.face_count();
+        // Numbering: children, then edge points along each edge's canonical direction, then face points.
+        let mut edge_len = vec![0i64; topo.edge_count()];
+        for f in 0..nf as u32 {
+            for l in 0..4 {
+                let e = topo.edge_of(f, l) as usize;
+                debug_assert!(
+                    edge_len[e] == 0 || edge_len[e] == self.count(f, l),
+                    "labels agree"
+                );
+                edge_len[e] = self.count(f, l);
+            }
+        }
+        let mut edge_base = vec![0u32; topo.edge_count()];
+        let mut next = nv as u32;
+        for (base, len) in edge_base.iter_mut().zip(&edge_len) {
+            *base = next;
+            next += (len - 1) as u32;
+        }
+        let mut face_base = vec![0u32; nf];
+        for f in 0..nf as u32 {
+            face_base[f as usize] = next;
+            next += ((self.count(f, 0) - 1) * (self.count(f, 1) - 1)) as u32;
+        }
+        let total = next as usize;
+        let index = |f: u32, gx: i64, gy: i64| -> u32 {
+            let (p, q) = (self.count(f, 0), self.count(f, 1));
+            let edge_point = |local: u8, t: i64| -> u32 {
+                let e = topo.edge_of(f, local);
+                let len = self.count(f, local);
+                let from_low = topo.vertex(f, local) == topo.edge_vertices(e)[0];
+                edge_base[e as usize] + if from_low { t - 1 } else { len - t - 1 } as u32
+            };
+            match (gx, gy) {
+                (0, 0) => topo.vertex(f, 0),
+                (x, 0) if x == p => topo.vertex(f, 1),
+                (x, y) if x == p && y == q => topo.vertex(f, 2),
+                (0, y) if y == q => topo.vertex(f, 3),
+                (x, 0) => edge_point(0, x),
+                (x, y) if x == p => edge_point(1, y),
+                (x, y) if y == q => edge_point(2, p - x),
+                (0, y) => edge_point(3, q - y),
+                (x, y) => face_base[f as usize] + ((y - 1) * (p - 1) + (x - 1)) as u32,
+            }
+        };
+
+        let mut pos = vec![[0.0f64; 3]; total];
+        let mut sum = vec![0.0f64; total];
+        let mut stats = StepStats::default();
+        let mut ev_norm: Vec<(u32, f64)> = Vec::new();
+        for v in 0..nv as u32 {
+            let n = topo.valence(v);
+            let p = self.lm.mesh.positions[v as usize];
+            let words = (0..n)
+                .map(|k| self.word(v, k, n))
+                .collect::<Result<Vec<u32>, _>>()?;
+            let centre = if n == 4 {
+                self.half_mask(words[0])[0] * self.half_mask(words[1])[0]
+            } else {
+                let alpha = self.alpha(n)?;
+                let ring = self.s.ring_weights[words[0] as usize];
+                ev_norm.push((v, alpha + n as f64 * ring));
+                alpha
+            };
+            add(&mut pos[v as usize], &mut sum[v as usize], centre, &p);
+            for (k, w) in topo.rotation(v).iter().enumerate() {
+                let mx = self.half_mask(words[k]);
+                let my = self.half_mask(words[(k + 1) % n]);
+                for (x, wx) in mx.iter().enumerate().skip(1) {
+                    for (y, wy) in my.iter().enumerate() {
+                        match self.locate(w.face, w.corner, !w.next_is_plus, x as i64, y as i64) {
+                            Some((g, gx, gy)) => {
+                                let i = index(g, gx, gy) as usize;
+                                add(&mut pos[i], &mut sum[i], wx * wy, &p);
+                            }
+                            None => stats.dropped += 1,
+                        }
+                    }
+                }
+            }
+        }
+        let is_ev_child: Vec<bool> = {
+            let mut b = vec![false; total];
+            for &(v, _) in &ev_norm {
+                b[v as usize] = true;
+            }
+            b
+        };
+        for &(v, norm) in &ev_norm {
+            for c in &mut pos[v as usize] {
+                *c /= norm;
+            }
+            stats.ev_children += 1;
+        }
+        for i in 0..total {
+            if !is_ev_child[i] && (sum[i] - 1.0).abs() > 1e-9 {
+                for c in &mut pos[i] {
+                    *c /= sum[i];
+                }
+                stats.normalised += 1;
+            }
+        }
+
+        // The split: each face becomes a grid of faces labelled by π(a) × π(b).
+        let mut faces = Vec::new();
+        let mut labels = Vec::new();
+        for f in 0..nf as u32 {
+            let [a, b] = self.lm.labels[f as usize];
+            let (ra, rb) = (self.t.rule(a), self.t.rule(b));
+            for (y, &lb) in rb.iter().enumerate() {
+                for (x, &la) in ra.iter().enumerate() {
+                    let (x, y) = (x as i64, y as i64);
+                    faces.push([
+                        index(f, x, y),
+                        index(f, x + 1, y),
+                        index(f, x + 1, y + 1),
+                        index(f, x, y + 1),
+                    ]);
+                    labels.push([la, lb]);
+                }
+            }
+        }
+        Ok((
+            LabelledMesh {
+                mesh: QuadMesh {
+                    positions: pos,
+                    faces,
+                },
+                labels,
+            },
+            stats,
+        ))
+    }
+
+    /// α at valence n: the table, or the same solver beyond it.
+    fn alpha(&self, n: usize) -> Result<f64, SurfaceError> {
+        match self.s.alpha.get(n.wrapping_sub(3)) {
+            Some(&a) => Ok(a),
+            None => self.s.ev.alpha(n).map_err(SurfaceError::Ev),
+        }
+    }
+}
+
+fn add(pos: &mut [f64; 3], sum: &mut f64, w: f64, p: &[f64; 3]) {
+    for (o, x) in pos.iter_mut().zip(p) {
+        *o += w * x;
+    }
+    *sum += w;
+}

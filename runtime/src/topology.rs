@@ -1,0 +1,806 @@
+//! Connectivity of a closed 2-manifold quad mesh, oriented or not.
+//!
+//! Nothing here assumes that adjacent faces list a shared edge in opposite directions, so
+//! non-orientable meshes (Klein bottles, Möbius-glued closed meshes) work. Everything is stored
+//! in flat arrays indexed by half-edge `4 * face + local` and, for the vertex rotations, in CSR
+//! layout (`offsets` + concatenated wedges).
+
+use crate::mesh::{MeshError, QuadMesh};
+
+/// A corner of a face: face index and corner index 0..4 (vertex faces[face][corner]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Corner {
+    /// Face index.
+    pub face: u32,
+    /// Corner index in the face, 0..4.
+    pub corner: u8,
+}
+
+/// One entry of a vertex's rotation: a face around the vertex, the vertex's corner in it, and
+/// which of the corner's two face edges is shared with the NEXT entry of the rotation:
+/// `next_is_plus == true` means the edge from corner c to corner (c+1)%4, false means the edge
+/// from c to (c+3)%4. Consecutive entries k, k+1 (cyclically) share exactly that edge; the other
+/// edge of entry k is shared with entry k-1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Wedge {
+    /// Face index.
+    pub face: u32,
+    /// The vertex's corner in the face, 0..4.
+    pub corner: u8,
+    /// Whether the edge shared with the next wedge is the corner's `c -> c+1` edge (else
+    /// `c -> c+3`).
+    pub next_is_plus: bool,
+}
+
+impl Wedge {
+    /// Local index (in the wedge's face) of the edge shared with the next wedge.
+    pub fn next_local(&self) -> u8 {
+        if self.next_is_plus {
+            self.corner
+        } else {
+            (self.corner + 3) % 4
+        }
+    }
+
+    /// Local index (in the wedge's face) of the edge shared with the previous wedge.
+    pub fn prev_local(&self) -> u8 {
+        if self.next_is_plus {
+            (self.corner + 3) % 4
+        } else {
+            self.corner
+        }
+    }
+}
+
+/// Connectivity of a validated closed 2-manifold quad mesh.
+#[derive(Clone, Debug)]
+pub struct Topology {
+    vertex_count: usize,
+    /// Vertex of half-edge/corner `4 f + i`.
+    face_verts: Vec<u32>,
+    /// Edge id of half-edge `4 f + i` (the edge from corner i to i+1).
+    face_edges: Vec<u32>,
+    /// The other half-edge of the same edge.
+    mates: Vec<u32>,
+    /// Endpoints of each edge, smaller first.
+    edge_verts: Vec<[u32; 2]>,
+    /// One half-edge of each edge (the first met scanning faces in order).
+    edge_half: Vec<u32>,
+    /// Rotation of vertex v is `rot[rot_offsets[v]..rot_offsets[v + 1]]`.
+    rot_offsets: Vec<u32>,
+    rot: Vec<Wedge>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl Topology {
+    /// Validates that the mesh is a closed 2-manifold quad mesh and builds the connectivity.
+    ///
+    /// Checks, in this order (the first failure is returned): no faces; size fits 32-bit
+    /// indices; index out of range; face repeating a vertex; duplicate faces (same vertex set);
+    /// boundary edge (1 face) or non-manifold edge (>2 faces), first in edge order; isolated
+    /// vertex (used by no face); non-manifold vertex (faces around it form more than one cycle).
+    /// Edges are numbered in the order they are first met scanning faces in order and local
+    /// edges 0..4. Each rotation starts at the vertex's first corner in face order, with
+    /// `next_is_plus == true`.
+    pub fn build(mesh: &QuadMesh) -> Result<Topology, MeshError> {
+        let nv = mesh.positions.len();
+        let nf = mesh.faces.len();
+        if nf == 0 {
+            return Err(MeshError::NoFaces);
+        }
+        if nv > u32::MAX as usize || nf > (u32::MAX / 4) as usize {
+            return Err(MeshError::TooLarge {
+                vertices: nv,
+                faces: nf,
+            });
+        }
+        for (f, face) in mesh.faces.iter().enumerate() {
+            let f = f as u32;
+            for (i, &v) in face.iter().enumerate() {
+                if v as usize >= nv {
+                    return Err(MeshError::FaceIndexOutOfRange {
+                        face: f,
+                        index: v,
+                        vertices: nv,
+                    });
+                }
+                if face[..i].contains(&v) {
+                    return Err(MeshError::RepeatedVertex { face: f, vertex: v });
+                }
+            }
+        }
+        // Duplicate faces: bucket faces by their smallest vertex, sort each bucket by vertex set.
+        let keys: Vec<[u32; 4]> = mesh
+            .faces
+            .iter()
+            .map(|f| {
+                let mut k = *f;
+                k.sort_unstable();
+                k
+            })
+            .collect();
+        let mins: Vec<u32> = keys.iter().map(|k| k[0]).collect();
+        let (offsets, mut order) = buckets(nv, &mins);
+        drop(mins);
+        let mut duplicate: Option<(u32, u32)> = None;
+        for b in offsets.windows(2) {
+            let bucket = &mut order[b[0] as usize..b[1] as usize];
+            bucket.sort_unstable_by_key(|&f| (keys[f as usize], f));
+            for run in bucket.chunk_by(|&f, &g| keys[f as usize] == keys[g as usize]) {
+                // The run is in face order: its first two faces are the earliest pair.
+                if let [first, second, ..] = *run {
+                    if !matches!(duplicate, Some((_, s)) if s < second) {
+                        duplicate = Some((first, second));
+                    }
+                }
+            }
+        }
+        if let Some((first, second)) = duplicate {
+            return Err(MeshError::DuplicateFaces { first, second });
+        }
+        drop((keys, offsets, order));
+
+        // Edges: bucket half-edges by their smaller endpoint, then group by the larger one.
+        // O(V + F) apart from sorting the (tiny) buckets.
+        let face_verts: Vec<u32> = mesh.faces.iter().flatten().copied().collect();
+        let nh = 4 * nf;
+        let ends = |h: usize| {
+            let a = face_verts[h];
+            let b = face_verts[h - h % 4 + (h + 1) % 4];
+            if a < b {
+                (a, b)
+            } else {
+                (b, a)
+            }
+        };
+        let los: Vec<u32> = (0..nh).map(|h| ends(h).0).collect();
+        let (offsets, mut order) = buckets(nv, &los);
+        drop(los);
+        let mut mates = vec![NONE; nh];
+        // rep[h]: the first half-edge (in scanning order) of h's edge.
+        let mut rep = vec![NONE; nh];
+        for b in offsets.windows(2) {
+            let bucket = &mut order[b[0] as usize..b[1] as usize];
+            bucket.sort_unstable_by_key(|&h| (ends(h as usize).1, h));
+            for run in bucket.chunk_by(|&g, &h| ends(g as usize).1 == ends(h as usize).1) {
+                for &h in run {
+                    rep[h as usize] = run[0];
+                }
+                if let [a, b] = *run {
+                    mates[a as usize] = b;
+                    mates[b as usize] = a;
+                }
+            }
+        }
+        let mut face_edges = vec![0u32; nh];
+        let mut edge_verts: Vec<[u32; 2]> = Vec::with_capacity(2 * nf);
+        let mut edge_half: Vec<u32> = Vec::with_capacity(2 * nf);
+        for h in 0..nh {
+            let r = rep[h] as usize;
+            if r == h {
+                let (lo, hi) = ends(h);
+                if mates[h] == NONE {
+                    let bucket =
+                        &order[offsets[lo as usize] as usize..offsets[lo as usize + 1] as usize];
+                    let faces = bucket.iter().filter(|&&x| ends(x as usize).1 == hi).count();
+                    return Err(if faces == 1 {
+                        MeshError::BoundaryEdge { edge: [lo, hi] }
+                    } else {
+                        MeshError::NonManifoldEdge {
+                            edge: [lo, hi],
+                            faces,
+                        }
+                    });
+                }
+                face_edges[h] = edge_verts.len() as u32;
+                edge_verts.push([lo, hi]);
+                edge_half.push(h as u32);
+            } else {
+                face_edges[h] = face_edges[r];
+            }
+        }
+        drop((offsets, order, rep));
+
+        // Rotations (CSR). Every corner is in exactly one rotation, so 4F wedges in all.
+        let mut rot_offsets = vec![0u32; nv + 1];
+        let mut first_corner = vec![NONE; nv];
+        for (h, &v) in face_verts.iter().enumerate() {
+            rot_offsets[v as usize + 1] += 1;
+            if first_corner[v as usize] == NONE {
+                first_corner[v as usize] = h as u32;
+            }
+        }
+        if let Some(v) = first_corner.iter().position(|&h| h == NONE) {
+            return Err(MeshError::IsolatedVertex { vertex: v as u32 });
+        }
+        for v in 0..nv {
+            rot_offsets[v + 1] += rot_offsets[v];
+        }
+        let mut rot: Vec<Wedge> = Vec::with_capacity(4 * nf);
+        for v in 0..nv {
+            let valence = (rot_offsets[v + 1] - rot_offsets[v]) as usize;
+            let start = first_corner[v];
+            let mut w = Wedge {
+                face: start / 4,
+                corner: (start % 4) as u8,
+                next_is_plus: true,
+            };
+            loop {
+                rot.push(w);
+                let next = step(&face_verts, &mates, v as u32, w);
+                if 4 * next.face + u32::from(next.corner) == start
+                    || rot.len() - rot_offsets[v] as usize >= valence
+                {
+                    break;
+                }
+                w = next;
+            }
+            if rot.len() - (rot_offsets[v] as usize) < valence {
+                let fans = count_fans(&face_verts, &mates, v as u32);
+                return Err(MeshError::NonManifoldVertex {
+                    vertex: v as u32,
+                    fans,
+                });
+            }
+        }
+        Ok(Topology {
+            vertex_count: nv,
+            face_verts,
+            face_edges,
+            mates,
+            edge_verts,
+            edge_half,
+            rot_offsets,
+            rot,
+        })
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.vertex_count
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.face_verts.len() / 4
+    }
+
+    /// Number of (undirected) edges; twice the face count for a closed quad mesh.
+    pub fn edge_count(&self) -> usize {
+        self.edge_verts.len()
+    }
+
+    /// Undirected edge id of local edge i of face f (the edge from corner i to corner (i+1)%4).
+    pub fn edge_of(&self, face: u32, local: u8) -> u32 {
+        self.face_edges[half(face, local)]
+    }
+
+    /// Endpoints of an edge, smaller vertex index first.
+    pub fn edge_vertices(&self, edge: u32) -> [u32; 2] {
+        self.edge_verts[edge as usize]
+    }
+
+    /// The two sides of an edge as (face, local edge index); the first is where the edge is
+    /// first met scanning faces in order.
+    pub fn edge_faces(&self, edge: u32) -> [(u32, u8); 2] {
+        let h = self.edge_half[edge as usize];
+        let m = self.mates[h as usize];
+        [(h / 4, (h % 4) as u8), (m / 4, (m % 4) as u8)]
+    }
+
+    /// The other face on local edge `local` of `face`, and that edge's local index in the other
+    /// face.
+    pub fn across(&self, face: u32, local: u8) -> (u32, u8) {
+        let m = self.mates[half(face, local)];
+        (m / 4, (m % 4) as u8)
+    }
+
+    /// The rotation (cyclic sequence of wedges) around vertex v; its length is the valence.
+    pub fn rotation(&self, v: u32) -> &[Wedge] {
+        let v = v as usize;
+        &self.rot[self.rot_offsets[v] as usize..self.rot_offsets[v + 1] as usize]
+    }
+
+    /// Number of faces (equivalently edges) around vertex v.
+    pub fn valence(&self, v: u32) -> usize {
+        let v = v as usize;
+        (self.rot_offsets[v + 1] - self.rot_offsets[v]) as usize
+    }
+
+    /// The vertex at a corner.
+    pub fn vertex(&self, face: u32, corner: u8) -> u32 {
+        self.face_verts[half(face, corner)]
+    }
+
+    /// The vertex at a [`Corner`].
+    pub fn corner_vertex(&self, c: Corner) -> u32 {
+        self.vertex(c.face, c.corner)
+    }
+}
+
+/// Stable counting sort of the items 0..keys.len() by key (< nb): bucket k is
+/// `order[offsets[k]..offsets[k + 1]]`, items in increasing order.
+fn buckets(nb: usize, keys: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; nb + 1];
+    for &k in keys {
+        offsets[k as usize + 1] += 1;
+    }
+    for i in 0..nb {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets[..nb].to_vec();
+    let mut order = vec![0u32; keys.len()];
+    for (i, &k) in keys.iter().enumerate() {
+        order[fill[k as usize] as usize] = i as u32;
+        fill[k as usize] += 1;
+    }
+    (offsets, order)
+}
+
+fn half(face: u32, local: u8) -> usize {
+    assert!(local < 4, "local index {local} is not in 0..4");
+    4 * face as usize + local as usize
+}
+
+/// The wedge after `w` in the rotation of `v`: across w's next edge, entered through the edge
+/// just crossed, so it leaves through its other edge.
+fn step(face_verts: &[u32], mates: &[u32], v: u32, w: Wedge) -> Wedge {
+    let m = mates[4 * w.face as usize + w.next_local() as usize];
+    let (g, l) = (m / 4, m % 4);
+    if face_verts[m as usize] == v {
+        // Entered through g's edge l -> l+1, i.e. the plus edge of corner l.
+        Wedge {
+            face: g,
+            corner: l as u8,
+            next_is_plus: false,
+        }
+    } else {
+        // Entered through the minus edge of corner l+1.
+        Wedge {
+            face: g,
+            corner: ((l + 1) % 4) as u8,
+            next_is_plus: true,
+        }
+    }
+}
+
+/// Number of separate cycles of faces around `v` (only called on the error path).
+fn count_fans(face_verts: &[u32], mates: &[u32], v: u32) -> usize {
+    let corners: Vec<u32> = (0..face_verts.len() as u32)
+        .filter(|&h| face_verts[h as usize] == v)
+        .collect();
+    let mut visited = vec![false; corners.len()];
+    let mut fans = 0;
+    for k in 0..corners.len() {
+        if visited[k] {
+            continue;
+        }
+        fans += 1;
+        let start = corners[k];
+        let mut w = Wedge {
+            face: start / 4,
+            corner: (start % 4) as u8,
+            next_is_plus: true,
+        };
+        for _ in 0..corners.len() {
+            let h = 4 * w.face + u32::from(w.corner);
+            if let Ok(i) = corners.binary_search(&h) {
+                visited[i] = true;
+            }
+            w = step(face_verts, mates, v, w);
+            if 4 * w.face + u32::from(w.corner) == start {
+                break;
+            }
+        }
+    }
+    fans
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generators::{cube, klein_bottle, prism, quad_split, star, torus};
+    use std::collections::BTreeMap;
+
+    fn valence_histogram(t: &Topology) -> BTreeMap<usize, usize> {
+        let mut h = BTreeMap::new();
+        for v in 0..t.vertex_count() as u32 {
+            *h.entry(t.valence(v)).or_insert(0) += 1;
+        }
+        h
+    }
+
+    fn euler(t: &Topology) -> i64 {
+        t.vertex_count() as i64 - t.edge_count() as i64 + t.face_count() as i64
+    }
+
+    /// Checks every invariant of the structure against the mesh.
+    fn check_consistent(mesh: &QuadMesh, t: &Topology) {
+        assert_eq!(t.vertex_count(), mesh.positions.len());
+        assert_eq!(t.face_count(), mesh.faces.len());
+        assert_eq!(t.edge_count(), 2 * t.face_count());
+        let mut corner_seen = vec![false; 4 * t.face_count()];
+        for f in 0..t.face_count() as u32 {
+            for i in 0..4u8 {
+                assert_eq!(t.vertex(f, i), mesh.faces[f as usize][i as usize]);
+                let e = t.edge_of(f, i);
+                let mut ends = [t.vertex(f, i), t.vertex(f, (i + 1) % 4)];
+                ends.sort_unstable();
+                assert_eq!(t.edge_vertices(e), ends);
+                // across is an involution and lands on the same edge.
+                let (g, l) = t.across(f, i);
+                assert_ne!(g, f);
+                assert_eq!(t.across(g, l), (f, i));
+                assert_eq!(t.edge_of(g, l), e);
+                let sides = t.edge_faces(e);
+                assert!(sides.contains(&(f, i)) && sides.contains(&(g, l)));
+            }
+        }
+        let mut total = 0;
+        for v in 0..t.vertex_count() as u32 {
+            let r = t.rotation(v);
+            assert_eq!(r.len(), t.valence(v));
+            assert!(r.len() >= 2);
+            total += r.len();
+            for (k, w) in r.iter().enumerate() {
+                assert_eq!(t.vertex(w.face, w.corner), v);
+                let h = 4 * w.face as usize + w.corner as usize;
+                assert!(!corner_seen[h], "corner in two rotations");
+                corner_seen[h] = true;
+                let n = r[(k + 1) % r.len()];
+                // The stated edge of w is the other edge of the next wedge.
+                assert_eq!(
+                    t.edge_of(w.face, w.next_local()),
+                    t.edge_of(n.face, n.prev_local())
+                );
+                assert_eq!(t.across(w.face, w.next_local()), (n.face, n.prev_local()));
+                // The shared edge contains v.
+                assert!(t
+                    .edge_vertices(t.edge_of(w.face, w.next_local()))
+                    .contains(&v));
+            }
+        }
+        assert_eq!(total, 4 * t.face_count());
+        assert!(corner_seen.iter().all(|&s| s));
+    }
+
+    /// Tries to orient all faces consistently (two faces agree when they traverse their shared
+    /// edge in opposite directions).
+    fn is_orientable(t: &Topology) -> bool {
+        let nf = t.face_count();
+        let mut sign = vec![0i8; nf];
+        for seed in 0..nf {
+            if sign[seed] != 0 {
+                continue;
+            }
+            sign[seed] = 1;
+            let mut stack = vec![seed as u32];
+            while let Some(f) = stack.pop() {
+                for i in 0..4u8 {
+                    let (g, l) = t.across(f, i);
+                    let same_dir = t.vertex(f, i) == t.vertex(g, l);
+                    let want = if same_dir {
+                        -sign[f as usize]
+                    } else {
+                        sign[f as usize]
+                    };
+                    match sign[g as usize] {
+                        0 => {
+                            sign[g as usize] = want;
+                            stack.push(g);
+                        }
+                        s if s != want => return false,
+                        _ => {}
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    fn build(mesh: &QuadMesh) -> Topology {
+        let t = Topology::build(mesh).unwrap();
+        check_consistent(mesh, &t);
+        t
+    }
+
+    fn hist(pairs: &[(usize, usize)]) -> BTreeMap<usize, usize> {
+        pairs.iter().copied().collect()
+    }
+
+    #[test]
+    fn torus_topology() {
+        for (r, c) in [(3, 3), (3, 5), (8, 8), (5, 12)] {
+            let m = torus(r, c);
+            let t = build(&m);
+            assert_eq!(euler(&t), 0);
+            assert_eq!(valence_histogram(&t), hist(&[(4, r * c)]));
+            assert!(is_orientable(&t));
+        }
+    }
+
+    #[test]
+    fn cube_topology() {
+        let t = build(&cube());
+        assert_eq!(
+            (t.vertex_count(), t.edge_count(), t.face_count()),
+            (8, 12, 6)
+        );
+        assert_eq!(euler(&t), 2);
+        assert_eq!(valence_histogram(&t), hist(&[(3, 8)]));
+        assert!(is_orientable(&t));
+        // Orientation-agnostic: flipping one face of the cube changes nothing structurally.
+        let mut m = cube();
+        m.faces[2].reverse();
+        let t = build(&m);
+        assert_eq!(euler(&t), 2);
+        assert!(is_orientable(&t));
+    }
+
+    #[test]
+    fn prism_topology() {
+        for n in [3, 4, 5, 7, 9] {
+            let t = build(&prism(n));
+            assert_eq!(euler(&t), 2);
+            assert_eq!(t.vertex_count(), 6 * n + 2);
+            let mut expected = BTreeMap::new();
+            *expected.entry(3).or_insert(0) += 2 * n;
+            *expected.entry(n).or_insert(0) += 2;
+            *expected.entry(4).or_insert(0) += 3 * n + n;
+            assert_eq!(valence_histogram(&t), expected, "n = {n}");
+            assert!(is_orientable(&t));
+        }
+    }
+
+    #[test]
+    fn star_topology() {
+        let m = star();
+        let t = build(&m);
+        assert_eq!(euler(&t), 2);
+        assert_eq!(
+            valence_histogram(&t),
+            hist(&[(3, 20), (4, 38), (5, 2), (9, 2)])
+        );
+        assert!(is_orientable(&t));
+        // Extraordinary vertices are pairwise non-adjacent.
+        for e in 0..t.edge_count() as u32 {
+            let [a, b] = t.edge_vertices(e);
+            assert!(
+                t.valence(a) == 4 || t.valence(b) == 4,
+                "EVs {a} and {b} adjacent"
+            );
+        }
+    }
+
+    #[test]
+    fn klein_bottle_topology() {
+        for (r, c) in [(3, 3), (4, 3), (3, 4), (6, 8), (7, 5)] {
+            let t = build(&klein_bottle(r, c));
+            assert_eq!(euler(&t), 0);
+            assert_eq!(valence_histogram(&t), hist(&[(4, r * c)]));
+            assert!(!is_orientable(&t), "{r} x {c}");
+        }
+    }
+
+    #[test]
+    fn mixed_orientation_is_accepted() {
+        // The same torus with every other face reversed: structurally identical.
+        let mut m = torus(4, 6);
+        for (i, f) in m.faces.iter_mut().enumerate() {
+            if i % 2 == 1 {
+                f.reverse();
+            }
+        }
+        let t = build(&m);
+        assert_eq!(euler(&t), 0);
+        assert_eq!(valence_histogram(&t), hist(&[(4, 24)]));
+        assert!(is_orientable(&t));
+    }
+
+    #[test]
+    fn split_of_klein_bottle_is_non_orientable() {
+        let k = klein_bottle(4, 4);
+        let polys: Vec<Vec<u32>> = k.faces.iter().map(|f| f.to_vec()).collect();
+        let t = build(&quad_split(&k.positions, &polys));
+        assert_eq!(euler(&t), 0);
+        assert!(!is_orientable(&t));
+    }
+
+    #[test]
+    fn valence_two_vertex_is_fine() {
+        // A new vertex 8 on the cube edge (0, 1) makes both faces on it pentagons; after
+        // quad_split, vertex 8 has valence 2 (two faces sharing two consecutive edges).
+        let c = cube();
+        let mut polys: Vec<Vec<u32>> = c.faces.iter().map(|f| f.to_vec()).collect();
+        for p in &mut polys {
+            let n = p.len();
+            for i in 0..n {
+                let (a, b) = (p[i], p[(i + 1) % n]);
+                if (a, b) == (0, 1) || (a, b) == (1, 0) {
+                    p.insert(i + 1, 8);
+                    break;
+                }
+            }
+        }
+        let mut pos = c.positions.clone();
+        pos.push([0.0, -1.0, -1.0]);
+        let t = build(&quad_split(&pos, &polys));
+        assert_eq!(t.valence(8), 2);
+        assert_eq!(euler(&t), 2);
+    }
+
+    fn two_cubes_sharing(shared: &[u32]) -> QuadMesh {
+        // Second cube shifted by (3, 0, 0); its vertices listed in `shared` are the first's.
+        let a = cube();
+        let mut positions = a.positions.clone();
+        positions.extend(a.positions.iter().map(|p| [p[0] + 3.0, p[1], p[2]]));
+        let map = |v: u32| if shared.contains(&v) { v } else { v + 8 };
+        let mut faces = a.faces.clone();
+        faces.extend(a.faces.iter().map(|f| f.map(map)));
+        // Drop unused copies of the shared vertices by renumbering.
+        let used: Vec<bool> = (0..16u32)
+            .map(|v| faces.iter().any(|f| f.contains(&v)))
+            .collect();
+        let mut new_index = [0u32; 16];
+        let mut kept = Vec::new();
+        for v in 0..16 {
+            if used[v] {
+                new_index[v] = kept.len() as u32;
+                kept.push(positions[v]);
+            }
+        }
+        QuadMesh {
+            positions: kept,
+            faces: faces
+                .iter()
+                .map(|f| f.map(|v| new_index[v as usize]))
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn errors() {
+        let c = cube();
+        let err = |m: &QuadMesh| Topology::build(m).expect_err("should be rejected");
+
+        // Boundary: the cube without its last face.
+        let mut m = c.clone();
+        m.faces.pop();
+        let e = err(&m);
+        assert!(matches!(e, MeshError::BoundaryEdge { .. }), "{e}");
+        assert_eq!(
+            e.to_string(),
+            "edge (4, 6) has only one face (open boundary)"
+        );
+
+        // Non-manifold edge: a fin of one extra face on edge (0, 1).
+        let mut m = c.clone();
+        m.positions.push([0.0, -2.0, -1.0]);
+        m.positions.push([0.0, -2.0, 0.0]);
+        m.faces.push([0, 1, 8, 9]);
+        let e = err(&m);
+        assert_eq!(
+            e,
+            MeshError::NonManifoldEdge {
+                edge: [0, 1],
+                faces: 3
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "edge (0, 1) is shared by 3 faces (non-manifold)"
+        );
+
+        // Two cubes sharing an edge: 4 faces on it.
+        let e = err(&two_cubes_sharing(&[0, 1]));
+        assert!(
+            matches!(e, MeshError::NonManifoldEdge { faces: 4, .. }),
+            "{e}"
+        );
+
+        // Non-manifold vertex: two cones (cube corners) glued at a vertex.
+        let e = err(&two_cubes_sharing(&[0]));
+        assert_eq!(e, MeshError::NonManifoldVertex { vertex: 0, fans: 2 });
+        assert_eq!(
+            e.to_string(),
+            "vertex 0: its faces form 2 separate fans (non-manifold vertex)"
+        );
+
+        // Isolated vertex.
+        let mut m = c.clone();
+        m.positions.insert(3, [9.0; 3]);
+        for f in &mut m.faces {
+            for v in f.iter_mut() {
+                if *v >= 3 {
+                    *v += 1;
+                }
+            }
+        }
+        let e = err(&m);
+        assert_eq!(e, MeshError::IsolatedVertex { vertex: 3 });
+        assert_eq!(e.to_string(), "vertex 3 is used by no face");
+
+        // Duplicate faces (same vertex set, here reversed).
+        let mut m = c.clone();
+        let mut dup = m.faces[2];
+        dup.reverse();
+        m.faces.insert(5, dup);
+        let e = err(&m);
+        assert_eq!(
+            e,
+            MeshError::DuplicateFaces {
+                first: 2,
+                second: 5
+            }
+        );
+        assert_eq!(e.to_string(), "faces 2 and 5 are duplicates");
+
+        // Repeated vertex.
+        let mut m = c.clone();
+        m.faces[4] = [0, 6, 3, 6];
+        let e = err(&m);
+        assert_eq!(e, MeshError::RepeatedVertex { face: 4, vertex: 6 });
+        assert_eq!(e.to_string(), "face 4 repeats vertex 6");
+
+        // Index out of range.
+        let mut m = c.clone();
+        m.faces[1][2] = 8;
+        let e = err(&m);
+        assert_eq!(
+            e,
+            MeshError::FaceIndexOutOfRange {
+                face: 1,
+                index: 8,
+                vertices: 8
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "face 1: vertex index 8 out of range (the mesh has 8 vertices)"
+        );
+
+        // No faces.
+        let m = QuadMesh {
+            positions: c.positions.clone(),
+            faces: vec![],
+        };
+        assert_eq!(err(&m), MeshError::NoFaces);
+        assert_eq!(err(&m).to_string(), "empty mesh: no faces");
+    }
+
+    #[test]
+    fn edge_ids_in_first_met_order() {
+        for m in [cube(), star(), klein_bottle(3, 5)] {
+            let t = build(&m);
+            let mut next = 0;
+            for f in 0..t.face_count() as u32 {
+                for i in 0..4 {
+                    let e = t.edge_of(f, i);
+                    assert!(e <= next);
+                    if e == next {
+                        assert_eq!(t.edge_faces(e)[0], (f, i));
+                        next += 1;
+                    }
+                }
+            }
+            assert_eq!(next as usize, t.edge_count());
+        }
+    }
+
+    #[test]
+    fn rotation_starts_at_first_corner() {
+        let m = torus(3, 4);
+        let t = build(&m);
+        for v in 0..t.vertex_count() as u32 {
+            let w = t.rotation(v)[0];
+            assert!(w.next_is_plus);
+            let first = m.faces.iter().flatten().position(|&x| x == v).unwrap();
+            assert_eq!(4 * w.face as usize + w.corner as usize, first);
+        }
+        assert_eq!(
+            t.corner_vertex(Corner { face: 0, corner: 2 }),
+            m.faces[0][2]
+        );
+    }
+}
