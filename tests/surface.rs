@@ -1,0 +1,217 @@
+//! Surfaces ([G]): Catmull–Clark on the torus, tensor products of the curve schemes, affine
+//! invariance, convexity, counts from the words, EV meshes for 1..6 steps, generic = generated.
+
+mod common;
+
+use common::catmull_clark::catmull_clark_steps;
+use lsubdiv::compiler::generic::{GenericScheme, GenericSurface};
+use lsubdiv::compiler::Scheme;
+use lsubdiv::runtime::generators::{cube, klein_bottle, prism, star, torus};
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, StepStats};
+use lsubdiv::runtime::topology::Topology;
+use lsubdiv::{generated, resolve, Curve, CurveScheme};
+
+fn surface(name: &str) -> GenericSurface {
+    let r = resolve(name).unwrap();
+    GenericSurface::new(Scheme::build(r.ls).unwrap()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn refine(s: &GenericSurface, mesh: QuadMesh, steps: usize) -> (QuadMesh, Vec<StepStats>) {
+    let lm = LabelledMesh::with_axiom(&s.tables(), mesh).unwrap();
+    let (out, stats) = refine_surface(s, &lm, steps).unwrap_or_else(|e| panic!("{e}"));
+    (out.mesh, stats)
+}
+
+/// Largest distance from each point of `a` to the nearest point of `b`, after checking that the
+/// nearest-point map is a bijection (the two point sets are the same).
+fn same_points(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    assert_eq!(a.len(), b.len(), "point counts");
+    let mut used = vec![false; b.len()];
+    let mut worst = 0.0f64;
+    for p in a {
+        let (j, d) = b
+            .iter()
+            .enumerate()
+            .map(|(j, q)| (j, (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f64::max)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .unwrap();
+        assert!(!used[j], "two points map to one");
+        used[j] = true;
+        worst = worst.max(d);
+    }
+    worst
+}
+
+#[test]
+fn uniform_binary_on_the_torus_is_catmull_clark() {
+    let s = surface("uniform-binary");
+    let t = torus(6, 8);
+    for steps in 1..=3 {
+        let (ours, stats) = refine(&s, t.clone(), steps);
+        let cc = catmull_clark_steps(&t, steps);
+        let d = same_points(&ours.positions, &cc.positions);
+        assert!(d < 1e-12, "step {steps}: {d:e}");
+        assert!(stats.iter().all(|st| *st == StepStats::default()), "{stats:?}");
+    }
+}
+
+/// Refines a periodic grid of points as closed curves along rows, then along columns.
+fn tensor_product(name: &str, grid: &[Vec<[f64; 3]>], steps: usize) -> Vec<[f64; 3]> {
+    let r = resolve(name).unwrap();
+    let g = GenericScheme::new(Scheme::build(r.ls).unwrap());
+    let rows: Vec<Vec<[f64; 3]>> = grid
+        .iter()
+        .map(|row| {
+            let c = Curve::with_axiom(&g.tables(), row.clone(), true);
+            lsubdiv::refine(&g, &c, steps).unwrap().points
+        })
+        .collect();
+    let mut out = Vec::new();
+    for j in 0..rows[0].len() {
+        let col: Vec<[f64; 3]> = rows.iter().map(|r| r[j]).collect();
+        let c = Curve::with_axiom(&g.tables(), col, true);
+        out.extend(lsubdiv::refine(&g, &c, steps).unwrap().points);
+    }
+    out
+}
+
+#[test]
+fn schemes_on_the_torus_are_tensor_products_of_their_curves() {
+    let (rows, cols) = (5, 7);
+    let t = torus(rows, cols);
+    // The generator numbers vertex (i, j) as i * cols + j.
+    let grid: Vec<Vec<[f64; 3]>> = (0..rows)
+        .map(|i| (0..cols).map(|j| t.positions[i * cols + j]).collect())
+        .collect();
+    for (name, steps) in [("binary-ternary", 2), ("fibonacci", 4), ("low-ratio", 4), ("remark-5-3", 4), ("fibonacci-alt", 4)] {
+        let (ours, stats) = refine(&surface(name), t.clone(), steps);
+        let d = same_points(&ours.positions, &tensor_product(name, &grid, steps));
+        assert!(d < 1e-12, "{name}: {d:e}");
+        assert!(stats.iter().all(|st| st.normalised == 0 && st.dropped == 0), "{name}: {stats:?}");
+    }
+}
+
+fn affine(p: &[f64; 3]) -> [f64; 3] {
+    [
+        0.8 * p[0] - 0.6 * p[1] + 0.1 * p[2] + 3.0,
+        0.6 * p[0] + 0.8 * p[1] - 0.2 * p[2] - 1.0,
+        0.3 * p[0] + 1.7 * p[2] + 0.5,
+    ]
+}
+
+#[test]
+fn refinement_is_affine_invariant_and_convex() {
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        for mesh in [star(), cube()] {
+            let mut moved = mesh.clone();
+            moved.positions.iter_mut().for_each(|p| *p = affine(p));
+            let steps = if *name == "binary-ternary" { 2 } else { 3 };
+            let (a, _) = refine(&s, mesh.clone(), steps);
+            let (b, _) = refine(&s, moved, steps);
+            for (p, q) in a.positions.iter().zip(&b.positions) {
+                let t = affine(p);
+                let err = (0..3).map(|c| (t[c] - q[c]).abs()).fold(0.0, f64::max);
+                assert!(err < 1e-12, "{name}: {err:e}");
+            }
+            // Masks are non-negative, so every new point is a convex combination: no linear
+            // functional exceeds its range over the old points.
+            for k in 0..16 {
+                let u = [(k as f64 * 0.7).cos(), (k as f64 * 1.3).sin(), (k as f64 * 0.4).cos() - 0.5];
+                let dot = |p: &[f64; 3]| u[0] * p[0] + u[1] * p[1] + u[2] * p[2];
+                let (lo, hi) = mesh.positions.iter().map(dot).fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
+                for p in &a.positions {
+                    let x = dot(p);
+                    assert!(x >= lo - 1e-12 && x <= hi + 1e-12, "{name}: not convex");
+                }
+            }
+        }
+    }
+}
+
+/// |π^s(ω)|: sub-edges of one initial edge after s steps.
+fn edge_split(s: &GenericSurface, steps: usize) -> usize {
+    let ls = &s.scheme().ls;
+    let mut w = ls.axiom.clone();
+    for _ in 0..steps {
+        w = ls.rewrite(&w);
+    }
+    w.len()
+}
+
+#[test]
+fn counts_follow_from_the_words() {
+    // [G] §3.3: one initial edge becomes 17 sub-edges after 3 Binary-Ternary steps and 16 after
+    // 5 Fibonacci steps (and 16 after 4 Catmull–Clark steps).
+    assert_eq!(edge_split(&surface("binary-ternary"), 3), 17);
+    assert_eq!(edge_split(&surface("fibonacci"), 5), 16);
+    assert_eq!(edge_split(&surface("uniform-binary"), 4), 16);
+}
+
+#[test]
+fn ev_meshes_refine_for_one_to_six_steps() {
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        for (label, mesh) in [("cube", cube()), ("prism 9", prism(9)), ("star", star())] {
+            let topo = Topology::build(&mesh).unwrap();
+            let evs = (0..topo.vertex_count() as u32).filter(|&v| topo.valence(v) != 4).count();
+            let max_steps = match (*name, label) {
+                ("binary-ternary", "cube") => 6,
+                ("binary-ternary", _) => 4,
+                ("uniform-binary", _) => 5,
+                _ => 6,
+            };
+            let (fine, stats) = refine(&s, mesh.clone(), max_steps);
+            let l = edge_split(&s, max_steps);
+            let (v0, e0, f0) = (mesh.positions.len(), topo.edge_count(), mesh.faces.len());
+            assert_eq!(fine.faces.len(), f0 * l * l, "{name} {label}");
+            assert_eq!(fine.positions.len(), v0 + e0 * (l - 1) + f0 * (l - 1) * (l - 1), "{name} {label}");
+            let t = Topology::build(&fine).unwrap_or_else(|e| panic!("{name} {label}: {e}"));
+            // EVs keep their valence; every new vertex is ordinary.
+            let new_evs = (0..t.vertex_count() as u32).filter(|&v| t.valence(v) != 4).count();
+            assert_eq!(new_evs, evs);
+            assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
+            for (k, st) in stats.iter().enumerate() {
+                assert_eq!(st.ev_children, evs, "{name} {label} step {k}");
+            }
+            // Once masks are contained, only EV children need normalising ([G] §3.1.3).
+            let a = s.analysis();
+            for st in &stats[a.contained_from..] {
+                assert_eq!((st.normalised, st.dropped), (0, 0), "{name} {label}: {stats:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn binary_ternary_first_step_normalises_only_near_evs() {
+    let s = surface("binary-ternary");
+    assert_eq!(s.analysis().contained_from, 1);
+    let (_, stats) = refine(&s, prism(9), 1);
+    assert!(stats[0].dropped > 0 && stats[0].normalised > 0, "{stats:?}");
+    let (_, stats) = refine(&s, torus(4, 5), 1);
+    assert_eq!(stats[0], StepStats::default());
+}
+
+#[test]
+fn non_orientable_meshes_refine() {
+    for name in ["fibonacci", "binary-ternary"] {
+        let (fine, _) = refine(&surface(name), klein_bottle(6, 7), 2);
+        Topology::build(&fine).unwrap();
+    }
+}
+
+#[test]
+fn generic_and_generated_surfaces_are_identical() {
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        let lm = LabelledMesh::with_axiom(&s.tables(), star()).unwrap();
+        let (a, sa) = refine_surface(&s, &lm, 3).unwrap();
+        let (b, sb) = generated::refine_surface(name, &lm, 3).unwrap().unwrap();
+        assert_eq!(a.mesh.faces, b.mesh.faces, "{name}");
+        let bits = |m: &QuadMesh| m.positions.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a.mesh), bits(&b.mesh), "{name}");
+        assert_eq!(sa, sb);
+    }
+}
