@@ -52,7 +52,10 @@ fn uniform_binary_on_the_torus_is_catmull_clark() {
         let cc = catmull_clark_steps(&t, steps);
         let d = same_points(&ours.positions, &cc.positions);
         assert!(d < 1e-12, "step {steps}: {d:e}");
-        assert!(stats.iter().all(|st| *st == StepStats::default()), "{stats:?}");
+        assert!(
+            stats.iter().all(|st| *st == StepStats::default()),
+            "{stats:?}"
+        );
     }
 }
 
@@ -84,11 +87,20 @@ fn schemes_on_the_torus_are_tensor_products_of_their_curves() {
     let grid: Vec<Vec<[f64; 3]>> = (0..rows)
         .map(|i| (0..cols).map(|j| t.positions[i * cols + j]).collect())
         .collect();
-    for (name, steps) in [("binary-ternary", 2), ("fibonacci", 4), ("low-ratio", 4), ("remark-5-3", 4), ("fibonacci-alt", 4)] {
+    for (name, steps) in [
+        ("binary-ternary", 2),
+        ("fibonacci", 4),
+        ("low-ratio", 4),
+        ("remark-5-3", 4),
+        ("fibonacci-alt", 4),
+    ] {
         let (ours, stats) = refine(&surface(name), t.clone(), steps);
         let d = same_points(&ours.positions, &tensor_product(name, &grid, steps));
         assert!(d < 1e-12, "{name}: {d:e}");
-        assert!(stats.iter().all(|st| st.normalised == 0 && st.dropped == 0), "{name}: {stats:?}");
+        assert!(
+            stats.iter().all(|st| st.normalised == 0 && st.dropped == 0),
+            "{name}: {stats:?}"
+        );
     }
 }
 
@@ -118,9 +130,17 @@ fn refinement_is_affine_invariant_and_convex() {
             // Masks are non-negative, so every new point is a convex combination: no linear
             // functional exceeds its range over the old points.
             for k in 0..16 {
-                let u = [(k as f64 * 0.7).cos(), (k as f64 * 1.3).sin(), (k as f64 * 0.4).cos() - 0.5];
+                let u = [
+                    (k as f64 * 0.7).cos(),
+                    (k as f64 * 1.3).sin(),
+                    (k as f64 * 0.4).cos() - 0.5,
+                ];
                 let dot = |p: &[f64; 3]| u[0] * p[0] + u[1] * p[1] + u[2] * p[2];
-                let (lo, hi) = mesh.positions.iter().map(dot).fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
+                let (lo, hi) = mesh
+                    .positions
+                    .iter()
+                    .map(dot)
+                    .fold((f64::MAX, f64::MIN), |(l, h), x| (l.min(x), h.max(x)));
                 for p in &a.positions {
                     let x = dot(p);
                     assert!(x >= lo - 1e-12 && x <= hi + 1e-12, "{name}: not convex");
@@ -155,7 +175,9 @@ fn ev_meshes_refine_for_one_to_six_steps() {
         let s = surface(name);
         for (label, mesh) in [("cube", cube()), ("prism 9", prism(9)), ("star", star())] {
             let topo = Topology::build(&mesh).unwrap();
-            let evs = (0..topo.vertex_count() as u32).filter(|&v| topo.valence(v) != 4).count();
+            let evs = (0..topo.vertex_count() as u32)
+                .filter(|&v| topo.valence(v) != 4)
+                .count();
             let max_steps = match (*name, label) {
                 ("binary-ternary", "cube") => 6,
                 ("binary-ternary", _) => 4,
@@ -166,10 +188,16 @@ fn ev_meshes_refine_for_one_to_six_steps() {
             let l = edge_split(&s, max_steps);
             let (v0, e0, f0) = (mesh.positions.len(), topo.edge_count(), mesh.faces.len());
             assert_eq!(fine.faces.len(), f0 * l * l, "{name} {label}");
-            assert_eq!(fine.positions.len(), v0 + e0 * (l - 1) + f0 * (l - 1) * (l - 1), "{name} {label}");
+            assert_eq!(
+                fine.positions.len(),
+                v0 + e0 * (l - 1) + f0 * (l - 1) * (l - 1),
+                "{name} {label}"
+            );
             let t = Topology::build(&fine).unwrap_or_else(|e| panic!("{name} {label}: {e}"));
             // EVs keep their valence; every new vertex is ordinary.
-            let new_evs = (0..t.vertex_count() as u32).filter(|&v| t.valence(v) != 4).count();
+            let new_evs = (0..t.vertex_count() as u32)
+                .filter(|&v| t.valence(v) != 4)
+                .count();
             assert_eq!(new_evs, evs);
             assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
             for (k, st) in stats.iter().enumerate() {
@@ -178,7 +206,11 @@ fn ev_meshes_refine_for_one_to_six_steps() {
             // Once masks are contained, only EV children need normalising ([G] §3.1.3).
             let a = s.analysis();
             for st in &stats[a.contained_from..] {
-                assert_eq!((st.normalised, st.dropped), (0, 0), "{name} {label}: {stats:?}");
+                assert_eq!(
+                    (st.normalised, st.dropped),
+                    (0, 0),
+                    "{name} {label}: {stats:?}"
+                );
             }
         }
     }
@@ -210,7 +242,13 @@ fn generic_and_generated_surfaces_are_identical() {
         let (a, sa) = refine_surface(&s, &lm, 3).unwrap();
         let (b, sb) = generated::refine_surface(name, &lm, 3).unwrap().unwrap();
         assert_eq!(a.mesh.faces, b.mesh.faces, "{name}");
-        let bits = |m: &QuadMesh| m.positions.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let bits = |m: &QuadMesh| {
+            m.positions
+                .iter()
+                .flatten()
+                .map(|x| x.to_bits())
+                .collect::<Vec<_>>()
+        };
         assert_eq!(bits(&a.mesh), bits(&b.mesh), "{name}");
         assert_eq!(sa, sb);
     }
