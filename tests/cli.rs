@@ -236,3 +236,65 @@ fn default_job_runs() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("agree bit for bit"));
 }
+
+const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nvn 0 0 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+#[test]
+fn subdivide_writes_obj_and_ply() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "cube.obj", CUBE);
+    let obj = dir.path().join("out.obj").display().to_string();
+    let o = lsubdiv(&["subdivide", "binary-ternary", "--steps", "2", &input, "-o", &obj]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning"), "the skipped vn line is reported: {}", stderr(&o));
+    let text = std::fs::read_to_string(&obj).unwrap();
+    // |π²(C)| = 7 sub-edges per edge: 6·49 faces, 6·49 + 2 vertices.
+    assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 294);
+    assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 296);
+    let ply = dir.path().join("out.ply").display().to_string();
+    let o = lsubdiv(&["subdivide", "fibonacci", "--steps", "3", "--path", "generic", &input, "-o", &ply]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read_to_string(&ply).unwrap().starts_with("ply\nformat ascii 1.0"));
+}
+
+#[test]
+fn subdivide_rejects_bad_meshes_and_schemes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.obj");
+    std::fs::write(&out, "previous\n").unwrap();
+    let out_s = out.display().to_string();
+    let cases = [
+        ("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 4"),
+        ("range.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 9\n", "line 5"),
+        ("open.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "only one face"),
+        ("nan.obj", "v 0 nan 0\n", "line 1"),
+        ("empty.obj", "", "no faces"),
+    ];
+    for (name, text, expect) in cases {
+        let f = write(dir.path(), name, text);
+        let o = lsubdiv(&["subdivide", "fibonacci", "--steps", "1", &f, "-o", &out_s]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).contains(name) && stderr(&o).contains(expect), "{name}: {}", stderr(&o));
+    }
+    let cube = write(dir.path(), "cube.obj", CUBE);
+    let o = lsubdiv(&["subdivide", "fibonacci-curve", "--steps", "1", &cube, "-o", &out_s]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("need degree 3"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n");
+}
+
+#[test]
+fn ev_json_per_valence() {
+    let o = lsubdiv(&["ev", "binary-ternary", "--valence", "3..25", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = v.as_array().unwrap();
+    assert_eq!(rows.len(), 23);
+    assert_eq!(rows[0]["n"], 3);
+    for key in ["alpha", "lambda1", "lambda2", "mu0", "normalisation"] {
+        assert!(rows[0][key].is_f64(), "{key}");
+    }
+    assert!((rows[1]["normalisation"].as_f64().unwrap() - 1.0).abs() < 1e-12, "n = 4");
+    let o = lsubdiv(&["ev", "binary-ternary", "--valence", "2..5"]);
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -34,3 +34,15 @@ fn transition_graph_of_binary_ternary() {
     let s = Scheme::build(r.ls).unwrap();
     insta::assert_snapshot!("graph_binary_ternary", report::dot(&s));
 }
+
+#[test]
+fn ev_tables_of_the_surface_schemes() {
+    for name in ["binary-ternary", "fibonacci"] {
+        let r = resolve(name).unwrap();
+        let s = Scheme::build(r.ls).unwrap();
+        let a = lsubdiv::compiler::ev::analyse(&s).unwrap();
+        let c = a.coefficients_f64();
+        let rows: Vec<_> = (3..=16).chain([20, 25]).map(|n| c.spectrum(n).unwrap()).collect();
+        insta::assert_snapshot!(format!("ev_{name}"), report::ev_text(&s, &a, &rows));
+    }
+}

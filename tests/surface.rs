@@ -253,3 +253,18 @@ fn generic_and_generated_surfaces_are_identical() {
         assert_eq!(sa, sb);
     }
 }
+
+#[test]
+fn valences_beyond_the_table_use_the_same_solver() {
+    // α is tabulated for n ≤ 32 (computed at build time by the runtime's solver); a 40-valent EV
+    // gets it from that same solver at run time.
+    let g = generated::binary_ternary::SURFACE;
+    assert_eq!(g.alpha.len(), 30);
+    for n in 3..=32 {
+        assert_eq!(g.alpha[n - 3].to_bits(), g.ev.alpha(n).unwrap().to_bits(), "n = {n}");
+    }
+    let s = surface("binary-ternary");
+    let (fine, stats) = refine(&s, prism(40), 2);
+    assert_eq!(stats[1].ev_children, 2 + 80);
+    assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
+}
