@@ -101,6 +101,9 @@ enum Command {
         /// Which implementation refines (as for `curve`).
         #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
         path: PathChoice,
+        /// Worker threads (the result does not depend on it); default: all cores.
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Lists the shipped schemes.
     Schemes,
@@ -210,7 +213,13 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             input,
             output,
             path,
-        }) => subdivide(&scheme, steps, &input, &output, path),
+            threads,
+        }) => {
+            let threads = threads.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+            });
+            subdivide(&scheme, steps, &input, &output, path, threads)
+        }
         Some(Command::Graph { scheme, degree, .. }) => {
             let s = build(&load(&scheme, degree)?)?;
             print!("{}", report::dot(&s));
@@ -343,16 +352,17 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `lsubdiv subdivide`: reads an OBJ, refines, writes OBJ or PLY atomically.
+/// `lsubdiv subdivide`: reads an OBJ, refines (patch path), writes OBJ or PLY atomically.
 fn subdivide(
     scheme: &str,
     steps: usize,
     input: &std::path::Path,
     output: &std::path::Path,
     path: PathChoice,
+    threads: usize,
 ) -> Result<(), Failure> {
-    use lsubdiv::runtime::mesh;
-    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
+    use lsubdiv::runtime::mesh::{self, QuadMesh};
+    use lsubdiv::runtime::patch;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
@@ -364,16 +374,12 @@ fn subdivide(
     lsubdiv::runtime::topology::Topology::build(&m)
         .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
     let surface = lsubdiv_compiler::generic::GenericSurface::new(build(&r)?)?;
-    let start = LabelledMesh::with_axiom(&lsubdiv::CurveScheme::tables(&surface), m)
-        .map_err(|e| bad(format!("error: {e}")))?;
-    let generated = r
-        .builtin
-        .then(|| lsubdiv::generated::refine_surface(&r.ls.name, &start, steps))
-        .flatten();
+    let generated = if path == PathChoice::Generic || !r.builtin {
+        None
+    } else {
+        lsubdiv::generated::subdivide::<f64>(&r.ls.name, &m, steps, threads)
+    };
     let result = match (path, generated) {
-        (PathChoice::Generic, _) | (PathChoice::Auto, None) => {
-            refine_surface(&surface, &start, steps)
-        }
         (_, Some(res)) => res,
         (PathChoice::Generated, None) => {
             return Err(bad(format!(
@@ -381,12 +387,17 @@ fn subdivide(
                 r.ls.name
             )))
         }
+        (_, None) => patch::subdivide::<_, f64>(&surface, &m, steps, threads),
     };
-    let (fine, _) = result.map_err(|e| bad(format!("error: {e}")))?;
+    let fine = result.map_err(|e| bad(format!("error: {e}")))?;
+    let fine = QuadMesh {
+        positions: fine.positions,
+        faces: fine.faces,
+    };
     let bytes = if output.extension().is_some_and(|e| e == "ply") {
-        mesh::to_ply(&fine.mesh)
+        mesh::to_ply(&fine)
     } else {
-        mesh::to_obj(&fine.mesh)
+        mesh::to_obj(&fine)
     };
     mesh::write_atomic(output, bytes.as_bytes())
         .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;

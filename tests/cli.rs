@@ -244,17 +244,41 @@ fn subdivide_writes_obj_and_ply() {
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "cube.obj", CUBE);
     let obj = dir.path().join("out.obj").display().to_string();
-    let o = lsubdiv(&["subdivide", "binary-ternary", "--steps", "2", &input, "-o", &obj]);
+    let o = lsubdiv(&[
+        "subdivide",
+        "binary-ternary",
+        "--steps",
+        "2",
+        &input,
+        "-o",
+        &obj,
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("warning"), "the skipped vn line is reported: {}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning"),
+        "the skipped vn line is reported: {}",
+        stderr(&o)
+    );
     let text = std::fs::read_to_string(&obj).unwrap();
     // |π²(C)| = 7 sub-edges per edge: 6·49 faces, 6·49 + 2 vertices.
     assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 294);
     assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 296);
     let ply = dir.path().join("out.ply").display().to_string();
-    let o = lsubdiv(&["subdivide", "fibonacci", "--steps", "3", "--path", "generic", &input, "-o", &ply]);
+    let o = lsubdiv(&[
+        "subdivide",
+        "fibonacci",
+        "--steps",
+        "3",
+        "--path",
+        "generic",
+        &input,
+        "-o",
+        &ply,
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(std::fs::read_to_string(&ply).unwrap().starts_with("ply\nformat ascii 1.0"));
+    assert!(std::fs::read_to_string(&ply)
+        .unwrap()
+        .starts_with("ply\nformat ascii 1.0"));
 }
 
 #[test]
@@ -265,8 +289,16 @@ fn subdivide_rejects_bad_meshes_and_schemes() {
     let out_s = out.display().to_string();
     let cases = [
         ("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "line 4"),
-        ("range.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 9\n", "line 5"),
-        ("open.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "only one face"),
+        (
+            "range.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 9\n",
+            "line 5",
+        ),
+        (
+            "open.obj",
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+            "only one face",
+        ),
         ("nan.obj", "v 0 nan 0\n", "line 1"),
         ("empty.obj", "", "no faces"),
     ];
@@ -274,10 +306,22 @@ fn subdivide_rejects_bad_meshes_and_schemes() {
         let f = write(dir.path(), name, text);
         let o = lsubdiv(&["subdivide", "fibonacci", "--steps", "1", &f, "-o", &out_s]);
         assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
-        assert!(stderr(&o).contains(name) && stderr(&o).contains(expect), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(name) && stderr(&o).contains(expect),
+            "{name}: {}",
+            stderr(&o)
+        );
     }
     let cube = write(dir.path(), "cube.obj", CUBE);
-    let o = lsubdiv(&["subdivide", "fibonacci-curve", "--steps", "1", &cube, "-o", &out_s]);
+    let o = lsubdiv(&[
+        "subdivide",
+        "fibonacci-curve",
+        "--steps",
+        "1",
+        &cube,
+        "-o",
+        &out_s,
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("need degree 3"), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n");
@@ -294,7 +338,10 @@ fn ev_json_per_valence() {
     for key in ["alpha", "lambda1", "lambda2", "mu0", "normalisation"] {
         assert!(rows[0][key].is_f64(), "{key}");
     }
-    assert!((rows[1]["normalisation"].as_f64().unwrap() - 1.0).abs() < 1e-12, "n = 4");
+    assert!(
+        (rows[1]["normalisation"].as_f64().unwrap() - 1.0).abs() < 1e-12,
+        "n = 4"
+    );
     let o = lsubdiv(&["ev", "binary-ternary", "--valence", "2..5"]);
     assert_eq!(o.status.code(), Some(2));
 }

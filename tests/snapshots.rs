@@ -42,7 +42,10 @@ fn ev_tables_of_the_surface_schemes() {
         let s = Scheme::build(r.ls).unwrap();
         let a = lsubdiv::compiler::ev::analyse(&s).unwrap();
         let c = a.coefficients_f64();
-        let rows: Vec<_> = (3..=16).chain([20, 25]).map(|n| c.spectrum(n).unwrap()).collect();
+        let rows: Vec<_> = (3..=16)
+            .chain([20, 25])
+            .map(|n| c.spectrum(n).unwrap())
+            .collect();
         insta::assert_snapshot!(format!("ev_{name}"), report::ev_text(&s, &a, &rows));
     }
 }

@@ -23,20 +23,31 @@ fn refine(s: &GenericSurface, mesh: QuadMesh, steps: usize) -> (QuadMesh, Vec<St
     (out.mesh, stats)
 }
 
-/// Largest distance from each point of `a` to the nearest point of `b`, after checking that the
-/// nearest-point map is a bijection (the two point sets are the same).
+/// Largest distance from each point of `a` to the nearest unused point of `b`: a bijection
+/// between the two point sets (so they are the same set).
 fn same_points(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
     assert_eq!(a.len(), b.len(), "point counts");
+    // Candidates by x: a window of width 2e-9 around each point's x.
+    let mut order: Vec<usize> = (0..b.len()).collect();
+    order.sort_by(|&i, &j| b[i][0].total_cmp(&b[j][0]));
+    let xs: Vec<f64> = order.iter().map(|&i| b[i][0]).collect();
     let mut used = vec![false; b.len()];
     let mut worst = 0.0f64;
     for p in a {
-        let (j, d) = b
+        let start = xs.partition_point(|&x| x < p[0] - 1e-9);
+        let (j, d) = order[start..]
             .iter()
-            .enumerate()
-            .map(|(j, q)| (j, (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0, f64::max)))
+            .take_while(|&&j| b[j][0] <= p[0] + 1e-9)
+            .filter(|&&j| !used[j]) // coincident points (self-intersecting immersions) pair up
+            .map(|&j| {
+                (
+                    j,
+                    (0..3).map(|c| (p[c] - b[j][c]).abs()).fold(0.0, f64::max),
+                )
+            })
             .min_by(|x, y| x.1.total_cmp(&y.1))
-            .unwrap();
-        assert!(!used[j], "two points map to one");
+            .unwrap_or((usize::MAX, f64::INFINITY));
+        assert!(j != usize::MAX, "no unused point near {p:?}");
         used[j] = true;
         worst = worst.max(d);
     }
@@ -236,21 +247,20 @@ fn non_orientable_meshes_refine() {
 
 #[test]
 fn generic_and_generated_surfaces_are_identical() {
+    use lsubdiv::runtime::patch::subdivide;
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
-        let lm = LabelledMesh::with_axiom(&s.tables(), star()).unwrap();
-        let (a, sa) = refine_surface(&s, &lm, 3).unwrap();
-        let (b, sb) = generated::refine_surface(name, &lm, 3).unwrap().unwrap();
-        assert_eq!(a.mesh.faces, b.mesh.faces, "{name}");
-        let bits = |m: &QuadMesh| {
-            m.positions
-                .iter()
-                .flatten()
-                .map(|x| x.to_bits())
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(bits(&a.mesh), bits(&b.mesh), "{name}");
-        assert_eq!(sa, sb);
+        let a = subdivide::<_, f64>(&s, &star(), 3, 1).unwrap();
+        let b = generated::subdivide::<f64>(name, &star(), 3, 2)
+            .unwrap()
+            .unwrap();
+        assert_eq!(a.faces, b.faces, "{name}");
+        let bits = |p: &[[f64; 3]]| p.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&a.positions),
+            bits(&b.positions),
+            "{name}: generic 1 thread vs generated 2 threads"
+        );
     }
 }
 
@@ -261,10 +271,43 @@ fn valences_beyond_the_table_use_the_same_solver() {
     let g = generated::binary_ternary::SURFACE;
     assert_eq!(g.alpha.len(), 30);
     for n in 3..=32 {
-        assert_eq!(g.alpha[n - 3].to_bits(), g.ev.alpha(n).unwrap().to_bits(), "n = {n}");
+        assert_eq!(
+            g.alpha[n - 3].to_bits(),
+            g.ev.alpha(n).unwrap().to_bits(),
+            "n = {n}"
+        );
     }
     let s = surface("binary-ternary");
     let (fine, stats) = refine(&s, prism(40), 2);
     assert_eq!(stats[1].ev_children, 2 + 80);
     assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
+}
+
+#[test]
+fn patch_path_matches_the_reference_driver() {
+    use lsubdiv::runtime::patch::subdivide;
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        for (label, mesh) in [
+            ("cube", cube()),
+            ("star", star()),
+            ("prism 9", prism(9)),
+            ("torus", torus(3, 4)),
+            ("klein", klein_bottle(4, 5)),
+        ] {
+            let steps = if *name == "binary-ternary" { 2 } else { 3 };
+            let (reference, _) = refine(&s, mesh.clone(), steps);
+            for threads in [1, 2] {
+                let fast = subdivide::<_, f64>(&s, &mesh, steps, threads).unwrap();
+                assert_eq!(fast.faces.len(), reference.faces.len());
+                let d = same_points(&fast.positions, &reference.positions);
+                assert!(d < 1e-12, "{name} {label}: {d:e}");
+                Topology::build(&QuadMesh {
+                    positions: fast.positions.clone(),
+                    faces: fast.faces.clone(),
+                })
+                .unwrap_or_else(|e| panic!("{name} {label}: {e}"));
+            }
+        }
+    }
 }

@@ -85,6 +85,15 @@ fn surface_items(s: &Scheme, a: &SurfaceAnalysis) -> TokenStream {
         .iter()
         .map(|e| e.to_string())
         .collect();
+    let ring_pairs: Vec<TokenStream> = a
+        .steps
+        .iter()
+        .map(|st| {
+            let (e1, e2) = (f64_lit(st.ring.0.to_f64()), f64_lit(st.ring.1.to_f64()));
+            quote! { [#e1, #e2] }
+        })
+        .collect();
+    let contained_from = a.contained_from;
     let doc = format!(
         " Surface data: EV configuration stationary from step {}, masks contained from step {}.",
         a.stationary_from, a.contained_from
@@ -107,6 +116,8 @@ fn surface_items(s: &Scheme, a: &SurfaceAnalysis) -> TokenStream {
                     radial_to_ev: #v7,
                     diagonal_to_ev: #v8,
                 },
+                rings: &[#(#ring_pairs),*],
+                contained_from: #contained_from,
             };
         /// The exact 1-ring stencils (order of `EvCoefficients`' fields).
         pub const EV_EXACT: &[&str] = &[#(#exact),*];
@@ -145,18 +156,24 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
     let mut weights = Vec::new();
     let mut exact = Vec::new();
     let mut arms = Vec::new();
+    let mut slab_arms = Vec::new();
     for (i, m) in s.masks.iter().enumerate() {
         let mut adds = Vec::new();
+        let mut slabs = Vec::new();
         for (j, c) in m.contributions.iter().enumerate() {
             mask_words.push(s.graph.index[&c.word]);
             let w = f64_lit(c.weight.to_f64());
             weights.push(w.clone());
             exact.push(c.weight.to_string());
             adds.push(quote! { axpy(&mut out[#j], #w, p); });
+            slabs.push(quote! {
+                ::lsubdiv_runtime::real::axpy_slab(&mut dst[#j * n..(#j + 1) * n], T::from_f64(#w), src);
+            });
         }
         mask_offsets.push(mask_words.len());
         let i = Literal::u32_suffixed(i as u32);
         arms.push(quote! { #i => { #(#adds)* } });
+        slab_arms.push(quote! { #i => { #(#slabs)* } });
     }
     let mask_offsets = u32s(mask_offsets);
     let children: Vec<Literal> = s
@@ -228,6 +245,15 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
                     _ => unreachable!("word index {} outside the tables", word),
                 }
             }
+
+            #[inline]
+            fn axpy_mask<T: ::lsubdiv_runtime::real::Real>(&self, word: u32, src: &[T], dst: &mut [T]) {
+                let n = src.len();
+                match word {
+                    #(#slab_arms)*
+                    _ => unreachable!("word index {} outside the tables", word),
+                }
+            }
         }
 
         #surface
@@ -280,17 +306,16 @@ pub fn generate_registry(names: &[String], surfaces: &[String]) -> String {
         /// Names of the compiled schemes that refine surfaces.
         pub const SURFACE_NAMES: &[&str] = &[#(#surfaces),*];
 
-        /// Refines a labelled quad mesh with the generated tables of the scheme called `name`.
-        pub fn refine_surface(
+        /// Refines a closed quad mesh (every edge labelled by the axiom) with the generated
+        /// kernels of the scheme called `name`.
+        pub fn subdivide<T: ::lsubdiv_runtime::real::Real>(
             name: &str,
-            mesh: &::lsubdiv_runtime::surface::LabelledMesh,
+            mesh: &::lsubdiv_runtime::mesh::QuadMesh,
             steps: usize,
-        ) -> Option<Result<
-            (::lsubdiv_runtime::surface::LabelledMesh, Vec<::lsubdiv_runtime::surface::StepStats>),
-            ::lsubdiv_runtime::surface::SurfaceError,
-        >> {
+            threads: usize,
+        ) -> Option<Result<::lsubdiv_runtime::patch::Refined<T>, ::lsubdiv_runtime::surface::SurfaceError>> {
             match name {
-                #(#surfaces => Some(::lsubdiv_runtime::surface::refine_surface(&#smods::Scheme, mesh, steps)),)*
+                #(#surfaces => Some(::lsubdiv_runtime::patch::subdivide(&#smods::Scheme, mesh, steps, threads)),)*
                 _ => None,
             }
         }

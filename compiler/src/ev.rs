@@ -27,6 +27,9 @@ pub struct StepInfo {
     /// What each sector's ordinary neighbours give the EV child: (1 − h(0)²)/4, h(0) the child
     /// weight of the radial mask. The EV child is divided by α + n × this.
     pub ring_weight: Elem,
+    /// What the EV child gets from each radial neighbour R_k and each diagonal D_k: (E1, E2),
+    /// certified to sum to `ring_weight` (the 1-ring holds all the EV child's parents).
+    pub ring: (Elem, Elem),
 }
 
 /// The exact stencil weights of the stationary 1-ring (see [`EvCoefficients`]).
@@ -188,12 +191,32 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
         let m = s.mask_of(&radial_word);
         let h0 = &m.contributions[m.child.expect("odd degree")].weight;
         let ring_weight = one.sub(&h0.mul(h0)).div(&four).expect("nonzero");
+        // R_k along the ray reads σ(ξ0) ξ0 ξ1 ξ2 outward; the EV child is P = |π(ξ0)| back.
+        let w1: Word = vec![sigma[ray[0] as usize], ray[0], ray[1], ray[2]];
+        let m1 = s.mask_of(&w1);
+        let back =
+            m1.child.expect("odd degree") as isize - ls.rules[ray[0] as usize].len() as isize;
+        let to_ev = usize::try_from(back).ok().map_or_else(
+            || Elem::zero(&s.analysis.field),
+            |j| m1.contributions[j].weight.clone(),
+        );
+        let ring = (to_ev.mul(h0), to_ev.mul(&to_ev));
+        if ring.0.add(&ring.1) != ring_weight {
+            return refuse(
+                Part::Rules,
+                format!(
+                    "at step {step} the EV child has parents beyond its 1-ring (1-ring weights {} + {} ≠ {ring_weight})",
+                    ring.0, ring.1
+                ),
+            );
+        }
         steps.push(StepInfo {
             step,
             ray: ray.clone(),
             radial_word,
             contained: contained(ls, ray),
             ring_weight,
+            ring,
         });
     }
     if !steps[stationary_from].contained {

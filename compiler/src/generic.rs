@@ -128,6 +128,7 @@ pub struct GenericSurface {
     ring_weights: Vec<f64>,
     alpha: Vec<f64>,
     ev: EvCoefficients,
+    rings: Vec<[f64; 2]>,
 }
 
 impl GenericSurface {
@@ -137,7 +138,13 @@ impl GenericSurface {
         let alpha = alpha_table(&analysis).map_err(|e| scheme.ls.error(Part::Rules, e, None))?;
         let ring_weights = ring_weights(&scheme);
         let ev = analysis.coefficients_f64();
+        let rings = analysis
+            .steps
+            .iter()
+            .map(|st| [st.ring.0.to_f64(), st.ring.1.to_f64()])
+            .collect();
         Ok(GenericSurface {
+            rings,
             generic: GenericScheme::new(scheme),
             analysis,
             ring_weights,
@@ -170,6 +177,8 @@ impl SurfaceScheme for GenericSurface {
             ring_weights: &self.ring_weights,
             alpha: &self.alpha,
             ev: self.ev,
+            rings: &self.rings,
+            contained_from: self.analysis.contained_from,
         }
     }
 }

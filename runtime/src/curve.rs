@@ -4,6 +4,7 @@
 //! rewrites every interval (π) and scatters each old point into the new points of its mask, in
 //! order of k, so that every path that uses the same tables produces the same bits.
 
+use crate::real::{axpy_slab, Real};
 use std::collections::HashMap;
 use std::fmt;
 
@@ -85,6 +86,19 @@ pub trait CurveScheme {
             for c in 0..D {
                 o[c] += w * p[c];
             }
+        }
+    }
+
+    /// The mask of `word` on slabs: for every entry j, `dst[j·len..(j+1)·len] += w_j · src` with
+    /// `len = src.len()` (a whole row of points at once).
+    fn axpy_mask<T: Real>(&self, word: u32, src: &[T], dst: &mut [T]) {
+        let t = self.tables();
+        let n = src.len();
+        for (j, &w) in t.mask_weights[t.mask_range(word as usize)]
+            .iter()
+            .enumerate()
+        {
+            axpy_slab(&mut dst[j * n..(j + 1) * n], T::from_f64(w), src);
         }
     }
 }

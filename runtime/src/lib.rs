@@ -7,6 +7,8 @@ pub mod curve;
 pub mod ev;
 pub mod generators;
 pub mod mesh;
+pub mod patch;
+pub mod real;
 pub mod surface;
 pub mod topology;
 

@@ -29,6 +29,11 @@ pub struct SurfaceTables<'a> {
     pub alpha: &'a [f64],
     /// Stationary 1-ring stencils, for α beyond the table.
     pub ev: EvCoefficients,
+    /// Per step (the last entry for every later step): what the EV child gets from each radial
+    /// neighbour and from each diagonal neighbour.
+    pub rings: &'a [[f64; 2]],
+    /// First step from which masks are contained near EVs ([G] Prop. 4.8).
+    pub contained_from: usize,
 }
 
 /// A scheme that refines surfaces.

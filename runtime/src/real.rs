@@ -1,0 +1,55 @@
+//! The scalar of positions: f64 or f32.
+
+use std::ops::{Add, AddAssign, Div, Mul, Sub};
+
+/// A floating-point scalar for positions.
+pub trait Real:
+    Copy
+    + Default
+    + Send
+    + Sync
+    + PartialEq
+    + PartialOrd
+    + std::fmt::Debug
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + AddAssign
+    + 'static
+{
+    /// Nearest value of this type (a constant for constant arguments).
+    fn from_f64(x: f64) -> Self;
+    /// Widening (or identity) conversion.
+    fn to_f64(self) -> f64;
+}
+
+impl Real for f64 {
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+}
+
+impl Real for f32 {
+    #[inline(always)]
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+}
+
+/// `dst += w · src`, element-wise (the inner loop of every pass; it vectorises).
+#[inline(always)]
+pub fn axpy_slab<T: Real>(dst: &mut [T], w: T, src: &[T]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d += w * *s;
+    }
+}
