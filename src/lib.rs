@@ -11,6 +11,7 @@ pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
 pub use lsubdiv_runtime::{include_scheme, refine, Curve, CurveError, CurveScheme, CurveTables};
 
+pub mod bench;
 pub mod points;
 pub mod report;
 

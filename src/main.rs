@@ -105,8 +105,39 @@ enum Command {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Times surface refinement: one JSON object per line with output vertices/s and peak RSS.
+    Bench {
+        /// `torus:R:C`, `cube`, `star` or an OBJ file.
+        #[arg(long, default_value = "torus:256:256")]
+        mesh: String,
+        #[arg(long, default_value = "uniform-binary")]
+        scheme: String,
+        /// Steps; default: closest to 4.2 M output vertices.
+        #[arg(long)]
+        steps: Option<usize>,
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
+        /// `generated` or `generic`.
+        #[arg(long, value_enum, default_value_t = BenchPath::Generated)]
+        path: BenchPath,
+        /// Positions in f32 instead of f64.
+        #[arg(long)]
+        f32: bool,
+        /// Timed runs (median reported).
+        #[arg(long, default_value_t = 5)]
+        runs: usize,
+        /// JSON output (the only format).
+        #[arg(long)]
+        json: bool,
+    },
     /// Lists the shipped schemes.
     Schemes,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum BenchPath {
+    Generated,
+    Generic,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -220,6 +251,16 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             });
             subdivide(&scheme, steps, &input, &output, path, threads)
         }
+        Some(Command::Bench {
+            mesh,
+            scheme,
+            steps,
+            threads,
+            path,
+            f32,
+            runs,
+            ..
+        }) => bench(&mesh, &scheme, steps, threads, path, f32, runs),
         Some(Command::Graph { scheme, degree, .. }) => {
             let s = build(&load(&scheme, degree)?)?;
             print!("{}", report::dot(&s));
@@ -401,6 +442,43 @@ fn subdivide(
     };
     mesh::write_atomic(output, bytes.as_bytes())
         .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
+    Ok(())
+}
+
+/// `lsubdiv bench`: one JSON line per configuration.
+fn bench(
+    mesh: &str,
+    scheme: &str,
+    steps: Option<usize>,
+    threads: usize,
+    path: BenchPath,
+    f32: bool,
+    runs: usize,
+) -> Result<(), Failure> {
+    use lsubdiv::bench;
+    let m = bench::mesh(mesh).map_err(|e| bad(format!("error: {e}")))?;
+    let surface = bench::surface(scheme).map_err(|e| bad(format!("error: {e}")))?;
+    let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &m, 4_200_000));
+    let p = match path {
+        BenchPath::Generated => bench::Path::Generated,
+        BenchPath::Generic => bench::Path::Generic,
+    };
+    let r = if f32 {
+        bench::measure::<f32>(scheme, &surface, &m, p, threads, steps, runs)
+    } else {
+        bench::measure::<f64>(scheme, &surface, &m, p, threads, steps, runs)
+    }
+    .map_err(|e| bad(format!("error: {e}")))?;
+    println!(
+        "{}",
+        serde_json::json!({
+            "mesh": mesh, "scheme": scheme,
+            "path": if p == bench::Path::Generated { "generated" } else { "generic" },
+            "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
+            "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
+            "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
+        })
+    );
     Ok(())
 }
 

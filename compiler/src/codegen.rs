@@ -306,6 +306,17 @@ pub fn generate_registry(names: &[String], surfaces: &[String]) -> String {
         /// Names of the compiled schemes that refine surfaces.
         pub const SURFACE_NAMES: &[&str] = &[#(#surfaces),*];
 
+        /// Runs `visitor` with the generated surface scheme called `name`.
+        pub fn visit_surface<V: ::lsubdiv_runtime::surface::SurfaceVisitor>(
+            name: &str,
+            visitor: V,
+        ) -> Option<V::Output> {
+            match name {
+                #(#surfaces => Some(visitor.visit(&#smods::Scheme)),)*
+                _ => None,
+            }
+        }
+
         /// Refines a closed quad mesh (every edge labelled by the axiom) with the generated
         /// kernels of the scheme called `name`.
         pub fn subdivide<T: ::lsubdiv_runtime::real::Real>(

@@ -172,6 +172,13 @@ struct Level<T> {
 }
 
 impl<T: Real> Level<T> {
+    fn empty() -> Level<T> {
+        Level {
+            n: 0,
+            data: Vec::new(),
+        }
+    }
+
     fn side(&self) -> usize {
         self.n as usize + 1
     }
@@ -205,90 +212,370 @@ struct Scratch<T> {
     b: Vec<T>,
 }
 
-/// Refines a closed quad mesh `steps` times with every edge labelled by the axiom; positions of
-/// type T; `threads` workers (results do not depend on it).
+/// Where the points of a patch go in the final numbering: base vertices, then N−1 points per
+/// base edge (from its smaller vertex), then (N−1)² per face, row by row.
+struct Numbering {
+    n: i64,
+    nv: usize,
+    ne: usize,
+    /// Per face and local edge: the edge id, whether its points run from corner l, and whether
+    /// this face writes them (the first face of the edge does).
+    edges: Vec<[(u32, bool, bool); 4]>,
+    /// Per face corner: whether this face writes the vertex (its first face does).
+    corners: Vec<[bool; 4]>,
+    /// Vertex of each face corner.
+    vertex: Vec<[u32; 4]>,
+}
+
+impl Numbering {
+    fn new(topo: &Topology, n: i64) -> Numbering {
+        let nf = topo.face_count();
+        let mut edge_done = vec![false; topo.edge_count()];
+        let mut vertex_done = vec![false; topo.vertex_count()];
+        let mut edges = Vec::with_capacity(nf);
+        let mut corners = Vec::with_capacity(nf);
+        let mut vertex = Vec::with_capacity(nf);
+        for f in 0..nf as u32 {
+            let mut e4 = [(0, false, false); 4];
+            let mut c4 = [false; 4];
+            let mut v4 = [0; 4];
+            for l in 0..4u8 {
+                let e = topo.edge_of(f, l);
+                let forward = topo.vertex(f, l) == topo.edge_vertices(e)[0];
+                e4[l as usize] = (
+                    e,
+                    forward,
+                    !std::mem::replace(&mut edge_done[e as usize], true),
+                );
+                let v = topo.vertex(f, l);
+                v4[l as usize] = v;
+                c4[l as usize] = !std::mem::replace(&mut vertex_done[v as usize], true);
+            }
+            edges.push(e4);
+            corners.push(c4);
+            vertex.push(v4);
+        }
+        Numbering {
+            n,
+            nv: topo.vertex_count(),
+            ne: topo.edge_count(),
+            edges,
+            corners,
+            vertex,
+        }
+    }
+
+    fn len(&self) -> usize {
+        let k = (self.n - 1) as usize;
+        self.nv + self.ne * k + self.edges.len() * k * k
+    }
+
+    /// The index of point (x, y) of face f, and whether face f writes it.
+    fn index(&self, f: usize, x: i64, y: i64) -> (usize, bool) {
+        let n = self.n;
+        let k = (n - 1) as usize;
+        let corner = match (x, y) {
+            (0, 0) => Some(0),
+            (a, 0) if a == n => Some(1),
+            (a, b) if a == n && b == n => Some(2),
+            (0, b) if b == n => Some(3),
+            _ => None,
+        };
+        if let Some(c) = corner {
+            return (self.vertex[f][c] as usize, self.corners[f][c]);
+        }
+        let edge = |l: usize, t: i64| {
+            let (e, forward, owner) = self.edges[f][l];
+            let t = if forward { t } else { n - t };
+            (self.nv + e as usize * k + (t - 1) as usize, owner)
+        };
+        match (x, y) {
+            (x, 0) => edge(0, x),
+            (x, y) if x == n => edge(1, y),
+            (x, y) if y == n => edge(2, n - x),
+            (0, y) => edge(3, n - y),
+            (x, y) => (
+                self.nv + self.ne * k + f * k * k + (y - 1) as usize * k + (x - 1) as usize,
+                true,
+            ),
+        }
+    }
+}
+
+/// The output positions, written by several workers at disjoint indices.
+struct SharedOut<T> {
+    ptr: *mut [T; 3],
+    len: usize,
+}
+
+// SAFETY: workers write disjoint indices (each point has exactly one writing face, see
+// `Numbering::index`), and the buffer outlives the scoped threads.
+unsafe impl<T: Send> Send for SharedOut<T> {}
+unsafe impl<T: Send> Sync for SharedOut<T> {}
+
+impl<T: Copy> SharedOut<T> {
+    /// Writes points i, i+1, … from `coords` (three values per point).
+    ///
+    /// # Safety
+    /// No other thread reads or writes those indices during the call.
+    unsafe fn write_run(&self, i: usize, coords: &[T]) {
+        let count = coords.len() / 3;
+        assert!(i + count <= self.len, "output indices in range");
+        // SAFETY: in range (checked); exclusive to this caller (the function's contract); the
+        // destination is `count` consecutive [T; 3] values, laid out as 3·count T values.
+        unsafe {
+            std::ptr::copy_nonoverlapping(coords.as_ptr(), self.ptr.add(i).cast::<T>(), count * 3)
+        };
+    }
+}
+
+/// Refines one closed quad mesh topology again and again (new positions, same connectivity),
+/// reusing every buffer: the analogue of OpenSubdiv's topology refiner + primvar refiner.
+pub struct Refiner<'s, S, T> {
+    scheme: &'s S,
+    mesh: QuadMesh,
+    base: Base,
+    steps: usize,
+    /// Steps run by the reference driver (masks not contained, EVs present).
+    first: usize,
+    plans: Vec<Plan>,
+    alphas: Vec<f64>,
+    numbering: Numbering,
+    threads: usize,
+    levels: [Level<T>; 2],
+    output: Vec<[T; 3]>,
+}
+
+impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
+    /// Prepares `steps` steps of `scheme` on `mesh` (every edge labelled by the axiom) with
+    /// `threads` workers (results do not depend on it).
+    pub fn new(
+        scheme: &'s S,
+        mesh: &QuadMesh,
+        steps: usize,
+        threads: usize,
+    ) -> Result<Self, SurfaceError> {
+        let t = scheme.tables();
+        let st = scheme.surface();
+        let [omega] = t.axiom else {
+            return Err(SurfaceError::Axiom);
+        };
+        let base = Base::new(mesh)?;
+        let lookup: HashMap<&[u8], u32> =
+            (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+        let first = if base.evs.is_empty() {
+            0
+        } else {
+            st.contained_from.min(steps)
+        };
+        let mut word = vec![*omega];
+        for _ in 0..first {
+            word = t_rewrite(&t, &word);
+        }
+        let mut plans = Vec::new();
+        for _ in first..steps {
+            plans.push(Plan::new(&t, &lookup, &word)?);
+            word = t_rewrite(&t, &word);
+        }
+        let alphas = base
+            .evs
+            .iter()
+            .map(|&v| {
+                let n = base.topo.valence(v);
+                match st.alpha.get(n.wrapping_sub(3)) {
+                    Some(&a) => Ok(a),
+                    None => st.ev.alpha(n).map_err(SurfaceError::Ev),
+                }
+            })
+            .collect::<Result<_, _>>()?;
+        let numbering = Numbering::new(&base.topo, word.len() as i64);
+        let output = vec![[T::default(); 3]; numbering.len()];
+        Ok(Refiner {
+            scheme,
+            mesh: mesh.clone(),
+            base,
+            steps,
+            first,
+            plans,
+            alphas,
+            numbering,
+            threads: threads.max(1),
+            levels: [Level::empty(), Level::empty()],
+            output,
+        })
+    }
+
+    /// Number of output vertices.
+    pub fn output_vertices(&self) -> usize {
+        self.output.len()
+    }
+
+    /// Refines new positions of the base vertices; returns the output positions.
+    pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
+        let t = self.scheme.tables();
+        let st = self.scheme.surface();
+        let nf = self.mesh.faces.len();
+        self.mesh.positions.clear();
+        self.mesh.positions.extend_from_slice(positions);
+        let lm = LabelledMesh::with_axiom(&t, self.mesh.clone())?;
+        let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
+        lift(&t, &coarse.mesh, nf, self.first, &mut self.levels[0]);
+        let workers = self.threads.min(nf).max(1);
+        let chunk = nf.div_ceil(workers);
+        for (i, plan) in self.plans.iter().enumerate() {
+            let s = self.first + i;
+            let ring = st.rings[s.min(st.rings.len() - 1)];
+            let last = s + 1 == self.steps;
+            let [old, new] = &mut self.levels;
+            let (scheme, base) = (self.scheme, &self.base);
+            if last {
+                let out = SharedOut {
+                    ptr: self.output.as_mut_ptr(),
+                    len: self.output.len(),
+                };
+                let (out, numbering, old) = (&out, &self.numbering, &*old);
+                std::thread::scope(|sc| {
+                    for k in 0..workers {
+                        sc.spawn(move || {
+                            let mut scratch = Scratch::default();
+                            let bs = block_size(old.n);
+                            let (lo, hi) = (k * chunk, ((k + 1) * chunk).min(nf));
+                            for b in (lo..hi).step_by(bs) {
+                                let faces = b..(b + bs).min(hi);
+                                refine_block(scheme, plan, base, old, faces.clone(), &mut scratch);
+                                let kk = faces.len();
+                                for (j, f) in faces.enumerate() {
+                                    let rows = |yn| &scratch.b[block_row(plan, kk, j, yn)];
+                                    scatter(numbering, f, rows, out);
+                                }
+                            }
+                        });
+                    }
+                });
+                for (&v, &alpha) in base.evs.iter().zip(&self.alphas) {
+                    self.output[v as usize] = ev_child(base, old, v, alpha, ring);
+                }
+            } else {
+                let side = plan.n_new as usize + 1;
+                let per_face = side * side * 3;
+                new.n = plan.n_new;
+                new.data.resize(nf * per_face, T::default());
+                std::thread::scope(|sc| {
+                    for (k, out) in new.data.chunks_mut(chunk * per_face).enumerate() {
+                        let old = &*old;
+                        sc.spawn(move || {
+                            let mut scratch = Scratch::default();
+                            let bs = block_size(old.n);
+                            for (j, patches) in out.chunks_mut(bs * per_face).enumerate() {
+                                let f0 = k * chunk + j * bs;
+                                let kk = patches.len() / per_face;
+                                refine_block(scheme, plan, base, old, f0..f0 + kk, &mut scratch);
+                                let row = side * 3;
+                                for (jj, patch) in patches.chunks_mut(per_face).enumerate() {
+                                    for (yn, dst) in patch.chunks_mut(row).enumerate() {
+                                        dst.copy_from_slice(
+                                            &scratch.b[block_row(plan, kk, jj, yn)],
+                                        );
+                                    }
+                                }
+                            }
+                        });
+                    }
+                });
+                for (&v, &alpha) in base.evs.iter().zip(&self.alphas) {
+                    let p = ev_child(base, old, v, alpha, ring);
+                    for w in base.topo.rotation(v) {
+                        let (x, y) = corner_at(w.corner, new.n);
+                        let i = ((w.face as usize * side + y as usize) * side + x as usize) * 3;
+                        new.data[i..i + 3].copy_from_slice(&p);
+                    }
+                }
+                self.levels.swap(0, 1);
+            }
+        }
+        if self.plans.is_empty() {
+            // Every step ran in the reference driver (or none at all): number the patches.
+            let level = &self.levels[0];
+            let side = level.side();
+            let out = SharedOut {
+                ptr: self.output.as_mut_ptr(),
+                len: self.output.len(),
+            };
+            for f in 0..nf {
+                let rows = |y: usize| {
+                    let s = ((f * side) + y) * side * 3;
+                    &level.data[s..s + side * 3]
+                };
+                scatter(&self.numbering, f, rows, &out);
+            }
+        }
+        Ok(&self.output)
+    }
+
+    /// The output quads (every face of the base mesh becomes an N × N grid).
+    pub fn faces(&self) -> Vec<[u32; 4]> {
+        let num = &self.numbering;
+        let n = num.n;
+        let mut faces = Vec::with_capacity(self.mesh.faces.len() * (n * n) as usize);
+        for f in 0..self.mesh.faces.len() {
+            for y in 0..n {
+                for x in 0..n {
+                    let i = |x, y| num.index(f, x, y).0 as u32;
+                    faces.push([i(x, y), i(x + 1, y), i(x + 1, y + 1), i(x, y + 1)]);
+                }
+            }
+        }
+        faces
+    }
+}
+
+/// Writes the points of face f's final patch (`rows(y)`: row y) that face f owns: interior rows
+/// as slices, the boundary point by point.
+fn scatter<'r, T: Real>(
+    num: &Numbering,
+    f: usize,
+    rows: impl Fn(usize) -> &'r [T],
+    out: &SharedOut<T>,
+) {
+    let n = num.n as usize;
+    let (first, _) = num.index(f, 1, 1);
+    for y in 1..n {
+        let row = &rows(y)[3..n * 3];
+        // SAFETY: interior points of face f are written by face f only.
+        unsafe { out.write_run(first + (y - 1) * (n - 1), row) };
+    }
+    let boundary = (0..=n)
+        .flat_map(|x| [(x, 0), (x, n)])
+        .chain((1..n).flat_map(|y| [(0, y), (n, y)]));
+    for (x, y) in boundary {
+        let (i, owner) = num.index(f, x as i64, y as i64);
+        if owner {
+            let r = rows(y);
+            // SAFETY: face f is the only writer of an index it owns (`Numbering::index`).
+            unsafe { out.write_run(i, &r[x * 3..x * 3 + 3]) };
+        }
+    }
+}
+
+/// Refines a closed quad mesh once: `Refiner::new`, `refine`, `faces`.
 pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
     scheme: &S,
     mesh: &QuadMesh,
     steps: usize,
     threads: usize,
 ) -> Result<Refined<T>, SurfaceError> {
-    let t = scheme.tables();
-    let st = scheme.surface();
-    let [omega] = t.axiom else {
-        return Err(SurfaceError::Axiom);
-    };
-    let base = Base::new(mesh)?;
-    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
-    let nf = mesh.faces.len();
-    // Steps before masks are contained go through the reference driver when there are EVs.
-    let first = if base.evs.is_empty() {
-        0
-    } else {
-        st.contained_from.min(steps)
-    };
-    let lm = LabelledMesh::with_axiom(&t, mesh.clone())?;
-    let (coarse, _) = refine_surface(scheme, &lm, first)?;
-    let mut word = vec![*omega];
-    for _ in 0..first {
-        word = t_rewrite(&t, &word);
-    }
-    let mut level = lift(&t, &coarse.mesh, nf, first);
-    let alphas: Vec<f64> = base
-        .evs
-        .iter()
-        .map(|&v| {
-            let n = base.topo.valence(v);
-            match st.alpha.get(n.wrapping_sub(3)) {
-                Some(&a) => Ok(a),
-                None => st.ev.alpha(n).map_err(SurfaceError::Ev),
-            }
-        })
-        .collect::<Result<_, _>>()?;
-    for s in first..steps {
-        let plan = Plan::new(&t, &lookup, &word)?;
-        let n_new = plan.n_new;
-        let side_new = n_new as usize + 1;
-        let mut next = vec![T::default(); nf * side_new * side_new * 3];
-        let per_face = side_new * side_new * 3;
-        let workers = threads.clamp(1, nf.max(1));
-        let chunk = nf.div_ceil(workers);
-        std::thread::scope(|sc| {
-            for (k, out) in next.chunks_mut(chunk * per_face).enumerate() {
-                let (plan, base, level) = (&plan, &base, &level);
-                sc.spawn(move || {
-                    let mut scratch = Scratch::default();
-                    for (i, patch) in out.chunks_mut(per_face).enumerate() {
-                        let f = (k * chunk + i) as u32;
-                        refine_patch(scheme, plan, base, level, f, &mut scratch, patch);
-                    }
-                });
-            }
-        });
-        let ring = st.rings[s.min(st.rings.len() - 1)];
-        let mut next_level = Level {
-            n: n_new,
-            data: next,
-        };
-        for (&v, &alpha) in base.evs.iter().zip(&alphas) {
-            let p = ev_child(&base, &level, v, alpha, ring);
-            for w in base.topo.rotation(v) {
-                let (x, y) = corner_at(w.corner, n_new);
-                let side = next_level.side();
-                let i = ((w.face as usize * side + y as usize) * side + x as usize) * 3;
-                next_level.data[i..i + 3].copy_from_slice(&p);
-            }
-        }
-        level = next_level;
-        word = t_rewrite(&t, &word);
-    }
-    Ok(assemble(&base, &level))
+    let mut r = Refiner::new(scheme, mesh, steps, threads)?;
+    let positions = r.refine(&mesh.positions)?.to_vec();
+    Ok(Refined {
+        positions,
+        faces: r.faces(),
+    })
 }
 
 /// Patches of the base faces from a mesh refined `k` times by the reference driver, whose faces
 /// come old face by old face, row by row: each face is tracked by its base face and its offset in
 /// that face's grid (W_k × W_k, from corner 0).
-fn lift<T: Real>(t: &CurveTables<'_>, mesh: &QuadMesh, nf: usize, k: usize) -> Level<T> {
+fn lift<T: Real>(t: &CurveTables<'_>, mesh: &QuadMesh, nf: usize, k: usize, level: &mut Level<T>) {
     let mut cells: Vec<(u32, i64, i64, u8, u8)> = (0..nf as u32)
         .map(|f| (f, 0, 0, t.axiom[0], t.axiom[0]))
         .collect();
@@ -315,7 +602,10 @@ fn lift<T: Real>(t: &CurveTables<'_>, mesh: &QuadMesh, nf: usize, k: usize) -> L
         word = t_rewrite(t, &word);
     }
     let side = n as usize + 1;
-    let mut data = vec![T::default(); nf * side * side * 3];
+    level.n = n;
+    level.data.clear();
+    level.data.resize(nf * side * side * 3, T::default());
+    let data = &mut level.data;
     for (cell, quad) in cells.iter().zip(&mesh.faces) {
         let (f, x, y, _, _) = *cell;
         for (c, (dx, dy)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
@@ -326,7 +616,6 @@ fn lift<T: Real>(t: &CurveTables<'_>, mesh: &QuadMesh, nf: usize, k: usize) -> L
             }
         }
     }
-    Level { n, data }
 }
 
 /// π(w) with the tables' rules.
@@ -360,153 +649,98 @@ fn ev_child<T: Real>(base: &Base, level: &Level<T>, v: u32, alpha: f64, ring: [f
     acc.map(|a| T::from_f64(a / norm))
 }
 
-/// One patch: gather the ring, refine along x, transpose, refine along y.
-fn refine_patch<S: CurveScheme, T: Real>(
+/// A block of patches (faces `faces`): gather each patch with its ring, refine along x,
+/// transpose, refine along y. Patches are interleaved so that every slab spans the whole block
+/// (long vectors, one dispatch per old point and block). The new patches are left in `sc.b`:
+/// row Y' of the j-th patch is `sc.b[row(j, Y')]` (see [`block_row`]).
+fn refine_block<S: CurveScheme, T: Real>(
     scheme: &S,
     plan: &Plan,
     base: &Base,
     level: &Level<T>,
-    f: u32,
+    faces: std::ops::Range<usize>,
     sc: &mut Scratch<T>,
-    out: &mut [T],
 ) {
-    const LANES: usize = 3;
+    const L: usize = 3;
     let n = level.n;
+    let k = faces.len();
     let m = (n + 3) as usize; // extended side: x = −1..=N+1
-                              // ext is x-major: ext[(x + 1)·m + (y + 1)], three values each.
+                              // ext[x][face][y]: x-major, then patch, then y; three values each.
     sc.ext.clear();
-    sc.ext.resize(m * m * LANES, T::default());
-    let mut put = |x: i64, y: i64, p: &[T]| {
-        let i = (((x + 1) as usize) * m + (y + 1) as usize) * LANES;
-        sc.ext[i..i + LANES].copy_from_slice(p);
-    };
-    for y in 0..=n {
-        for x in 0..=n {
-            put(x, y, level.point(f, x, y));
-        }
-    }
-    // The ring along the four edges: local edge l runs from corner l to l+1.
-    for l in 0..4u8 {
-        let (g, gl, back) = base.across[f as usize][l as usize];
-        let (cx, cy) = corner_at(l, n);
-        let (dx, dy) = TOWARD_NEXT[l as usize];
-        // Outward normal of edge l: the opposite of the step toward corner l−1.
-        let (ox, oy) = TOWARD_PREV[l as usize];
-        for t in 0..=n {
-            let u = if back { n - t } else { t };
-            put(
-                cx + t * dx - ox,
-                cy + t * dy - oy,
-                level.inward(g, gl, u, 1),
-            );
-        }
-    }
-    // Corners: the diagonal point across an ordinary vertex; none at an EV.
-    for c in 0..4u8 {
-        if let Some((g, gc)) = base.diagonal[f as usize][c as usize] {
-            let (cx, cy) = corner_at(c, n);
-            let (ax, ay) = TOWARD_NEXT[c as usize];
-            let (bx, by) = TOWARD_PREV[c as usize];
-            let (gx, gy) = corner_at(gc, n);
-            let (hx, hy) = TOWARD_NEXT[gc as usize];
-            let (kx, ky) = TOWARD_PREV[gc as usize];
-            put(
-                cx - ax - bx,
-                cy - ay - by,
-                level.point(g, gx + hx + kx, gy + hy + ky),
-            );
-        }
-    }
-    // Along x: slabs are columns (all y).
-    let slab = m * LANES;
-    plan.pass(scheme, &sc.ext, slab, &mut sc.a);
-    // Keep X' = 0..=N' and transpose to y-major.
-    let side = plan.n_new as usize + 1;
-    let x0 = (-plan.lo) as usize;
-    sc.at.clear();
-    sc.at.resize(m * side * LANES, T::default());
-    for xn in 0..side {
-        for y in 0..m {
-            let s = ((x0 + xn) * m + y) * LANES;
-            let d = (y * side + xn) * LANES;
-            sc.at[d..d + LANES].copy_from_slice(&sc.a[s..s + LANES]);
-        }
-    }
-    // Along y: slabs are rows (all X'); rows Y' = 0..=N' are the new patch.
-    plan.pass(scheme, &sc.at, side * LANES, &mut sc.b);
-    let y0 = (-plan.lo) as usize * side * LANES;
-    out.copy_from_slice(&sc.b[y0..y0 + side * side * LANES]);
-}
-
-/// The mesh of the last level: base vertices, then N−1 points per base edge (from its smaller
-/// vertex), then (N−1)² per face; each shared point taken from one patch.
-fn assemble<T: Real>(base: &Base, level: &Level<T>) -> Refined<T> {
-    let topo = &base.topo;
-    let n = level.n;
-    let (nv, ne, nf) = (topo.vertex_count(), topo.edge_count(), topo.face_count());
-    let k = (n - 1) as usize;
-    let mut positions = vec![[T::default(); 3]; nv + ne * k + nf * k * k];
-    let mut faces = Vec::with_capacity(nf * (n * n) as usize);
-    let mut seen_edge = vec![false; ne];
-    let mut seen_vertex = vec![false; nv];
-    let to3 = |p: &[T]| [p[0], p[1], p[2]];
-    for f in 0..nf as u32 {
-        let index = |x: i64, y: i64| -> u32 {
-            let corner = match (x, y) {
-                (0, 0) => Some(0),
-                (a, 0) if a == n => Some(1),
-                (a, b) if a == n && b == n => Some(2),
-                (0, b) if b == n => Some(3),
-                _ => None,
-            };
-            if let Some(c) = corner {
-                return topo.vertex(f, c);
-            }
-            let on_edge = |l: u8, t: i64| -> u32 {
-                let e = topo.edge_of(f, l);
-                let from_low = topo.vertex(f, l) == topo.edge_vertices(e)[0];
-                let t = if from_low { t } else { n - t };
-                (nv + e as usize * k + (t - 1) as usize) as u32
-            };
-            match (x, y) {
-                (x, 0) => on_edge(0, x),
-                (x, y) if x == n => on_edge(1, y),
-                (x, y) if y == n => on_edge(2, n - x),
-                (0, y) => on_edge(3, n - y),
-                (x, y) => {
-                    (nv + ne * k + f as usize * k * k + ((y - 1) as usize * k + (x - 1) as usize))
-                        as u32
-                }
-            }
+    sc.ext.resize(m * k * m * L, T::default());
+    for (fi, f) in faces.clone().enumerate() {
+        let f = f as u32;
+        let mut put = |x: i64, y: i64, p: &[T]| {
+            let i = ((((x + 1) as usize) * k + fi) * m + (y + 1) as usize) * L;
+            sc.ext[i..i + L].copy_from_slice(p);
         };
         for y in 0..=n {
             for x in 0..=n {
-                let i = index(x, y) as usize;
-                let owner = if i < nv {
-                    !std::mem::replace(&mut seen_vertex[i], true)
-                } else if i < nv + ne * k {
-                    !seen_edge[(i - nv) / k]
-                } else {
-                    true
-                };
-                if owner {
-                    positions[i] = to3(level.point(f, x, y));
-                }
+                put(x, y, level.point(f, x, y));
             }
         }
+        // The ring along the four edges: local edge l runs from corner l to l+1.
         for l in 0..4u8 {
-            seen_edge[topo.edge_of(f, l) as usize] = true;
+            let (g, gl, back) = base.across[f as usize][l as usize];
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            // Outward normal of edge l: the opposite of the step toward corner l−1.
+            let (ox, oy) = TOWARD_PREV[l as usize];
+            for t in 0..=n {
+                let u = if back { n - t } else { t };
+                put(
+                    cx + t * dx - ox,
+                    cy + t * dy - oy,
+                    level.inward(g, gl, u, 1),
+                );
+            }
         }
-        for y in 0..n {
-            for x in 0..n {
-                faces.push([
-                    index(x, y),
-                    index(x + 1, y),
-                    index(x + 1, y + 1),
-                    index(x, y + 1),
-                ]);
+        // Corners: the diagonal point across an ordinary vertex; none at an EV.
+        for c in 0..4u8 {
+            if let Some((g, gc)) = base.diagonal[f as usize][c as usize] {
+                let (cx, cy) = corner_at(c, n);
+                let (ax, ay) = TOWARD_NEXT[c as usize];
+                let (bx, by) = TOWARD_PREV[c as usize];
+                let (gx, gy) = corner_at(gc, n);
+                let (hx, hy) = TOWARD_NEXT[gc as usize];
+                let (kx, ky) = TOWARD_PREV[gc as usize];
+                put(
+                    cx - ax - bx,
+                    cy - ay - by,
+                    level.point(g, gx + hx + kx, gy + hy + ky),
+                );
             }
         }
     }
-    Refined { positions, faces }
+    // Along x: slab x holds column x of every patch.
+    plan.pass(scheme, &sc.ext, k * m * L, &mut sc.a);
+    // Keep X' = 0..=N' and transpose to at[y][face][X'].
+    let side = plan.n_new as usize + 1;
+    let x0 = (-plan.lo) as usize;
+    sc.at.clear();
+    sc.at.resize(m * k * side * L, T::default());
+    for xn in 0..side {
+        for fi in 0..k {
+            let src = ((x0 + xn) * k + fi) * m * L;
+            for y in 0..m {
+                let d = ((y * k + fi) * side + xn) * L;
+                sc.at[d..d + L].copy_from_slice(&sc.a[src + y * L..src + y * L + L]);
+            }
+        }
+    }
+    // Along y: slab y holds row y of every patch; rows Y' = 0..=N' are the new patches.
+    plan.pass(scheme, &sc.at, k * side * L, &mut sc.b);
+}
+
+/// The range of `sc.b` holding row Y' of the j-th patch of a block of k.
+fn block_row(plan: &Plan, k: usize, j: usize, yn: usize) -> std::ops::Range<usize> {
+    let row = (plan.n_new as usize + 1) * 3;
+    let s = (((-plan.lo) as usize + yn) * k + j) * row;
+    s..s + row
+}
+
+/// Patches per block: enough to make slabs long, few enough to stay in cache.
+fn block_size(n: i64) -> usize {
+    let m = (n + 3) as usize;
+    (2048 / (m * m)).clamp(1, 64)
 }

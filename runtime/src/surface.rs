@@ -42,6 +42,15 @@ pub trait SurfaceScheme: CurveScheme {
     fn surface(&self) -> SurfaceTables<'_>;
 }
 
+/// Something to do with a surface scheme whose concrete type is only known by name (see the
+/// generated registry's `visit_surface`).
+pub trait SurfaceVisitor {
+    /// The result.
+    type Output;
+    /// Runs with the scheme.
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output;
+}
+
 /// A quad mesh with edge labels (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LabelledMesh {

@@ -1,0 +1,154 @@
+//! The benchmark behind `lsubdiv bench`: standard meshes, refined with a scheme by one path at a
+//! thread count, timed (median of repeated runs, refinement only, no I/O).
+
+use crate::runtime::generators::{cube, star, torus};
+use crate::runtime::mesh::{parse_obj, QuadMesh};
+use crate::runtime::patch::Refiner;
+use crate::runtime::real::Real;
+use crate::runtime::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv_compiler::generic::GenericSurface;
+use lsubdiv_compiler::Scheme;
+use std::time::Instant;
+
+/// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ file.
+pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
+    let parts: Vec<&str> = spec.split(':').collect();
+    match parts.as_slice() {
+        ["torus", r, c] => {
+            let p = |s: &str| {
+                s.parse::<usize>()
+                    .ok()
+                    .filter(|&n| (3..=100_000).contains(&n))
+            };
+            match (p(r), p(c)) {
+                (Some(r), Some(c)) => Ok(torus(r, c)),
+                _ => Err(format!(
+                    "`{spec}`: torus sizes are integers from 3 to 100000"
+                )),
+            }
+        }
+        ["cube"] => Ok(cube()),
+        ["star"] => Ok(star()),
+        _ => {
+            let text = std::fs::read_to_string(spec).map_err(|e| format!("{spec}: {e}"))?;
+            parse_obj(&text)
+                .map(|(m, _)| m)
+                .map_err(|e| format!("{spec}: {e}"))
+        }
+    }
+}
+
+/// Which implementation refines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Path {
+    /// The generated, specialised kernels.
+    Generated,
+    /// The generic table-driven kernels.
+    Generic,
+}
+
+/// One measurement.
+#[derive(Clone, Debug)]
+pub struct Measurement {
+    /// Output vertices of one refinement.
+    pub output_vertices: usize,
+    /// Median wall time of one refinement.
+    pub median_seconds: f64,
+}
+
+impl Measurement {
+    /// Output vertices per second ÷ 1e6.
+    pub fn mvps(&self) -> f64 {
+        self.output_vertices as f64 / self.median_seconds / 1e6
+    }
+}
+
+/// Times `Refiner::refine` (positions only, buffers reused, as OpenSubdiv's primvar refiner is
+/// timed): one warm-up, then the median of `runs`.
+struct Timed<'m, T> {
+    mesh: &'m QuadMesh,
+    threads: usize,
+    steps: usize,
+    runs: usize,
+    _scalar: std::marker::PhantomData<T>,
+}
+
+impl<T: Real> SurfaceVisitor for Timed<'_, T> {
+    type Output = Result<Measurement, String>;
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
+        let mut r = Refiner::<S, T>::new(scheme, self.mesh, self.steps, self.threads)
+            .map_err(|e| e.to_string())?;
+        r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
+        let mut times = Vec::with_capacity(self.runs);
+        for _ in 0..self.runs.max(1) {
+            let t = Instant::now();
+            std::hint::black_box(r.refine(&self.mesh.positions).map_err(|e| e.to_string())?);
+            times.push(t.elapsed().as_secs_f64());
+        }
+        times.sort_by(f64::total_cmp);
+        Ok(Measurement {
+            output_vertices: r.output_vertices(),
+            median_seconds: times[times.len() / 2],
+        })
+    }
+}
+
+/// Refines `mesh` with the scheme by `path` and reports the median time of one refinement.
+pub fn measure<T: Real>(
+    scheme: &str,
+    surface: &GenericSurface,
+    mesh: &QuadMesh,
+    path: Path,
+    threads: usize,
+    steps: usize,
+    runs: usize,
+) -> Result<Measurement, String> {
+    let timed = Timed::<T> {
+        mesh,
+        threads,
+        steps,
+        runs,
+        _scalar: std::marker::PhantomData,
+    };
+    match path {
+        Path::Generated => crate::generated::visit_surface(scheme, timed)
+            .ok_or_else(|| format!("`{scheme}` has no generated surface code"))?,
+        Path::Generic => timed.visit(surface),
+    }
+}
+
+/// The compiled surface scheme called `name` (shipped scheme or file).
+pub fn surface(name: &str) -> Result<GenericSurface, String> {
+    let r = crate::resolve(name).map_err(|e| e.to_string())?;
+    let s = Scheme::build(r.ls).map_err(|e| e.to_string())?;
+    GenericSurface::new(s).map_err(|e| e.to_string())
+}
+
+/// Peak resident set size of this process so far (Linux `VmHWM`), in bytes.
+pub fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// The number of steps that brings `mesh` closest to `target` output vertices.
+pub fn steps_for(surface: &GenericSurface, mesh: &QuadMesh, target: usize) -> usize {
+    let ls = &surface.scheme().ls;
+    let (v, f) = (mesh.positions.len(), mesh.faces.len());
+    let e = 2 * f; // closed quad meshes: 4F = 2E
+    let count = |n: usize| v + e * (n - 1) + f * (n - 1) * (n - 1);
+    let mut word = ls.axiom.clone();
+    let mut best = (0, usize::MAX);
+    for s in 0..12 {
+        let diff = count(word.len()).abs_diff(target);
+        if diff < best.1 {
+            best = (s, diff);
+        }
+        if count(word.len()) > target {
+            break;
+        }
+        word = ls.rewrite(&word);
+    }
+    best.0
+}
