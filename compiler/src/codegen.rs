@@ -167,7 +167,10 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
             exact.push(c.weight.to_string());
             adds.push(quote! { axpy(&mut out[#j], #w, p); });
             slabs.push(quote! {
-                ::lsubdiv_runtime::real::axpy_slab(&mut dst[#j * n..(#j + 1) * n], T::from_f64(#w), src);
+                if keep.start <= #j && #j < keep.end {
+                    let at = (#j - keep.start) * n;
+                    ::lsubdiv_runtime::real::axpy_slab(&mut dst[at..at + n], T::from_f64(#w), src);
+                }
             });
         }
         mask_offsets.push(mask_words.len());
@@ -247,7 +250,13 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
             }
 
             #[inline]
-            fn axpy_mask<T: ::lsubdiv_runtime::real::Real>(&self, word: u32, src: &[T], dst: &mut [T]) {
+                        fn axpy_mask<T: ::lsubdiv_runtime::real::Real>(
+                &self,
+                word: u32,
+                keep: ::core::ops::Range<usize>,
+                src: &[T],
+                dst: &mut [T],
+            ) {
                 let n = src.len();
                 match word {
                     #(#slab_arms)*

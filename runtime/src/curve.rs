@@ -89,16 +89,22 @@ pub trait CurveScheme {
         }
     }
 
-    /// The mask of `word` on slabs: for every entry j, `dst[j·len..(j+1)·len] += w_j · src` with
-    /// `len = src.len()` (a whole row of points at once).
-    fn axpy_mask<T: Real>(&self, word: u32, src: &[T], dst: &mut [T]) {
+    /// Entries `keep` of the mask of `word` on slabs: for every entry j in `keep`,
+    /// `dst[(j − keep.start)·len ..][..len] += w_j · src` with `len = src.len()` (whole rows of
+    /// points at once).
+    fn axpy_mask<T: Real>(
+        &self,
+        word: u32,
+        keep: std::ops::Range<usize>,
+        src: &[T],
+        dst: &mut [T],
+    ) {
         let t = self.tables();
         let n = src.len();
-        for (j, &w) in t.mask_weights[t.mask_range(word as usize)]
-            .iter()
-            .enumerate()
-        {
-            axpy_slab(&mut dst[j * n..(j + 1) * n], T::from_f64(w), src);
+        let weights = &t.mask_weights[t.mask_range(word as usize)];
+        for (j, &w) in weights.iter().enumerate().take(keep.end).skip(keep.start) {
+            let at = (j - keep.start) * n;
+            axpy_slab(&mut dst[at..at + n], T::from_f64(w), src);
         }
     }
 }

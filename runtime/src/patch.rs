@@ -40,11 +40,8 @@ const TOWARD_PREV: [(i64, i64); 4] = [(0, 1), (-1, 0), (0, -1), (1, 0)];
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step.
 struct Plan {
-    /// Per old point: its word and the new coordinate of its first mask entry.
-    points: Vec<(u32, i64)>,
-    /// Smallest and largest new coordinate any entry reaches.
-    lo: i64,
-    hi: i64,
+    /// Per old point: its word, the new coordinate of its first mask entry, its entry count.
+    points: Vec<(u32, i64, i64)>,
     /// New side N'.
     n_new: i64,
 }
@@ -70,7 +67,6 @@ impl Plan {
         let n_new = off(n);
         let half = (d + 1) / 2;
         let mut points = Vec::new();
-        let (mut lo, mut hi) = (i64::MAX, i64::MIN);
         let mut sums: HashMap<i64, f64> = HashMap::new();
         for x in -1..=n + 1 {
             let word: Vec<u8> = (x - half..x + half).map(label).collect();
@@ -80,12 +76,11 @@ impl Plan {
             // The entry j of the mask has its middle knot at new knot Off(x − half) + j + half.
             let base = off(x - half) + half;
             let r = t.mask_range(wi as usize);
-            lo = lo.min(base);
-            hi = hi.max(base + r.len() as i64 - 1);
+            let count = r.len() as i64;
             for (j, wt) in t.mask_weights[r].iter().enumerate() {
                 *sums.entry(base + j as i64).or_default() += wt;
             }
-            points.push((wi, base));
+            points.push((wi, base, count));
         }
         // The ring of width one must hold every parent of the new points 0..=N'.
         for xn in 0..=n_new {
@@ -96,21 +91,22 @@ impl Plan {
                 )));
             }
         }
-        Ok(Plan {
-            points,
-            lo,
-            hi,
-            n_new,
-        })
+        Ok(Plan { points, n_new })
     }
 
-    /// `dst[(X' − lo)·len ..] = Σ` mask entries of every old slab `src[i·len ..]`.
+    /// `dst[X'·len ..] = Σ` mask entries of every old slab `src[i·len ..]`, for X' = 0..=N' only
+    /// (the entries of the ring's masks that land outside the patch are skipped).
     fn pass<S: CurveScheme, T: Real>(&self, scheme: &S, src: &[T], len: usize, dst: &mut Vec<T>) {
         dst.clear();
-        dst.resize((self.hi - self.lo + 1) as usize * len, T::default());
-        for (i, &(w, base)) in self.points.iter().enumerate() {
-            let at = (base - self.lo) as usize * len;
-            scheme.axpy_mask(w, &src[i * len..(i + 1) * len], &mut dst[at..]);
+        dst.resize((self.n_new + 1) as usize * len, T::default());
+        for (i, &(w, base, count)) in self.points.iter().enumerate() {
+            let start = (-base).max(0);
+            let end = (self.n_new + 1 - base).min(count);
+            if start < end {
+                let at = (base + start) as usize * len;
+                let keep = start as usize..end as usize;
+                scheme.axpy_mask(w, keep, &src[i * len..(i + 1) * len], &mut dst[at..]);
+            }
         }
     }
 }
@@ -716,12 +712,11 @@ fn refine_block<S: CurveScheme, T: Real>(
     plan.pass(scheme, &sc.ext, k * m * L, &mut sc.a);
     // Keep X' = 0..=N' and transpose to at[y][face][X'].
     let side = plan.n_new as usize + 1;
-    let x0 = (-plan.lo) as usize;
     sc.at.clear();
     sc.at.resize(m * k * side * L, T::default());
     for xn in 0..side {
         for fi in 0..k {
-            let src = ((x0 + xn) * k + fi) * m * L;
+            let src = (xn * k + fi) * m * L;
             for y in 0..m {
                 let d = ((y * k + fi) * side + xn) * L;
                 sc.at[d..d + L].copy_from_slice(&sc.a[src + y * L..src + y * L + L]);
@@ -735,7 +730,7 @@ fn refine_block<S: CurveScheme, T: Real>(
 /// The range of `sc.b` holding row Y' of the j-th patch of a block of k.
 fn block_row(plan: &Plan, k: usize, j: usize, yn: usize) -> std::ops::Range<usize> {
     let row = (plan.n_new as usize + 1) * 3;
-    let s = (((-plan.lo) as usize + yn) * k + j) * row;
+    let s = (yn * k + j) * row;
     s..s + row
 }
 
