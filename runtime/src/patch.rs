@@ -526,7 +526,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 }
 
 /// Writes the points of face f's final patch (`rows(y)`: row y) that face f owns: interior rows
-/// as slices, the boundary point by point.
+/// as slices, each owned edge as a run, each owned corner.
 fn scatter<'r, T: Real>(
     num: &Numbering,
     f: usize,
@@ -540,15 +540,28 @@ fn scatter<'r, T: Real>(
         // SAFETY: interior points of face f are written by face f only.
         unsafe { out.write_run(first + (y - 1) * (n - 1), row) };
     }
-    let boundary = (0..=n)
-        .flat_map(|x| [(x, 0), (x, n)])
-        .chain((1..n).flat_map(|y| [(0, y), (n, y)]));
-    for (x, y) in boundary {
-        let (i, owner) = num.index(f, x as i64, y as i64);
+    let point = |x: usize, y: usize| &rows(y)[x * 3..x * 3 + 3];
+    for l in 0..4 {
+        let (e, forward, owner) = num.edges[f][l];
         if owner {
-            let r = rows(y);
-            // SAFETY: face f is the only writer of an index it owns (`Numbering::index`).
-            unsafe { out.write_run(i, &r[x * 3..x * 3 + 3]) };
+            let base = num.nv + e as usize * (n - 1);
+            for t in 1..n {
+                // Point t from corner l along edge l.
+                let (x, y) = match l {
+                    0 => (t, 0),
+                    1 => (n, t),
+                    2 => (n - t, n),
+                    _ => (0, n - t),
+                };
+                let i = base + if forward { t - 1 } else { n - t - 1 };
+                // SAFETY: face f is the only writer of the points of an edge it owns.
+                unsafe { out.write_run(i, point(x, y)) };
+            }
+        }
+        if num.corners[f][l] {
+            let (x, y) = [(0, 0), (n, 0), (n, n), (0, n)][l];
+            // SAFETY: face f is the only writer of a corner it owns.
+            unsafe { out.write_run(num.vertex[f][l] as usize, point(x, y)) };
         }
     }
 }
@@ -664,17 +677,24 @@ fn refine_block<S: CurveScheme, T: Real>(
                               // ext[x][face][y]: x-major, then patch, then y; three values each.
     sc.ext.clear();
     sc.ext.resize(m * k * m * L, T::default());
+    let side_old = n as usize + 1;
+    let x_stride = k * m * L;
     for (fi, f) in faces.clone().enumerate() {
+        // Interior: row y of the patch goes to ext[x + 1][fi][y + 1] for every x.
+        let size = side_old * side_old * L;
+        let patch = &level.data[f * size..(f + 1) * size];
+        for (y, row) in patch.chunks_exact(side_old * L).enumerate() {
+            let mut d = x_stride + (fi * m + y + 1) * L;
+            for p in row.chunks_exact(L) {
+                sc.ext[d..d + L].copy_from_slice(p);
+                d += x_stride;
+            }
+        }
         let f = f as u32;
         let mut put = |x: i64, y: i64, p: &[T]| {
             let i = ((((x + 1) as usize) * k + fi) * m + (y + 1) as usize) * L;
             sc.ext[i..i + L].copy_from_slice(p);
         };
-        for y in 0..=n {
-            for x in 0..=n {
-                put(x, y, level.point(f, x, y));
-            }
-        }
         // The ring along the four edges: local edge l runs from corner l to l+1.
         for l in 0..4u8 {
             let (g, gl, back) = base.across[f as usize][l as usize];
