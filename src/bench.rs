@@ -54,6 +54,11 @@ pub struct Measurement {
     pub output_vertices: usize,
     /// Median wall time of one refinement.
     pub median_seconds: f64,
+    /// Per step, the median wall time.
+    pub level_seconds: Vec<f64>,
+    /// Bytes of the input positions (f64), the output, and the largest intermediate level as
+    /// unique vertices: the memory a level-by-level refinement cannot do without.
+    pub essential_bytes: usize,
 }
 
 impl Measurement {
@@ -80,15 +85,26 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             .map_err(|e| e.to_string())?;
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
+        let mut levels: Vec<Vec<f64>> = Vec::new();
         for _ in 0..self.runs.max(1) {
             let t = Instant::now();
             std::hint::black_box(r.refine(&self.mesh.positions).map_err(|e| e.to_string())?);
             times.push(t.elapsed().as_secs_f64());
+            levels.push(r.level_seconds().to_vec());
         }
         times.sort_by(f64::total_cmp);
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let level_seconds = (0..levels[0].len())
+            .map(|i| median(levels.iter().map(|l| l[i]).collect()))
+            .collect();
         Ok(Measurement {
             output_vertices: r.output_vertices(),
             median_seconds: times[times.len() / 2],
+            level_seconds,
+            essential_bytes: 0,
         })
     }
 }
@@ -110,11 +126,24 @@ pub fn measure<T: Real>(
         runs,
         _scalar: std::marker::PhantomData,
     };
-    match path {
+    let mut m = match path {
         Path::Generated => crate::generated::visit_surface(scheme, timed)
-            .ok_or_else(|| format!("`{scheme}` has no generated surface code"))?,
-        Path::Generic => timed.visit(surface),
+            .ok_or_else(|| format!("`{scheme}` has no generated surface code"))??,
+        Path::Generic => timed.visit(surface)?,
+    };
+    // Unique vertices of a level with N sub-edges per base edge: V + E(N−1) + F(N−1)², E = 2F.
+    let ls = &surface.scheme().ls;
+    let (v, f) = (mesh.positions.len(), mesh.faces.len());
+    let count = |n: usize| v + 2 * f * (n - 1) + f * (n - 1) * (n - 1);
+    let mut word = ls.axiom.clone();
+    let mut prev = v;
+    for _ in 0..steps.saturating_sub(1) {
+        word = ls.rewrite(&word);
+        prev = count(word.len());
     }
+    let size = std::mem::size_of::<T>();
+    m.essential_bytes = v * 24 + (m.output_vertices + prev) * 3 * size;
+    Ok(m)
 }
 
 /// The compiled surface scheme called `name` (shipped scheme or file).

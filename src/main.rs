@@ -475,8 +475,9 @@ fn bench(
             "mesh": mesh, "scheme": scheme,
             "path": if p == bench::Path::Generated { "generated" } else { "generic" },
             "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
-            "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
+                        "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
             "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
+            "level_seconds": r.level_seconds, "essential_bytes": r.essential_bytes,
         })
     );
     Ok(())

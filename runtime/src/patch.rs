@@ -340,6 +340,8 @@ pub struct Refiner<'s, S, T> {
     threads: usize,
     levels: [Level<T>; 2],
     output: Vec<[T; 3]>,
+    /// Wall time of each step of the last `refine` (the reference steps as one entry).
+    level_seconds: Vec<f64>,
 }
 
 impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
@@ -398,12 +400,28 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             threads: threads.max(1),
             levels: [Level::empty(), Level::empty()],
             output,
+            level_seconds: Vec::new(),
         })
     }
 
     /// Number of output vertices.
     pub fn output_vertices(&self) -> usize {
         self.output.len()
+    }
+
+    /// Wall time of each step of the last `refine`, in seconds (steps run by the reference
+    /// driver count as one entry).
+    pub fn level_seconds(&self) -> &[f64] {
+        &self.level_seconds
+    }
+
+    /// Bytes held by the level buffers and the output (the refiner's working memory).
+    pub fn buffer_bytes(&self) -> usize {
+        let size = std::mem::size_of::<T>();
+        (self.levels[0].data.capacity()
+            + self.levels[1].data.capacity()
+            + self.output.capacity() * 3)
+            * size
     }
 
     /// Refines new positions of the base vertices; returns the output positions.
@@ -413,12 +431,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let nf = self.mesh.faces.len();
         self.mesh.positions.clear();
         self.mesh.positions.extend_from_slice(positions);
+        self.level_seconds.clear();
+        let clock = std::time::Instant::now();
         let lm = LabelledMesh::with_axiom(&t, self.mesh.clone())?;
         let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
         lift(&t, &coarse.mesh, nf, self.first, &mut self.levels[0]);
+        if self.first > 0 {
+            self.level_seconds.push(clock.elapsed().as_secs_f64());
+        }
         let workers = self.threads.min(nf).max(1);
         let chunk = nf.div_ceil(workers);
         for (i, plan) in self.plans.iter().enumerate() {
+            let clock = std::time::Instant::now();
             let s = self.first + i;
             let ring = st.rings[s.min(st.rings.len() - 1)];
             let last = s + 1 == self.steps;
@@ -488,6 +512,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
                 self.levels.swap(0, 1);
             }
+            self.level_seconds.push(clock.elapsed().as_secs_f64());
         }
         if self.plans.is_empty() {
             // Every step ran in the reference driver (or none at all): number the patches.

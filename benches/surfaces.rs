@@ -1,0 +1,126 @@
+//! The surface benchmark table: every standard mesh × scheme × path × thread count, run as
+//! separate `lsubdiv bench` processes (so each peak RSS is its own), interleaved over repetitions,
+//! printed as a markdown table with ratios measured in the same run:
+//! generated/generic, 2 threads/1 thread, f32/f64, and peak RSS / essential memory
+//! (input + output + one intermediate level).
+//!
+//! `cargo bench --bench surfaces` (set LSUBDIV_BENCH_QUICK=1 for one repetition).
+
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::process::Command;
+
+fn run(args: &[String]) -> Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+        .arg("bench")
+        .arg("--json")
+        .args(args)
+        .output()
+        .expect("lsubdiv bench runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() {
+    let reps = if std::env::var_os("LSUBDIV_BENCH_QUICK").is_some() {
+        1
+    } else {
+        3
+    };
+    let meshes = ["torus:256:256", "cube", "star"];
+    let schemes = ["uniform-binary", "binary-ternary", "fibonacci"];
+    let mut configs: Vec<Vec<String>> = Vec::new();
+    for mesh in meshes {
+        for scheme in schemes {
+            for (path, threads, f32) in [
+                ("generated", 1, false),
+                ("generic", 1, false),
+                ("generated", 2, false),
+                ("generated", 1, true),
+            ] {
+                let mut a = vec![
+                    "--mesh",
+                    mesh,
+                    "--scheme",
+                    scheme,
+                    "--path",
+                    path,
+                    "--threads",
+                ]
+                .into_iter()
+                .map(String::from)
+                .collect::<Vec<_>>();
+                a.push(threads.to_string());
+                if f32 {
+                    a.push("--f32".into());
+                }
+                configs.push(a);
+            }
+        }
+    }
+    // Interleave: every configuration once per repetition.
+    let mut results: BTreeMap<usize, Vec<Value>> = BTreeMap::new();
+    for _ in 0..reps {
+        for (i, c) in configs.iter().enumerate() {
+            results.entry(i).or_default().push(run(c));
+        }
+    }
+    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms per level | peak RSS MB | RSS / essential | vs generated 1-thread f64 |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut baseline: BTreeMap<(String, String), f64> = BTreeMap::new();
+    for (i, runs) in &results {
+        let first = &runs[0];
+        let mvps = median(
+            runs.iter()
+                .map(|r| r["mvps"].as_f64().unwrap_or(0.0))
+                .collect(),
+        );
+        let key = (
+            first["mesh"].as_str().unwrap_or("").to_string(),
+            first["scheme"].as_str().unwrap_or("").to_string(),
+        );
+        let is_base =
+            first["path"] == "generated" && first["threads"] == 1 && first["scalar"] == "f64";
+        if is_base {
+            baseline.insert(key.clone(), mvps);
+        }
+        let levels: Vec<String> = first["level_seconds"]
+            .as_array()
+            .map(|a| {
+                a.iter()
+                    .map(|x| format!("{:.1}", x.as_f64().unwrap_or(0.0) * 1e3))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let rss = first["peak_rss_bytes"].as_f64().unwrap_or(0.0);
+        let essential = first["essential_bytes"].as_f64().unwrap_or(1.0);
+        let ratio = baseline
+            .get(&key)
+            .map_or("—".to_string(), |b| format!("{:.2}×", mvps / b));
+        let _ = i;
+        println!(
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {:.0} | {:.2} | {} |",
+            key.0,
+            key.1,
+            first["path"].as_str().unwrap_or(""),
+            first["threads"],
+            first["scalar"].as_str().unwrap_or(""),
+            first["steps"],
+            first["output_vertices"],
+            mvps,
+            levels.join(" / "),
+            rss / 1e6,
+            rss / essential,
+            ratio
+        );
+    }
+}
