@@ -17,7 +17,7 @@ fn polygon(n: usize) -> Vec<[f64; 3]> {
 }
 
 fn median_secs(mut f: impl FnMut()) -> f64 {
-    let mut v: Vec<f64> = (0..15)
+    let mut v: Vec<f64> = (0..7)
         .map(|_| {
             let t = Instant::now();
             f();
@@ -72,5 +72,46 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+/// A closed 10 M-point polygon refined once, against the memory-bandwidth bound measured in
+/// the same run (a large copy: read + write bytes per second).
+fn bandwidth(_: &mut Criterion) {
+    let n = 10_000_000;
+    let src: Vec<[f64; 3]> = polygon(n);
+    let mut dst = vec![[0.0f64; 3]; n];
+    let copy = median_secs(|| dst.copy_from_slice(std::hint::black_box(&src)));
+    let bytes_per_s = 2.0 * (n * 24) as f64 / copy;
+    for name in ["uniform-binary", "binary-ternary", "fibonacci"] {
+        let r = resolve(name).unwrap();
+        let generic = GenericScheme::new(Scheme::build(r.ls).unwrap());
+        let coarse = Curve::with_axiom(&generic.tables(), src.clone(), true);
+        // Buffers reused across runs, as an application refining every frame would.
+        let mut refiner = lsubdiv::CurveRefiner::default();
+        let mut out = 0;
+        let t = median_secs(|| {
+            out = refine_generated(name, &mut refiner, &coarse);
+        });
+        // Bound: read the input once, write the output once.
+        let bound = ((n + out) * 24) as f64 / bytes_per_s;
+        println!(
+            "{name}: 10 M-point closed polygon → {out} points in {:.1} ms; bandwidth bound {:.1} ms (copy at {:.1} GB/s); {:.0}% of the bound",
+            t * 1e3,
+            bound * 1e3,
+            bytes_per_s / 1e9,
+            100.0 * bound / t
+        );
+    }
+}
+
+/// One step of the generated kernel of `name` with a reused refiner.
+fn refine_generated(name: &str, r: &mut lsubdiv::CurveRefiner<3>, c: &Curve<3>) -> usize {
+    use lsubdiv::generated::{binary_ternary, fibonacci, uniform_binary};
+    let out = match name {
+        "uniform-binary" => r.refine(&uniform_binary::Scheme, c, 1),
+        "binary-ternary" => r.refine(&binary_ternary::Scheme, c, 1),
+        _ => r.refine(&fibonacci::Scheme, c, 1),
+    };
+    out.unwrap().points.len()
+}
+
+criterion_group!(benches, bench, bandwidth);
 criterion_main!(benches);

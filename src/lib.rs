@@ -9,7 +9,9 @@
 pub use lsubdiv_compiler as compiler;
 pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
-pub use lsubdiv_runtime::{include_scheme, refine, Curve, CurveError, CurveScheme, CurveTables};
+pub use lsubdiv_runtime::{
+    include_scheme, refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables,
+};
 
 pub mod bench;
 pub mod points;

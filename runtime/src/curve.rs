@@ -222,88 +222,177 @@ pub fn refine<S: CurveScheme, const D: usize>(
     curve: &Curve<D>,
     steps: usize,
 ) -> Result<Curve<D>, CurveError> {
-    let t = scheme.tables();
-    curve.check(&t)?;
-    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
-    let mut words = (0..curve.points.len())
-        .map(|k| {
-            let w = curve.word(k, t.degree);
-            lookup
-                .get(w.as_slice())
-                .copied()
-                .ok_or_else(|| CurveError::UnknownWord(t.word_str(&w)))
-        })
-        .collect::<Result<Vec<u32>, _>>()?;
-    let mut cur = curve.clone();
-    for _ in 0..steps {
-        let (next, next_words) = step(scheme, &t, &cur, &words);
-        cur = next;
-        words = next_words;
-    }
-    Ok(cur)
+    let mut r = CurveRefiner::default();
+    r.refine(scheme, curve, steps)?;
+    Ok(r.into_curve())
 }
 
-/// One refinement step; returns the new curve and the word index of each new point.
+/// New points accumulated in cache before they are written out.
+const WINDOW: usize = 4096;
+
+/// Curve refinement with reusable buffers (refine the same kind of curve again and again
+/// without reallocating).
+#[derive(Clone, Debug, Default)]
+pub struct CurveRefiner<const D: usize> {
+    cur: Curve<D>,
+    next: Curve<D>,
+    words: Vec<u32>,
+    next_words: Vec<u32>,
+    window: Vec<[f64; D]>,
+}
+
+impl<const D: usize> Default for Curve<D> {
+    fn default() -> Self {
+        Curve {
+            points: Vec::new(),
+            labels: Vec::new(),
+            closed: false,
+        }
+    }
+}
+
+impl<const D: usize> CurveRefiner<D> {
+    /// Refines `curve` `steps` times; the result stays in the refiner.
+    pub fn refine<S: CurveScheme>(
+        &mut self,
+        scheme: &S,
+        curve: &Curve<D>,
+        steps: usize,
+    ) -> Result<&Curve<D>, CurveError> {
+        let t = scheme.tables();
+        curve.check(&t)?;
+        initial_words(&t, curve, &mut self.words)?;
+        if steps == 0 {
+            self.cur.clone_from(curve);
+        }
+        for i in 0..steps {
+            // The first step reads the input itself (no copy).
+            let src = if i == 0 { curve } else { &self.cur };
+            step(
+                scheme,
+                &t,
+                src,
+                &self.words,
+                &mut self.next,
+                &mut self.next_words,
+                &mut self.window,
+            );
+            std::mem::swap(&mut self.cur, &mut self.next);
+            std::mem::swap(&mut self.words, &mut self.next_words);
+        }
+        Ok(&self.cur)
+    }
+
+    /// The refined curve.
+    pub fn into_curve(self) -> Curve<D> {
+        self.cur
+    }
+}
+
+/// The word index of every point, from windows over the labels (wrapped for closed curves),
+/// without allocating per point; equal consecutive windows reuse the previous lookup.
+fn initial_words<const D: usize>(
+    t: &CurveTables<'_>,
+    curve: &Curve<D>,
+    words: &mut Vec<u32>,
+) -> Result<(), CurveError> {
+    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+    let d = t.degree;
+    let mut wrapped = curve.labels.clone();
+    if curve.closed {
+        let head: Vec<u8> = curve.labels.iter().cycle().take(d).copied().collect();
+        wrapped.extend(head);
+    }
+    words.clear();
+    let mut last: Option<(&[u8], u32)> = None;
+    for k in 0..curve.points.len() {
+        let w = &wrapped[k..k + d + 1];
+        let i = match last {
+            Some((prev, i)) if prev == w => i,
+            _ => *lookup
+                .get(w)
+                .ok_or_else(|| CurveError::UnknownWord(t.word_str(w)))?,
+        };
+        last = Some((w, i));
+        words.push(i);
+    }
+    Ok(())
+}
+
+/// One refinement step into `next`. New point j of old point k's mask is new point base_k + j,
+/// base_k = Σ_{i<k} |π(label_i)|. Masks are accumulated in a cache-sized window; the new points
+/// before base_k are final once point k is reached, and are written out once.
 fn step<S: CurveScheme, const D: usize>(
     scheme: &S,
     t: &CurveTables<'_>,
     cur: &Curve<D>,
     words: &[u32],
-) -> (Curve<D>, Vec<u32>) {
+    next: &mut Curve<D>,
+    next_words: &mut Vec<u32>,
+    window: &mut Vec<[f64; D]>,
+) {
     let d = t.degree;
-    let mut offsets = Vec::with_capacity(cur.labels.len() + 1);
-    let mut labels = Vec::new();
-    offsets.push(0usize);
+    next.labels.clear();
     for &s in &cur.labels {
-        labels.extend_from_slice(t.rule(s));
-        offsets.push(labels.len());
+        next.labels.extend_from_slice(t.rule(s));
     }
-    let total = labels.len();
-    let m = cur.points.len();
-    // Buffer long enough for every mask without wrapping.
-    let span = (0..m)
-        .map(|k| offsets[k] + t.mask_range(words[k] as usize).len())
+    let total = next.labels.len();
+    let longest = (0..t.word_count())
+        .map(|w| t.mask_range(w).len())
         .max()
-        .unwrap_or(0)
-        .max(total);
-    let mut out = vec![[0.0; D]; span];
-    let mut out_words = vec![0u32; span];
-    for k in 0..m {
-        let base = offsets[k];
-        let w = words[k];
-        scheme.diffuse(w, &cur.points[k], &mut out[base..]);
+        .unwrap_or(0);
+    next.points.clear();
+    next.points.reserve(total + longest);
+    next_words.clear();
+    next_words.resize(total + longest, 0);
+    window.clear();
+    window.resize(WINDOW + longest, [0.0; D]);
+    let mut w0 = 0; // new index of window[0]
+    let mut base = 0;
+    let mut end = 0;
+    for ((p, &w), &s) in cur.points.iter().zip(words).zip(&cur.labels) {
         let range = t.mask_range(w as usize);
-        out_words[base..base + range.len()].copy_from_slice(&t.mask_words[range]);
+        if base + range.len() > w0 + window.len() {
+            // Points before `base` are final: write them, slide the window.
+            let done = base - w0;
+            next.points.extend_from_slice(&window[..done]);
+            window.copy_within(done.., 0);
+            let keep = window.len() - done;
+            window[keep..].fill([0.0; D]);
+            w0 = base;
+        }
+        scheme.diffuse(w, p, &mut window[base - w0..]);
+        end = end.max(base + range.len());
+        next_words[base..base + range.len()].copy_from_slice(&t.mask_words[range]);
+        base += t.rule(s).len();
     }
+    next.points.extend_from_slice(&window[..end - w0]);
+    next_words.truncate(end);
     if cur.closed {
         // New point l ≥ total is point l − total of the cycle.
-        for i in total..span {
-            let v = out[i];
+        for i in total..end {
+            let v = next.points[i];
             for c in 0..D {
-                out[i - total][c] += v[c];
+                next.points[i - total][c] += v[c];
             }
-            out_words[i - total] = out_words[i];
+            next_words[i - total] = next_words[i];
         }
-        out.truncate(total);
-        out_words.truncate(total);
-        (
-            Curve {
-                points: out,
-                labels,
-                closed: true,
-            },
-            out_words,
-        )
+        next.points.truncate(total);
+        next_words.truncate(total);
+        next.closed = true;
     } else {
-        // Keep the new points all of whose parents exist: l ∈ [offsets[d] − d, offsets[m]).
-        let (lo, hi) = (offsets[d] - d, offsets[m]);
-        (
-            Curve {
-                points: out[lo..hi].to_vec(),
-                labels: labels[lo..hi + d].to_vec(),
-                closed: false,
-            },
-            out_words[lo..hi].to_vec(),
-        )
+        // Keep the new points all of whose parents exist: l ∈ [Σ_{i<d}|π(label_i)| − d, base).
+        let lo = cur.labels[..d]
+            .iter()
+            .map(|&s| t.rule(s).len())
+            .sum::<usize>()
+            - d;
+        next.points.truncate(base);
+        next.points.drain(..lo);
+        next_words.truncate(base);
+        next_words.drain(..lo);
+        next.labels.truncate(base + d);
+        next.labels.drain(..lo);
+        next.closed = false;
     }
 }

@@ -12,7 +12,7 @@ pub mod real;
 pub mod surface;
 pub mod topology;
 
-pub use curve::{refine, Curve, CurveError, CurveScheme, CurveTables};
+pub use curve::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`.
 ///
