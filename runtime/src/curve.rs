@@ -371,9 +371,9 @@ fn step<S: CurveScheme, const D: usize>(
     if cur.closed {
         // New point l ≥ total is point l − total of the cycle.
         for i in total..end {
-            let v = next.points[i];
-            for c in 0..D {
-                next.points[i - total][c] += v[c];
+                        let v = next.points[i];
+            for (o, x) in next.points[i - total].iter_mut().zip(v) {
+                *o += x;
             }
             next_words[i - total] = next_words[i];
         }
