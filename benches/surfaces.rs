@@ -30,7 +30,30 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// Exact compilation time of every shipped scheme (analysis, masks, certificates, EV analysis,
+/// codegen), median of 5, in milliseconds.
+fn compile_times() {
+    println!("| scheme | exact compile (ms) |");
+    println!("|---|---|");
+    for name in lsubdiv::builtin_names() {
+        let mut times: Vec<f64> = (0..5)
+            .map(|_| {
+                let t = std::time::Instant::now();
+                let r = lsubdiv::resolve(name).expect("shipped scheme");
+                let s = lsubdiv::compiler::Scheme::build(r.ls).expect("compiles");
+                let surface = lsubdiv::compiler::ev::analyse(&s).ok();
+                std::hint::black_box(lsubdiv::compiler::codegen::generate_with(&s, surface.as_ref()));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        println!("| {name} | {:.1} |", times[2]);
+    }
+    println!();
+}
+
 fn main() {
+    compile_times();
     let reps = if std::env::var_os("LSUBDIV_BENCH_QUICK").is_some() {
         1
     } else {
