@@ -42,7 +42,10 @@ fn compile_times() {
                 let r = lsubdiv::resolve(name).expect("shipped scheme");
                 let s = lsubdiv::compiler::Scheme::build(r.ls).expect("compiles");
                 let surface = lsubdiv::compiler::ev::analyse(&s).ok();
-                std::hint::black_box(lsubdiv::compiler::codegen::generate_with(&s, surface.as_ref()));
+                std::hint::black_box(lsubdiv::compiler::codegen::generate_with(
+                    &s,
+                    surface.as_ref(),
+                ));
                 t.elapsed().as_secs_f64() * 1e3
             })
             .collect();

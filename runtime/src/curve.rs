@@ -371,7 +371,7 @@ fn step<S: CurveScheme, const D: usize>(
     if cur.closed {
         // New point l ≥ total is point l − total of the cycle.
         for i in total..end {
-                        let v = next.points[i];
+            let v = next.points[i];
             for (o, x) in next.points[i - total].iter_mut().zip(v) {
                 *o += x;
             }

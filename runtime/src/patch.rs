@@ -161,34 +161,34 @@ impl Base {
     }
 }
 
-/// One level of patches: face f's grid point (x, y) is at `data[((f·(N+1) + y)·(N+1) + x)·3 ..]`.
-struct Level<T> {
-    n: i64,
-    data: Vec<T>,
+/// One level, stored once per point in that level's final numbering ([`Numbering`]).
+#[derive(Clone, Copy)]
+struct Level<'a, T> {
+    num: &'a Numbering,
+    data: &'a [[T; 3]],
 }
 
-impl<T: Real> Level<T> {
-    fn empty() -> Level<T> {
-        Level {
-            n: 0,
-            data: Vec::new(),
-        }
+impl<T: Real> Level<'_, T> {
+    fn n(&self) -> i64 {
+        self.num.n
     }
 
-    fn side(&self) -> usize {
-        self.n as usize + 1
+    fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
+        &self.data[self.num.index(f as usize, x, y).0]
     }
 
-    fn point(&self, f: u32, x: i64, y: i64) -> &[T] {
-        let s = self.side();
-        let i = ((f as usize * s + y as usize) * s + x as usize) * 3;
-        &self.data[i..i + 3]
+    /// Points x = 1..N−1 of interior row y (1 ≤ y < N) of face f.
+    fn interior_row(&self, f: u32, y: i64) -> &[[T; 3]] {
+        let k = (self.n() - 1) as usize;
+        let (first, _) = self.num.index(f as usize, 1, 1);
+        let s = first + (y - 1) as usize * k;
+        &self.data[s..s + k]
     }
 
     /// The point `inward` steps into face g from its local edge `gl`, at parameter u along that
     /// edge (from corner gl).
-    fn inward(&self, g: u32, gl: u8, u: i64, inward: i64) -> &[T] {
-        let n = self.n;
+    fn inward(&self, g: u32, gl: u8, u: i64, inward: i64) -> &[T; 3] {
+        let n = self.n();
         let (x, y) = match gl {
             0 => (u, inward),
             1 => (n - inward, u),
@@ -331,17 +331,20 @@ pub struct Refiner<'s, S, T> {
     scheme: &'s S,
     mesh: QuadMesh,
     base: Base,
-    steps: usize,
     /// Steps run by the reference driver (masks not contained, EVs present).
     first: usize,
     plans: Vec<Plan>,
     alphas: Vec<f64>,
-    numbering: Numbering,
+    /// The numbering of every level: after the reference steps, then after each plan.
+    numberings: Vec<Numbering>,
     threads: usize,
-    levels: [Level<T>; 2],
-    output: Vec<[T; 3]>,
+    /// Two levels' points (ping-pong); the last refine's output is `levels[out]`.
+    levels: [Vec<[T; 3]>; 2],
+    out: usize,
     /// Wall time of each step of the last `refine` (the reference steps as one entry).
     level_seconds: Vec<f64>,
+    /// One scratch per worker, kept across steps and calls (no fresh pages per step).
+    scratch: Vec<Scratch<T>>,
 }
 
 impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
@@ -371,8 +374,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             word = t_rewrite(&t, &word);
         }
         let mut plans = Vec::new();
+        let mut numberings = vec![Numbering::new(&base.topo, word.len() as i64)];
         for _ in first..steps {
-            plans.push(Plan::new(&t, &lookup, &word)?);
+            let plan = Plan::new(&t, &lookup, &word)?;
+            numberings.push(Numbering::new(&base.topo, plan.n_new));
+            plans.push(plan);
             word = t_rewrite(&t, &word);
         }
         let alphas = base
@@ -386,27 +392,25 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
             })
             .collect::<Result<_, _>>()?;
-        let numbering = Numbering::new(&base.topo, word.len() as i64);
-        let output = vec![[T::default(); 3]; numbering.len()];
         Ok(Refiner {
             scheme,
             mesh: mesh.clone(),
             base,
-            steps,
             first,
             plans,
             alphas,
-            numbering,
+            numberings,
             threads: threads.max(1),
-            levels: [Level::empty(), Level::empty()],
-            output,
+            levels: [Vec::new(), Vec::new()],
+            out: 0,
             level_seconds: Vec::new(),
+            scratch: Vec::new(),
         })
     }
 
     /// Number of output vertices.
     pub fn output_vertices(&self) -> usize {
-        self.output.len()
+        self.numberings.last().map_or(0, Numbering::len)
     }
 
     /// Wall time of each step of the last `refine`, in seconds (steps run by the reference
@@ -415,13 +419,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         &self.level_seconds
     }
 
-    /// Bytes held by the level buffers and the output (the refiner's working memory).
+    /// Bytes held by the two level buffers (the last holds the output).
     pub fn buffer_bytes(&self) -> usize {
-        let size = std::mem::size_of::<T>();
-        (self.levels[0].data.capacity()
-            + self.levels[1].data.capacity()
-            + self.output.capacity() * 3)
-            * size
+        (self.levels[0].capacity() + self.levels[1].capacity()) * std::mem::size_of::<[T; 3]>()
     }
 
     /// Refines new positions of the base vertices; returns the output positions.
@@ -435,107 +435,67 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let clock = std::time::Instant::now();
         let lm = LabelledMesh::with_axiom(&t, self.mesh.clone())?;
         let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
-        lift(&t, &coarse.mesh, nf, self.first, &mut self.levels[0]);
+        lift(
+            &t,
+            &coarse.mesh,
+            self.first,
+            &self.numberings[0],
+            &mut self.levels[0],
+        );
         if self.first > 0 {
             self.level_seconds.push(clock.elapsed().as_secs_f64());
         }
         let workers = self.threads.min(nf).max(1);
         let chunk = nf.div_ceil(workers);
+        self.scratch.resize_with(workers, Scratch::default);
+        let mut cur = 0;
         for (i, plan) in self.plans.iter().enumerate() {
             let clock = std::time::Instant::now();
             let s = self.first + i;
             let ring = st.rings[s.min(st.rings.len() - 1)];
-            let last = s + 1 == self.steps;
-            let [old, new] = &mut self.levels;
-            let (scheme, base) = (self.scheme, &self.base);
-            if last {
-                let out = SharedOut {
-                    ptr: self.output.as_mut_ptr(),
-                    len: self.output.len(),
-                };
-                let (out, numbering, old) = (&out, &self.numbering, &*old);
-                std::thread::scope(|sc| {
-                    for k in 0..workers {
-                        sc.spawn(move || {
-                            let mut scratch = Scratch::default();
-                            let bs = block_size(old.n);
-                            let (lo, hi) = (k * chunk, ((k + 1) * chunk).min(nf));
-                            for b in (lo..hi).step_by(bs) {
-                                let faces = b..(b + bs).min(hi);
-                                refine_block(scheme, plan, base, old, faces.clone(), &mut scratch);
-                                let kk = faces.len();
-                                for (j, f) in faces.enumerate() {
-                                    let rows = |yn| &scratch.b[block_row(plan, kk, j, yn)];
-                                    scatter(numbering, f, rows, out);
-                                }
+            let [a, b] = &mut self.levels;
+            let (old_data, new_data) = if cur == 0 { (&*a, b) } else { (&*b, a) };
+            let old = Level {
+                num: &self.numberings[i],
+                data: old_data,
+            };
+            let new_num = &self.numberings[i + 1];
+            new_data.resize(new_num.len(), [T::default(); 3]);
+            let out = SharedOut {
+                ptr: new_data.as_mut_ptr(),
+                len: new_data.len(),
+            };
+            let (scheme, base, out) = (self.scheme, &self.base, &out);
+            std::thread::scope(|sc| {
+                for (k, scratch) in self.scratch.iter_mut().enumerate() {
+                    sc.spawn(move || {
+                        let bs = block_size(old.n());
+                        let (lo, hi) = (k * chunk, ((k + 1) * chunk).min(nf));
+                        for b in (lo..hi).step_by(bs) {
+                            let faces = b..(b + bs).min(hi);
+                            refine_block(scheme, plan, base, old, faces.clone(), scratch);
+                            let kk = faces.len();
+                            for (j, f) in faces.enumerate() {
+                                let rows = |yn| &scratch.b[block_row(plan, kk, j, yn)];
+                                scatter(new_num, f, rows, out);
                             }
-                        });
-                    }
-                });
-                for (&v, &alpha) in base.evs.iter().zip(&self.alphas) {
-                    self.output[v as usize] = ev_child(base, old, v, alpha, ring);
+                        }
+                    });
                 }
-            } else {
-                let side = plan.n_new as usize + 1;
-                let per_face = side * side * 3;
-                new.n = plan.n_new;
-                new.data.resize(nf * per_face, T::default());
-                std::thread::scope(|sc| {
-                    for (k, out) in new.data.chunks_mut(chunk * per_face).enumerate() {
-                        let old = &*old;
-                        sc.spawn(move || {
-                            let mut scratch = Scratch::default();
-                            let bs = block_size(old.n);
-                            for (j, patches) in out.chunks_mut(bs * per_face).enumerate() {
-                                let f0 = k * chunk + j * bs;
-                                let kk = patches.len() / per_face;
-                                refine_block(scheme, plan, base, old, f0..f0 + kk, &mut scratch);
-                                let row = side * 3;
-                                for (jj, patch) in patches.chunks_mut(per_face).enumerate() {
-                                    for (yn, dst) in patch.chunks_mut(row).enumerate() {
-                                        dst.copy_from_slice(
-                                            &scratch.b[block_row(plan, kk, jj, yn)],
-                                        );
-                                    }
-                                }
-                            }
-                        });
-                    }
-                });
-                for (&v, &alpha) in base.evs.iter().zip(&self.alphas) {
-                    let p = ev_child(base, old, v, alpha, ring);
-                    for w in base.topo.rotation(v) {
-                        let (x, y) = corner_at(w.corner, new.n);
-                        let i = ((w.face as usize * side + y as usize) * side + x as usize) * 3;
-                        new.data[i..i + 3].copy_from_slice(&p);
-                    }
-                }
-                self.levels.swap(0, 1);
+            });
+            for (&v, &alpha) in base.evs.iter().zip(&self.alphas) {
+                new_data[v as usize] = ev_child(base, old, v, alpha, ring);
             }
+            cur = 1 - cur;
             self.level_seconds.push(clock.elapsed().as_secs_f64());
         }
-        if self.plans.is_empty() {
-            // Every step ran in the reference driver (or none at all): number the patches.
-            let level = &self.levels[0];
-            let side = level.side();
-            let out = SharedOut {
-                ptr: self.output.as_mut_ptr(),
-                len: self.output.len(),
-            };
-            for f in 0..nf {
-                let rows = |y: usize| {
-                    let s = ((f * side) + y) * side * 3;
-                    &level.data[s..s + side * 3]
-                };
-                scatter(&self.numbering, f, rows, &out);
-            }
-        }
-        Ok(&self.output)
+        self.out = cur;
+        Ok(&self.levels[cur])
     }
 
     /// The output quads (every face of the base mesh becomes an N × N grid).
     pub fn faces(&self) -> Vec<[u32; 4]> {
-        let num = &self.numbering;
+        let num = self.numberings.last().expect("at least one level");
         let n = num.n;
         let mut faces = Vec::with_capacity(self.mesh.faces.len() * (n * n) as usize);
         for f in 0..self.mesh.faces.len() {
@@ -606,14 +566,20 @@ pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
     })
 }
 
-/// Patches of the base faces from a mesh refined `k` times by the reference driver, whose faces
-/// come old face by old face, row by row: each face is tracked by its base face and its offset in
-/// that face's grid (W_k × W_k, from corner 0).
-fn lift<T: Real>(t: &CurveTables<'_>, mesh: &QuadMesh, nf: usize, k: usize, level: &mut Level<T>) {
+/// The level of a mesh refined `k` times by the reference driver, in the numbering `num`. Its
+/// faces come old face by old face, row by row: each face is tracked by its base face and its
+/// offset in that face's grid (W_k × W_k, from corner 0).
+fn lift<T: Real>(
+    t: &CurveTables<'_>,
+    mesh: &QuadMesh,
+    k: usize,
+    num: &Numbering,
+    data: &mut Vec<[T; 3]>,
+) {
+    let nf = num.edges.len();
     let mut cells: Vec<(u32, i64, i64, u8, u8)> = (0..nf as u32)
         .map(|f| (f, 0, 0, t.axiom[0], t.axiom[0]))
         .collect();
-    let mut n = 1i64;
     let mut word = t.axiom.to_vec();
     for _ in 0..k {
         let mut off = vec![0i64];
@@ -632,22 +598,15 @@ fn lift<T: Real>(t: &CurveTables<'_>, mesh: &QuadMesh, nf: usize, k: usize, leve
                 })
             })
             .collect();
-        n = *off.last().unwrap_or(&1);
         word = t_rewrite(t, &word);
     }
-    let side = n as usize + 1;
-    level.n = n;
-    level.data.clear();
-    level.data.resize(nf * side * side * 3, T::default());
-    let data = &mut level.data;
+    data.clear();
+    data.resize(num.len(), [T::default(); 3]);
     for (cell, quad) in cells.iter().zip(&mesh.faces) {
         let (f, x, y, _, _) = *cell;
         for (c, (dx, dy)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
-            let i = ((f as usize * side + (y + dy) as usize) * side + (x + dx) as usize) * 3;
-            let p = mesh.positions[quad[c] as usize];
-            for (d, v) in data[i..i + 3].iter_mut().zip(p) {
-                *d = T::from_f64(v);
-            }
+            let i = num.index(f as usize, x + dx, y + dy).0;
+            data[i] = mesh.positions[quad[c] as usize].map(T::from_f64);
         }
     }
 }
@@ -658,11 +617,17 @@ fn t_rewrite(t: &CurveTables<'_>, w: &[u8]) -> Vec<u8> {
 }
 
 /// The EV child from the old 1-ring: (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)).
-fn ev_child<T: Real>(base: &Base, level: &Level<T>, v: u32, alpha: f64, ring: [f64; 2]) -> [T; 3] {
-    let n = level.n;
+fn ev_child<T: Real>(
+    base: &Base,
+    level: Level<'_, T>,
+    v: u32,
+    alpha: f64,
+    ring: [f64; 2],
+) -> [T; 3] {
+    let n = level.n();
     let rot = base.topo.rotation(v);
     let mut acc = [0.0f64; 3];
-    let mut add = |p: &[T], w: f64| {
+    let mut add = |p: &[T; 3], w: f64| {
         for (a, x) in acc.iter_mut().zip(p) {
             *a += w * x.to_f64();
         }
@@ -691,35 +656,34 @@ fn refine_block<S: CurveScheme, T: Real>(
     scheme: &S,
     plan: &Plan,
     base: &Base,
-    level: &Level<T>,
+    level: Level<'_, T>,
     faces: std::ops::Range<usize>,
     sc: &mut Scratch<T>,
 ) {
     const L: usize = 3;
-    let n = level.n;
+    let n = level.n();
     let k = faces.len();
     let m = (n + 3) as usize; // extended side: x = −1..=N+1
                               // ext[x][face][y]: x-major, then patch, then y; three values each.
     sc.ext.clear();
     sc.ext.resize(m * k * m * L, T::default());
-    let side_old = n as usize + 1;
-    let x_stride = k * m * L;
     for (fi, f) in faces.clone().enumerate() {
-        // Interior: row y of the patch goes to ext[x + 1][fi][y + 1] for every x.
-        let size = side_old * side_old * L;
-        let patch = &level.data[f * size..(f + 1) * size];
-        for (y, row) in patch.chunks_exact(side_old * L).enumerate() {
-            let mut d = x_stride + (fi * m + y + 1) * L;
-            for p in row.chunks_exact(L) {
-                sc.ext[d..d + L].copy_from_slice(p);
-                d += x_stride;
-            }
-        }
         let f = f as u32;
-        let mut put = |x: i64, y: i64, p: &[T]| {
+        let mut put = |x: i64, y: i64, p: &[T; 3]| {
             let i = ((((x + 1) as usize) * k + fi) * m + (y + 1) as usize) * L;
             sc.ext[i..i + L].copy_from_slice(p);
         };
+        // The patch: interior rows as slices, the boundary point by point.
+        for y in 1..n {
+            for (x, p) in level.interior_row(f, y).iter().enumerate() {
+                put(x as i64 + 1, y, p);
+            }
+        }
+        for t in 0..=n {
+            for (x, y) in [(t, 0), (t, n), (0, t), (n, t)] {
+                put(x, y, level.point(f, x, y));
+            }
+        }
         // The ring along the four edges: local edge l runs from corner l to l+1.
         for l in 0..4u8 {
             let (g, gl, back) = base.across[f as usize][l as usize];
