@@ -679,9 +679,25 @@ fn refine_block<S: CurveScheme, T: Real>(
                 put(x as i64 + 1, y, p);
             }
         }
-        for t in 0..=n {
-            for (x, y) in [(t, 0), (t, n), (0, t), (n, t)] {
-                put(x, y, level.point(f, x, y));
+        // Corners, then each edge as a run (forward or backward in the numbering).
+        let num = level.num;
+        let kk = (n - 1) as usize;
+        for c in 0..4u8 {
+            let (x, y) = corner_at(c, n);
+            put(
+                x,
+                y,
+                &level.data[num.vertex[f as usize][c as usize] as usize],
+            );
+        }
+        for l in 0..4u8 {
+            let (e, forward, _) = num.edges[f as usize][l as usize];
+            let base = num.nv + e as usize * kk;
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            for t in 1..n {
+                let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
+                put(cx + t * dx, cy + t * dy, &level.data[i]);
             }
         }
         // The ring along the four edges: local edge l runs from corner l to l+1.
@@ -693,11 +709,21 @@ fn refine_block<S: CurveScheme, T: Real>(
             let (ox, oy) = TOWARD_PREV[l as usize];
             for t in 0..=n {
                 let u = if back { n - t } else { t };
-                put(
-                    cx + t * dx - ox,
-                    cy + t * dy - oy,
-                    level.inward(g, gl, u, 1),
-                );
+                let p = if u == 0 || u == n {
+                    level.inward(g, gl, u, 1)
+                } else {
+                    // Inside g: a row or column of its interior block, next to edge gl.
+                    let (first, _) = num.index(g as usize, 1, 1);
+                    let (u, k) = (u as usize, kk);
+                    let i = match gl {
+                        0 => first + u - 1,
+                        1 => first + (u - 1) * k + (k - 1),
+                        2 => first + (k - 1) * k + (k - u),
+                        _ => first + (k - u) * k,
+                    };
+                    &level.data[i]
+                };
+                put(cx + t * dx - ox, cy + t * dy - oy, p);
             }
         }
         // Corners: the diagonal point across an ordinary vertex; none at an EV.
