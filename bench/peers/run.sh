@@ -191,6 +191,7 @@ say
 say "### accuracy (torus, ${LEVELS[torus]:-3} levels; vertices matched by position, tolerance 1e-9; required <= 1e-12 vs OpenSubdiv)"
 ACC="$WORK/accuracy.txt"
 : >"$ACC"
+[ ${#PEERS[@]} = 0 ] && say "(no peer was built: nothing to compare)"
 for peer in "${PEERS[@]}"; do
     if [ -f "$WORK/torus-lsubdiv.bin" ] && [ -f "$WORK/torus-$peer.bin" ]; then
         "$LS" compare --a "$WORK/torus-lsubdiv.bin" --b "$WORK/torus-$peer.bin" \
