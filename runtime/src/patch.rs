@@ -215,12 +215,12 @@ struct Numbering {
     nv: usize,
     ne: usize,
     /// Per face and local edge: the edge id, whether its points run from corner l, and whether
-    /// this face writes them (the first face of the edge does).
-    edges: Vec<[(u32, bool, bool); 4]>,
+    /// this face writes them (the first face of the edge does). Shared by every level.
+    edges: std::sync::Arc<[[(u32, bool, bool); 4]]>,
     /// Per face corner: whether this face writes the vertex (its first face does).
-    corners: Vec<[bool; 4]>,
+    corners: std::sync::Arc<[[bool; 4]]>,
     /// Vertex of each face corner.
-    vertex: Vec<[u32; 4]>,
+    vertex: std::sync::Arc<[[u32; 4]]>,
 }
 
 impl Numbering {
@@ -255,9 +255,21 @@ impl Numbering {
             n,
             nv: topo.vertex_count(),
             ne: topo.edge_count(),
-            edges,
-            corners,
-            vertex,
+            edges: edges.into(),
+            corners: corners.into(),
+            vertex: vertex.into(),
+        }
+    }
+
+    /// The same mesh's numbering at another N (the ownership tables are shared).
+    fn with_n(&self, n: i64) -> Numbering {
+        Numbering {
+            n,
+            nv: self.nv,
+            ne: self.ne,
+            edges: self.edges.clone(),
+            corners: self.corners.clone(),
+            vertex: self.vertex.clone(),
         }
     }
 
@@ -377,7 +389,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let mut numberings = vec![Numbering::new(&base.topo, word.len() as i64)];
         for _ in first..steps {
             let plan = Plan::new(&t, &lookup, &word)?;
-            numberings.push(Numbering::new(&base.topo, plan.n_new));
+            numberings.push(numberings[0].with_n(plan.n_new));
             plans.push(plan);
             word = t_rewrite(&t, &word);
         }
@@ -433,16 +445,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.mesh.positions.extend_from_slice(positions);
         self.level_seconds.clear();
         let clock = std::time::Instant::now();
-        let lm = LabelledMesh::with_axiom(&t, self.mesh.clone())?;
-        let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
-        lift(
-            &t,
-            &coarse.mesh,
-            self.first,
-            &self.numberings[0],
-            &mut self.levels[0],
-        );
-        if self.first > 0 {
+        if self.first == 0 {
+            lift(&t, &self.mesh, 0, &self.numberings[0], &mut self.levels[0]);
+        } else {
+            let lm = LabelledMesh::with_axiom(&t, self.mesh.clone())?;
+            let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
+            lift(
+                &t,
+                &coarse.mesh,
+                self.first,
+                &self.numberings[0],
+                &mut self.levels[0],
+            );
             self.level_seconds.push(clock.elapsed().as_secs_f64());
         }
         let workers = self.threads.min(nf).max(1);
