@@ -1,0 +1,85 @@
+//! Criterion benchmarks of the surface kernel: `Refiner::refine` (positions only, buffers
+//! reused) on a 64×64 torus, generated against generic kernels, f64 and f32.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use lsubdiv::runtime::generators::torus;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::patch::Refiner;
+use lsubdiv::runtime::real::Real;
+use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
+use std::time::Duration;
+
+/// Benchmarks `Refiner::refine` for one scheme type.
+struct Bench<'a, 'c, T> {
+    group: &'a mut criterion::BenchmarkGroup<'c, criterion::measurement::WallTime>,
+    id: BenchmarkId,
+    mesh: &'a QuadMesh,
+    steps: usize,
+    _t: std::marker::PhantomData<T>,
+}
+
+impl<T: Real> SurfaceVisitor for Bench<'_, '_, T> {
+    type Output = ();
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) {
+        let mut r = Refiner::<S, T>::new(scheme, self.mesh, self.steps, 1).expect("refiner");
+        r.refine(&self.mesh.positions).expect("refines");
+        self.group
+            .throughput(Throughput::Elements(r.output_vertices() as u64));
+        self.group.bench_function(self.id, |b| {
+            b.iter(|| {
+                r.refine(&self.mesh.positions)
+                    .map(|p| p.len())
+                    .expect("refines")
+            })
+        });
+    }
+}
+
+fn kernels(c: &mut Criterion) {
+    let mesh = torus(64, 64);
+    let mut group = c.benchmark_group("surface");
+    group
+        .measurement_time(Duration::from_secs(3))
+        .sample_size(20);
+    for (name, steps) in [
+        ("uniform-binary", 3),
+        ("binary-ternary", 2),
+        ("fibonacci", 4),
+    ] {
+        let generic = lsubdiv::bench::surface(name).expect("surface scheme");
+        for f32 in [false, true] {
+            let scalar = if f32 { "f32" } else { "f64" };
+            macro_rules! run {
+                ($t:ty) => {{
+                    let id = BenchmarkId::new(format!("generated/{scalar}"), name);
+                    let b = Bench::<$t> {
+                        group: &mut group,
+                        id,
+                        mesh: &mesh,
+                        steps,
+                        _t: Default::default(),
+                    };
+                    lsubdiv::generated::visit_surface(name, b).expect("generated scheme");
+                    let id = BenchmarkId::new(format!("generic/{scalar}"), name);
+                    let b = Bench::<$t> {
+                        group: &mut group,
+                        id,
+                        mesh: &mesh,
+                        steps,
+                        _t: Default::default(),
+                    };
+                    b.visit(&generic);
+                }};
+            }
+            if f32 {
+                run!(f32)
+            } else {
+                run!(f64)
+            }
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, kernels);
+criterion_main!(benches);
