@@ -35,6 +35,31 @@ impl<T: Real> SurfaceVisitor for Bench<'_, '_, T> {
     }
 }
 
+/// The generated and the generic refiner of one scheme, positions of type T.
+fn both<T: Real>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    mesh: &QuadMesh,
+    name: &str,
+    steps: usize,
+    scalar: &str,
+) {
+    let generic = lsubdiv::bench::surface(name).expect("surface scheme");
+    for path in ["generated", "generic"] {
+        let b = Bench::<T> {
+            group: &mut *group,
+            id: BenchmarkId::new(format!("{path}/{scalar}"), name),
+            mesh,
+            steps,
+            _t: std::marker::PhantomData,
+        };
+        if path == "generated" {
+            lsubdiv::generated::visit_surface(name, b).expect("generated scheme");
+        } else {
+            b.visit(&generic);
+        }
+    }
+}
+
 fn kernels(c: &mut Criterion) {
     let mesh = torus(64, 64);
     let mut group = c.benchmark_group("surface");
@@ -46,37 +71,8 @@ fn kernels(c: &mut Criterion) {
         ("binary-ternary", 2),
         ("fibonacci", 4),
     ] {
-        let generic = lsubdiv::bench::surface(name).expect("surface scheme");
-        for f32 in [false, true] {
-            let scalar = if f32 { "f32" } else { "f64" };
-            macro_rules! run {
-                ($t:ty) => {{
-                    let id = BenchmarkId::new(format!("generated/{scalar}"), name);
-                    let b = Bench::<$t> {
-                        group: &mut group,
-                        id,
-                        mesh: &mesh,
-                        steps,
-                        _t: Default::default(),
-                    };
-                    lsubdiv::generated::visit_surface(name, b).expect("generated scheme");
-                    let id = BenchmarkId::new(format!("generic/{scalar}"), name);
-                    let b = Bench::<$t> {
-                        group: &mut group,
-                        id,
-                        mesh: &mesh,
-                        steps,
-                        _t: Default::default(),
-                    };
-                    b.visit(&generic);
-                }};
-            }
-            if f32 {
-                run!(f32)
-            } else {
-                run!(f64)
-            }
-        }
+        both::<f64>(&mut group, &mesh, name, steps, "f64");
+        both::<f32>(&mut group, &mesh, name, steps, "f32");
     }
     group.finish();
 }
