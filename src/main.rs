@@ -519,5 +519,27 @@ fn demo() -> Result<(), Failure> {
             message: "internal error: generic and generated paths differ".into(),
         });
     }
+    // A surface: the cube (eight 3-valent EVs), three Binary-Ternary steps, both paths.
+    let cube = lsubdiv::runtime::generators::cube();
+    let surface =
+        lsubdiv_compiler::generic::GenericSurface::new(build(&load("binary-ternary", None)?)?)?;
+    let generic = lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, &cube, 3, 2)
+        .map_err(|e| bad(e.to_string()))?;
+    let generated = lsubdiv::generated::subdivide::<f64>("binary-ternary", &cube, 3, 1)
+        .ok_or_else(|| bad("binary-ternary is not generated".into()))?
+        .map_err(|e| bad(e.to_string()))?;
+    let same = generic == generated;
+    println!(
+        "refined the cube 3 times with binary-ternary: {} vertices, {} quads; generic (2 threads) and generated (1 thread) paths {}",
+        generic.positions.len(),
+        generic.faces.len(),
+        if same { "agree bit for bit" } else { "DIFFER" }
+    );
+    if !same {
+        return Err(Failure {
+            code: 1,
+            message: "internal error: generic and generated surface paths differ".into(),
+        });
+    }
     Ok(())
 }
