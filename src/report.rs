@@ -29,6 +29,27 @@ fn source_name(s: LengthSource) -> &'static str {
     }
 }
 
+/// The surface verdict of [G] §4 for `inspect`: the conditions with the step each starts from,
+/// or the reason the scheme is refused for surfaces.
+fn surface_json(ls: &LSystem, scheme: Option<&Scheme>) -> Value {
+    let Some(s) = scheme else {
+        return json!({ "ready": false, "reason": "no masks (invalid L-system or undetermined lengths)" });
+    };
+    match lsubdiv_compiler::ev::analyse(s) {
+        Ok(a) => json!({
+            "ready": true,
+                        "sigma": ls.symbols.iter().zip(&a.sigma)
+                .map(|(s, &t)| (s.clone(), Value::String(ls.symbols[t as usize].clone())))
+                .collect::<serde_json::Map<String, Value>>(),
+            "sigma_declared": a.declared,
+            "involutions": a.involutions.len(),
+            "stationary_from": a.stationary_from,
+            "contained_from": a.contained_from,
+        }),
+        Err(e) => json!({ "ready": false, "reason": e.to_string() }),
+    }
+}
+
 /// The JSON object of `inspect --json`. `scheme` is None when the L-system is invalid or its
 /// lengths are undetermined (no masks then).
 pub fn json(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> Value {
@@ -105,8 +126,9 @@ pub fn json(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> Value {
         "lengths_source": a.lengths.as_ref().map(|(_, s)| source_name(*s)),
         "lengths_problem": a.lengths_problem,
         "left_eigenvectors": a.left.iter().map(|v| per_symbol(ls, v)).collect::<Vec<_>>(),
-        "masks": masks,
+                "masks": masks,
         "sccs": sccs,
+        "surface": surface_json(ls, scheme),
     })
 }
 
@@ -186,6 +208,18 @@ pub fn text(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> String {
                     format!("{:.17}", c.weight.to_f64()),
                     c.weight
                 );
+            }
+        }
+        match lsubdiv_compiler::ev::analyse(sc) {
+            Ok(a) => {
+                let _ = writeln!(
+                    w,
+                    "surfaces ([G] §4): ready; EV configuration stationary from step {} (Lemma 4.6 / Prop. 4.7), masks contained from step {} (Prop. 4.8)",
+                    a.stationary_from, a.contained_from
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(w, "surfaces ([G] §4): refused: {e}");
             }
         }
         for (i, c) in sc.graph.sccs.iter().enumerate() {

@@ -43,6 +43,22 @@ fn inspect_json_has_the_documented_fields() {
     assert_eq!(c[2]["weight"], 0.75);
     assert_eq!(c[2]["child"], true);
     assert_eq!(c[1]["child"], false);
+    // [G] §3.2.2 / §4.2: stationary from the fourth step (our step 3), contained from the first.
+    let s = &v["surface"];
+    assert_eq!(s["ready"], true);
+    assert_eq!(
+        (s["stationary_from"].as_u64(), s["contained_from"].as_u64()),
+        (Some(3), Some(0))
+    );
+    assert_eq!(s["sigma"]["L"], "R");
+    assert_eq!(s["sigma"]["C"], "D");
+    let o = lsubdiv(&["inspect", "fibonacci-curve", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["surface"]["ready"], false);
+    assert!(v["surface"]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("degree 3"));
 }
 
 #[test]
