@@ -6,14 +6,19 @@
 //! refinements: the patch plus a ring of old points gathered from its neighbours is refined
 //! along x, transposed, and refined along y. Each pass is a sequence of slab updates
 //! `dst += w · src` driven by the 1D masks (`CurveScheme::axpy_mask`, specialised with constant
-//! weights in generated code). A ring of width one suffices for d = 3: the halo is checked when
-//! the 1D plan is built.
+//! weights in generated code), clipped to the entries that land in the patch. Patches are
+//! processed in blocks, interleaved so that a slab spans the whole block. A ring of width one
+//! suffices for d = 3: the halo is checked when the 1D plan is built.
+//!
+//! Every level is stored once per point in its final numbering ([`Numbering`]: base vertices,
+//! edge points, face interiors), so a level costs what its unique points cost and the last step
+//! writes the output directly.
 //!
 //! At an EV corner the diagonal point of the ring does not exist (it is left zero): with contained
 //! masks ([G] Prop. 4.8) it could only reach the EV child, which is then set from its 1-ring:
 //! (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)). Steps whose masks are not yet contained
 //! (e.g. Binary-Ternary's first) are run by the reference driver (`surface`) when the mesh has
-//! EVs, on the coarse mesh, and lifted into patches: one semantics for every path.
+//! EVs, on the coarse mesh, and lifted into the numbering: one semantics for every path.
 
 use crate::curve::{CurveScheme, CurveTables};
 use crate::mesh::QuadMesh;
