@@ -77,7 +77,7 @@ enum Command {
         #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
         path: PathChoice,
     },
-    /// α and the spectrum at extraordinary vertices ([G] §4.2.3), per valence.
+    /// α and the spectrum at extraordinary vertices (\[G\] §4.2.3), per valence.
     Ev {
         scheme: String,
         /// A valence `n` or a range `a..b` (inclusive).

@@ -29,7 +29,7 @@ fn source_name(s: LengthSource) -> &'static str {
     }
 }
 
-/// The surface verdict of [G] §4 for `inspect`: the conditions with the step each starts from,
+/// The surface verdict of \[G\] §4 for `inspect`: the conditions with the step each starts from,
 /// or the reason the scheme is refused for surfaces.
 fn surface_json(ls: &LSystem, scheme: Option<&Scheme>) -> Value {
     let Some(s) = scheme else {

@@ -1,4 +1,4 @@
-//! Surfaces ([G]): Catmull–Clark on the torus, tensor products of the curve schemes, affine
+//! Surfaces (\[G\]): Catmull–Clark on the torus, tensor products of the curve schemes, affine
 //! invariance, convexity, counts from the words, EV meshes for 1..6 steps, generic = generated.
 
 mod common;

@@ -55,7 +55,7 @@ pub fn alpha_table(a: &SurfaceAnalysis) -> Result<Vec<f64>, String> {
         .collect()
 }
 
-/// The surface part of a generated file, for schemes that pass [G] §4.2.
+/// The surface part of a generated file, for schemes that pass \[G\] §4.2.
 fn surface_items(s: &Scheme, a: &SurfaceAnalysis) -> TokenStream {
     let sigma = &a.sigma;
     let rings: Vec<Literal> = ring_weights(s).into_iter().map(f64_lit).collect();
@@ -131,7 +131,7 @@ fn surface_items(s: &Scheme, a: &SurfaceAnalysis) -> TokenStream {
 }
 
 /// The generated source of one scheme (items only, so that `include!` accepts it), with its
-/// surface part when the scheme passes [G] §4.2.
+/// surface part when the scheme passes \[G\] §4.2.
 pub fn generate(s: &Scheme) -> String {
     generate_with(s, ev::analyse(s).as_ref().ok())
 }

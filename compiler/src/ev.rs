@@ -1,10 +1,10 @@
-//! Extraordinary vertices ([G] §2.2.2, §4.2): the conditions an L-system needs for surfaces, the
+//! Extraordinary vertices (\[G\] §2.2.2, §4.2): the conditions an L-system needs for surfaces, the
 //! EV configuration step by step, the exact stencils of the stationary 1-ring, and α.
 //!
 //! Every initial edge carries the axiom ω (one symmetric symbol). Read outward from an EV, the
 //! edges of a radial line after s steps carry the *ray* π^s(ω ω ω …); its first (d+1)/2 symbols
 //! are ξ_s and the EV's radial word is σ̄(ξ_s)ξ_s. Lines through an EV continue with the mirrored
-//! labels ([G] §2.2.2: "the labels of edges beyond the EV are … the symmetric symbols").
+//! labels (\[G\] §2.2.2: "the labels of edges beyond the EV are … the symmetric symbols").
 
 use crate::error::Error;
 use crate::field::Elem;
@@ -68,7 +68,7 @@ pub struct SurfaceAnalysis {
     /// Stationary 1-ring stencils, exact.
     pub coefficients: ExactCoefficients,
     /// Stencils of the first step, derived from products of the radial mask entries, when the
-    /// first step is not contained ([G] Fig. 3, eqs. (6)–(7)).
+    /// first step is not contained (\[G\] Fig. 3, eqs. (6)–(7)).
     pub first_step_stencils: Vec<Stencil>,
 }
 

@@ -1,4 +1,4 @@
-//! The exact number field Q(ρ), ρ the Perron root of an L-system's matrix ([N] eq. (4)).
+//! The exact number field Q(ρ), ρ the Perron root of an L-system's matrix (\[N\] eq. (4)).
 //!
 //! A field is its monic minimal polynomial over Q plus an isolating interval of ρ. An element is
 //! its coordinate vector on the power basis 1, ρ, …, ρ^(d−1): canonical, so equality and hashing

@@ -132,7 +132,7 @@ pub struct GenericSurface {
 }
 
 impl GenericSurface {
-    /// Checks the surface conditions ([G] §4) and prepares the tables.
+    /// Checks the surface conditions (\[G\] §4) and prepares the tables.
     pub fn new(scheme: Scheme) -> Result<GenericSurface, Error> {
         let analysis = ev::analyse(&scheme)?;
         let alpha = alpha_table(&analysis).map_err(|e| scheme.ls.error(Part::Rules, e, None))?;

@@ -1,4 +1,4 @@
-//! The decomposition (transition) graph of k-words ([N] §2.2.2, [G] Figs. A.8–A.9).
+//! The decomposition (transition) graph of k-words (\[N\] §2.2.2, \[G\] Figs. A.8–A.9).
 //!
 //! F_0 is the set of k-factors of ω ω ω … (the axiom labels every initial interval); F_{s+1} is
 //! the set of k-factors of π(u), u ∈ F_s (every k-factor of π(W) lies in π of a k-factor of W

@@ -1,8 +1,8 @@
 //! The exact build-time pipeline of lsubdiv: scheme file → L-system → Q(ρ) → lengths → masks →
 //! transition graph → Rust source.
 //!
-//! Papers: [N] Nivoliers, Gérot, Ostromoukhov, Stewart 2012 (univariate);
-//! [G] Gérot, Ivrissimtzis 2023 (bivariate).
+//! Papers: \[N\] Nivoliers, Gérot, Ostromoukhov, Stewart 2012 (univariate);
+//! \[G\] Gérot, Ivrissimtzis 2023 (bivariate).
 
 pub mod codegen;
 pub mod error;

@@ -1,7 +1,7 @@
-//! L-systems as interval-subdivision descriptors ([N] §2.1, [G] §2.1).
+//! L-systems as interval-subdivision descriptors (\[N\] §2.1, \[G\] §2.1).
 //!
 //! Symbols are small integers (`Sym`) indexing [`LSystem::symbols`]; a word is a `Vec<Sym>`.
-//! π rewrites every symbol of a word simultaneously ([N] eq. (1)).
+//! π rewrites every symbol of a word simultaneously (\[N\] eq. (1)).
 
 use crate::error::{Error, Location};
 use std::fmt::Write as _;
@@ -24,7 +24,7 @@ pub struct LSystem {
     pub rules: Vec<Word>,
     /// The axiom ω: the label of every initial interval (repeated).
     pub axiom: Word,
-    /// A declared involution σ over Σ ([G] §4.1), as σ[A].
+    /// A declared involution σ over Σ (\[G\] §4.1): `sigma[a]` is the twin of symbol a.
     pub symmetry: Option<Vec<Sym>>,
     /// Declared lengths (expressions in ρ), one per symbol, when the eigenvector is not unique.
     pub lengths: Option<Vec<String>>,
@@ -103,7 +103,7 @@ impl LSystem {
             .collect()
     }
 
-    /// The matrix M of [N] eq. (4): m_ij = number of A_j in π(A_i).
+    /// The matrix M of \[N\] eq. (4): m_ij = number of A_j in π(A_i).
     pub fn matrix(&self) -> Vec<Vec<i64>> {
         let n = self.n();
         let mut m = vec![vec![0i64; n]; n];
@@ -133,7 +133,7 @@ impl LSystem {
         out
     }
 
-    /// Mirror σ̄ of a word ([G] eq. (12)): read backwards, each symbol replaced by its twin.
+    /// Mirror σ̄ of a word (\[G\] eq. (12)): read backwards, each symbol replaced by its twin.
     pub fn mirror(&self, sigma: &[Sym], w: &[Sym]) -> Word {
         w.iter().rev().map(|&s| sigma[s as usize]).collect()
     }

@@ -1,11 +1,11 @@
-//! Subdivision masks by knot insertion ([N] §2.2, [G] §2.1.1).
+//! Subdivision masks by knot insertion (\[N\] §2.2, \[G\] §2.1.1).
 //!
 //! The old control point labelled by the (d+1)-word w owns the B-spline B whose knots bound the
 //! intervals of w. Rewriting gives the refined intervals π(w); B is a combination of the refined
 //! B-splines whose supports lie in its own, one per (d+1)-factor of π(w), and those coefficients
 //! are the mask. They are computed exactly with Boehm's single-knot insertion, inserting the new
 //! knots one by one into B's local knot vector (which only ever reads knots inside B's support).
-//! Lengths are those of the refined level (ℓ, not ℓ/ρ): by [N] eq. (3) the old knots are exactly
+//! Lengths are those of the refined level (ℓ, not ℓ/ρ): by \[N\] eq. (3) the old knots are exactly
 //! the refined knots at rule boundaries, so ρ never appears and nothing depends on the step.
 
 use crate::field::Elem;

@@ -14,7 +14,7 @@ use crate::validity::{analyse, Analysis};
 pub struct Scheme {
     /// The L-system.
     pub ls: LSystem,
-    /// [N] §3 analysis.
+    /// \[N\] §3 analysis.
     pub analysis: Analysis,
     /// Interval lengths a (smallest 1).
     pub lengths: Vec<Elem>,

@@ -1,4 +1,4 @@
-//! Symmetric L-systems ([G] §4.1): involutions σ with π(σ(A)) = σ̄(π(A)) for every symbol and a
+//! Symmetric L-systems (\[G\] §4.1): involutions σ with π(σ(A)) = σ̄(π(A)) for every symbol and a
 //! symmetric axiom (Proposition 4.2).
 
 use crate::error::Error;
@@ -9,7 +9,7 @@ pub fn is_symmetry(ls: &LSystem, sigma: &[Sym]) -> bool {
     check_symmetry(ls, sigma).is_ok()
 }
 
-/// [G] Proposition 4.2: the axiom is symmetric and π(σ(A)) = σ̄(π(A)) for every symbol.
+/// \[G\] Proposition 4.2: the axiom is symmetric and π(σ(A)) = σ̄(π(A)) for every symbol.
 pub fn check_symmetry(ls: &LSystem, sigma: &[Sym]) -> Result<(), Error> {
     if ls.mirror(sigma, &ls.axiom) != ls.axiom {
         return Err(ls.error(

@@ -1,4 +1,4 @@
-//! Validity of an L-system as an interval subdivision descriptor ([N] §3).
+//! Validity of an L-system as an interval subdivision descriptor (\[N\] §3).
 //!
 //! ρ is the spectral radius of M, the largest real root of det(xI − M) (Perron–Frobenius for
 //! non-negative matrices). Definition 3.1 asks for ρ > 1 and a positive eigenvector. Whether a
@@ -30,16 +30,16 @@ pub struct Class {
 pub enum LengthSource {
     /// The eigenspace of ρ has dimension 1.
     Unique,
-    /// Given in the scheme file and checked against [N] eq. (3).
+    /// Given in the scheme file and checked against \[N\] eq. (3).
     Declared,
-    /// The σ-invariant eigenvector of [G] Proposition 5.1.
+    /// The σ-invariant eigenvector of \[G\] Proposition 5.1.
     SymmetryInvariant,
 }
 
-/// Everything [N] §3 says about an L-system.
+/// Everything \[N\] §3 says about an L-system.
 #[derive(Clone, Debug)]
 pub struct Analysis {
-    /// M of [N] eq. (4).
+    /// M of \[N\] eq. (4).
     pub matrix: Vec<Vec<i64>>,
     /// det(xI − M).
     pub char_poly: QPoly,
@@ -63,7 +63,7 @@ pub struct Analysis {
     pub lengths: Option<(Vec<Elem>, LengthSource)>,
     /// Why lengths are not determined, when they are not.
     pub lengths_problem: Option<String>,
-    /// Left eigenvectors s (s^T M = ρ s^T, [N] eq. (6)); one normalised to sum 1 when unique.
+    /// Left eigenvectors s (s^T M = ρ s^T, \[N\] eq. (6)); one normalised to sum 1 when unique.
     pub left: Vec<Vec<Elem>>,
 }
 

@@ -1,5 +1,5 @@
 //! Acceptance data of the spine issue: the papers' values are expectations here, never inputs.
-//! [N] = Nivoliers et al. 2012, [G] = Gérot & Ivrissimtzis 2023.
+//! \[N\] = Nivoliers et al. 2012, \[G\] = Gérot & Ivrissimtzis 2023.
 
 use lsubdiv_compiler::field::{Elem, FieldRef};
 use lsubdiv_compiler::graph::reach;
@@ -228,7 +228,7 @@ fn check_table(s: &Scheme, sqrt_m: &Elem, table: Table) {
     }
 }
 
-/// [G] Table A.5, transcribed from the paper (√ entries as (a, b, den)).
+/// \[G\] Table A.5, transcribed from the paper (√ entries as (a, b, den)).
 const TABLE_A5: Table = &[
     (
         "CLCR",
@@ -370,7 +370,7 @@ fn g_binary_ternary_table_a5() {
     assert_eq!(transitional, vec!["CCCC"]);
 }
 
-/// [G] Table A.6, transcribed from the paper.
+/// \[G\] Table A.6, transcribed from the paper.
 const TABLE_A6: Table = &[
     (
         "CDRL",

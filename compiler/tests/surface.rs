@@ -1,4 +1,4 @@
-//! [G] acceptance data for surfaces: α and the spectra of Tables 1–4, the normalisations of
+//! \[G\] acceptance data for surfaces: α and the spectra of Tables 1–4, the normalisations of
 //! eqs. (8) and (11), the first-step stencils of eqs. (6)–(7), the involutions of Remark 4.5,
 //! and the refusals of §4.2. The DFT reduction is cross-checked against the full local
 //! subdivision matrix with nalgebra.
@@ -27,14 +27,14 @@ fn truncated(x: f64) -> f64 {
 
 const VALENCES: [usize; 14] = [3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 20, 25];
 
-/// [G] Table 1 (α, Binary-Ternary) for VALENCES.
+/// \[G\] Table 1 (α, Binary-Ternary) for VALENCES.
 const TABLE_1: [f64; 14] = [
     0.2801, 0.5735, 0.8964, 1.2427, 1.5996, 1.9598, 2.3193, 2.6766, 3.0309, 3.3822, 3.7305, 4.0762,
     6.1082, 7.7668,
 ];
-/// [G] Table 2 (α, Fibonacci): only the first row (n = 3..9) survives in the text.
+/// \[G\] Table 2 (α, Fibonacci): only the first row (n = 3..9) survives in the text.
 const TABLE_2: [f64; 7] = [0.2084, 0.5835, 0.9959, 1.4440, 1.9105, 2.3843, 2.8589];
-/// [G] Table 3 (Binary-Ternary): (λ1, μ0 = λ1², λ2) for VALENCES.
+/// \[G\] Table 3 (Binary-Ternary): (λ1, μ0 = λ1², λ2) for VALENCES.
 const TABLE_3: [(f64, f64, f64); 14] = [
     (0.3231, 0.1043, 0.0911),
     (0.4142, 0.1715, 0.1715),
@@ -51,7 +51,7 @@ const TABLE_3: [(f64, f64, f64); 14] = [
     (0.5686, 0.3234, 0.5463),
     (0.5714, 0.3265, 0.5569),
 ];
-/// [G] Table 4 (Fibonacci); the λ2 entry of n = 25 is missing in the text (NaN here).
+/// \[G\] Table 4 (Fibonacci); the λ2 entry of n = 25 is missing in the text (NaN here).
 const TABLE_4: [(f64, f64, f64); 14] = [
     (0.5376, 0.2890, 0.2713),
     (0.6180, 0.3819, 0.3819),

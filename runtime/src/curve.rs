@@ -1,4 +1,4 @@
-//! Curve refinement by mask diffusion ([N] §2.3, [G] §2.1.1).
+//! Curve refinement by mask diffusion (\[N\] §2.3, \[G\] §2.1.1).
 //!
 //! Intervals carry symbols; control point k owns the d+1 intervals k..k+d (its word). One step
 //! rewrites every interval (π) and scatters each old point into the new points of its mask, in

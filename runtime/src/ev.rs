@@ -1,4 +1,4 @@
-//! Eigenanalysis at an extraordinary vertex and the choice of α ([G] §4.2.3). Numeric (f64):
+//! Eigenanalysis at an extraordinary vertex and the choice of α (\[G\] §4.2.3). Numeric (f64):
 //! this is the one place where floating point chooses a value.
 //!
 //! Around an EV of valence n in its stationary configuration, the local subdivision matrix maps

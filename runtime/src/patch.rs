@@ -1,8 +1,8 @@
-//! Fast surface refinement by patches ([G] §2.2, organised for speed).
+//! Fast surface refinement by patches (\[G\] §2.2, organised for speed).
 //!
 //! Every initial edge carries the one-symbol axiom ω, so after s steps every face of the input
 //! mesh is an (N+1)×(N+1) grid whose rows and columns are both labelled W_s = π^s(ω), a
-//! symmetric word ([G] Cor. 4.4). One step of a patch is the tensor product of two 1D
+//! symmetric word (\[G\] Cor. 4.4). One step of a patch is the tensor product of two 1D
 //! refinements: the patch plus a ring of old points gathered from its neighbours is refined
 //! along x, transposed, and refined along y. Each pass is a sequence of slab updates
 //! `dst += w · src` driven by the 1D masks (`CurveScheme::axpy_mask`, specialised with constant
@@ -10,12 +10,12 @@
 //! processed in blocks, interleaved so that a slab spans the whole block. A ring of width one
 //! suffices for d = 3: the halo is checked when the 1D plan is built.
 //!
-//! Every level is stored once per point in its final numbering ([`Numbering`]: base vertices,
+//! Every level is stored once per point in its final numbering (`Numbering`: base vertices,
 //! edge points, face interiors), so a level costs what its unique points cost and the last step
 //! writes the output directly.
 //!
 //! At an EV corner the diagonal point of the ring does not exist (it is left zero): with contained
-//! masks ([G] Prop. 4.8) it could only reach the EV child, which is then set from its 1-ring:
+//! masks (\[G\] Prop. 4.8) it could only reach the EV child, which is then set from its 1-ring:
 //! (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)). Steps whose masks are not yet contained
 //! (e.g. Binary-Ternary's first) are run by the reference driver (`surface`) when the mesh has
 //! EVs, on the coarse mesh, and lifted into the numbering: one semantics for every path.

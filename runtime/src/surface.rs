@@ -1,4 +1,4 @@
-//! Surface refinement of closed quad meshes by mask diffusion ([G] §2.2).
+//! Surface refinement of closed quad meshes by mask diffusion (\[G\] §2.2).
 //!
 //! Every face stores the label of its edge 0 (corner 0 → 1) and of the edge corner 0 → 3;
 //! opposite edges carry the same label in parallel directions, so a face splits into a
@@ -7,9 +7,9 @@
 //! product of the second half of its radial mask with itself and α at the centre. Quadrant
 //! entries beyond the vertex's faces walk across face strips; an entry that would pass *through*
 //! an EV (along a line or across a corner) has no well-defined target and is dropped — this only
-//! happens in steps whose masks are not contained ([G] Prop. 4.8, e.g. Binary-Ternary's first
+//! happens in steps whose masks are not contained (\[G\] Prop. 4.8, e.g. Binary-Ternary's first
 //! step). Afterwards the EV child is divided by α + n·(ring weight) and any other new vertex whose
-//! weights do not sum to 1 by its weight sum (the ad hoc generalisation of [G] §3.1.2).
+//! weights do not sum to 1 by its weight sum (the ad hoc generalisation of \[G\] §3.1.2).
 
 use crate::curve::{CurveScheme, CurveTables};
 use crate::ev::{EvCoefficients, EvError};
@@ -32,7 +32,7 @@ pub struct SurfaceTables<'a> {
     /// Per step (the last entry for every later step): what the EV child gets from each radial
     /// neighbour and from each diagonal neighbour.
     pub rings: &'a [[f64; 2]],
-    /// First step from which masks are contained near EVs ([G] Prop. 4.8).
+    /// First step from which masks are contained near EVs (\[G\] Prop. 4.8).
     pub contained_from: usize,
 }
 
@@ -201,7 +201,7 @@ impl Step<'_> {
 
     /// `len` labels along the straight line leaving v by spoke k, read outward. At an ordinary
     /// vertex the line continues through the opposite edge; at an EV it continues with the
-    /// mirrored label ([G] §2.2.2).
+    /// mirrored label (\[G\] §2.2.2).
     fn ray(&self, v: u32, k: usize, len: usize) -> Vec<u8> {
         let sp = self.spokes(v);
         let (mut e, mut label) = sp[k];

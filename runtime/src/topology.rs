@@ -7,7 +7,7 @@
 
 use crate::mesh::{MeshError, QuadMesh};
 
-/// A corner of a face: face index and corner index 0..4 (vertex faces[face][corner]).
+/// A corner of a face: face index and corner index 0..4 (vertex `faces[face][corner]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Corner {
     /// Face index.
