@@ -116,14 +116,11 @@ impl Plan {
     }
 }
 
-/// Base-mesh connectivity the patches need.
+/// Base-mesh connectivity the patches need: the topology, and per face corner the diagonal
+/// corner across an ordinary vertex, packed as face·4 + corner (`u32::MAX`: none, at an EV).
 struct Base {
     topo: Topology,
-    /// Per face and local edge: the face across, its local edge, and whether the parameter runs
-    /// backwards there.
-    across: Vec<[(u32, u8, bool); 4]>,
-    /// Per face corner: the diagonal (face, corner) across an ordinary vertex, if any.
-    diagonal: Vec<[Option<(u32, u8)>; 4]>,
+    diagonal: Vec<[u32; 4]>,
     /// Extraordinary vertices.
     evs: Vec<u32>,
 }
@@ -131,38 +128,42 @@ struct Base {
 impl Base {
     fn new(mesh: &QuadMesh) -> Result<Base, SurfaceError> {
         let topo = Topology::build(mesh)?;
-        let nf = topo.face_count() as u32;
-        let mut across = Vec::with_capacity(nf as usize);
-        let mut diagonal = Vec::with_capacity(nf as usize);
-        for f in 0..nf {
-            let mut a = [(0, 0, false); 4];
-            let mut dg = [None; 4];
-            for l in 0..4u8 {
-                let (g, gl) = topo.across(f, l);
-                a[l as usize] = (g, gl, topo.vertex(f, l) != topo.vertex(g, gl));
-                let v = topo.vertex(f, l);
-                let rot = topo.rotation(v);
-                if rot.len() == 4 {
-                    let i = rot
-                        .iter()
-                        .position(|w| w.face == f && w.corner == l)
-                        .expect("a face is in the rotation of its corners");
-                    let w = rot[(i + 2) % 4];
-                    dg[l as usize] = Some((w.face, w.corner));
-                }
-            }
-            across.push(a);
-            diagonal.push(dg);
-        }
+        let diagonal = (0..topo.face_count() as u32)
+            .map(|f| {
+                [0u8, 1, 2, 3].map(|c| {
+                    let rot = topo.rotation(topo.vertex(f, c));
+                    let i = rot.iter().position(|w| w.face == f && w.corner == c);
+                    match i {
+                        Some(i) if rot.len() == 4 => {
+                            let w = rot[(i + 2) % 4];
+                            w.face * 4 + u32::from(w.corner)
+                        }
+                        _ => u32::MAX,
+                    }
+                })
+            })
+            .collect();
         let evs = (0..topo.vertex_count() as u32)
             .filter(|&v| topo.valence(v) != 4)
             .collect();
         Ok(Base {
             topo,
-            across,
             diagonal,
             evs,
         })
+    }
+
+    /// The face across local edge l of face f, its local edge, and whether the parameter runs
+    /// backwards there.
+    fn across(&self, f: u32, l: u8) -> (u32, u8, bool) {
+        let (g, gl) = self.topo.across(f, l);
+        (g, gl, self.topo.vertex(f, l) != self.topo.vertex(g, gl))
+    }
+
+    /// The diagonal (face, corner) across corner c of face f when that vertex is ordinary.
+    fn diagonal(&self, f: u32, c: u8) -> Option<(u32, u8)> {
+        let d = self.diagonal[f as usize][c as usize];
+        (d != u32::MAX).then(|| (d / 4, (d % 4) as u8))
     }
 }
 
@@ -346,7 +347,8 @@ impl<T: Copy> SharedOut<T> {
 /// reusing every buffer: the analogue of OpenSubdiv's topology refiner + primvar refiner.
 pub struct Refiner<'s, S, T> {
     scheme: &'s S,
-    mesh: QuadMesh,
+    /// The base quads (positions come with each `refine`).
+    faces: Vec<[u32; 4]>,
     base: Base,
     /// Steps run by the reference driver (masks not contained, EVs present).
     first: usize,
@@ -411,7 +413,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .collect::<Result<_, _>>()?;
         Ok(Refiner {
             scheme,
-            mesh: mesh.clone(),
+            faces: mesh.faces.clone(),
             base,
             first,
             plans,
@@ -445,19 +447,29 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
         let t = self.scheme.tables();
         let st = self.scheme.surface();
-        let nf = self.mesh.faces.len();
-        self.mesh.positions.clear();
-        self.mesh.positions.extend_from_slice(positions);
+        let nf = self.faces.len();
         self.level_seconds.clear();
         let clock = std::time::Instant::now();
         if self.first == 0 {
-            lift(&t, &self.mesh, 0, &self.numberings[0], &mut self.levels[0]);
+            lift(
+                &t,
+                &self.faces,
+                positions,
+                0,
+                &self.numberings[0],
+                &mut self.levels[0],
+            );
         } else {
-            let lm = LabelledMesh::with_axiom(&t, self.mesh.clone())?;
+            let mesh = QuadMesh {
+                positions: positions.to_vec(),
+                faces: self.faces.clone(),
+            };
+            let lm = LabelledMesh::with_axiom(&t, mesh)?;
             let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
             lift(
                 &t,
-                &coarse.mesh,
+                &coarse.mesh.faces,
+                &coarse.mesh.positions,
                 self.first,
                 &self.numberings[0],
                 &mut self.levels[0],
@@ -516,8 +528,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     pub fn faces(&self) -> Vec<[u32; 4]> {
         let num = self.numberings.last().expect("at least one level");
         let n = num.n;
-        let mut faces = Vec::with_capacity(self.mesh.faces.len() * (n * n) as usize);
-        for f in 0..self.mesh.faces.len() {
+        let mut faces = Vec::with_capacity(self.faces.len() * (n * n) as usize);
+        for f in 0..self.faces.len() {
             for y in 0..n {
                 for x in 0..n {
                     let i = |x, y| num.index(f, x, y).0 as u32;
@@ -590,7 +602,8 @@ pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
 /// offset in that face's grid (W_k × W_k, from corner 0).
 fn lift<T: Real>(
     t: &CurveTables<'_>,
-    mesh: &QuadMesh,
+    quads: &[[u32; 4]],
+    positions: &[[f64; 3]],
     k: usize,
     num: &Numbering,
     data: &mut Vec<[T; 3]>,
@@ -621,11 +634,11 @@ fn lift<T: Real>(
     }
     data.clear();
     data.resize(num.len(), [T::default(); 3]);
-    for (cell, quad) in cells.iter().zip(&mesh.faces) {
+    for (cell, quad) in cells.iter().zip(quads) {
         let (f, x, y, _, _) = *cell;
         for (c, (dx, dy)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
             let i = num.index(f as usize, x + dx, y + dy).0;
-            data[i] = mesh.positions[quad[c] as usize].map(T::from_f64);
+            data[i] = positions[quad[c] as usize].map(T::from_f64);
         }
     }
 }
@@ -721,7 +734,7 @@ fn refine_block<S: CurveScheme, T: Real>(
         }
         // The ring along the four edges: local edge l runs from corner l to l+1.
         for l in 0..4u8 {
-            let (g, gl, back) = base.across[f as usize][l as usize];
+            let (g, gl, back) = base.across(f, l);
             let (cx, cy) = corner_at(l, n);
             let (dx, dy) = TOWARD_NEXT[l as usize];
             // Outward normal of edge l: the opposite of the step toward corner l−1.
@@ -747,7 +760,7 @@ fn refine_block<S: CurveScheme, T: Real>(
         }
         // Corners: the diagonal point across an ordinary vertex; none at an EV.
         for c in 0..4u8 {
-            if let Some((g, gc)) = base.diagonal[f as usize][c as usize] {
+            if let Some((g, gc)) = base.diagonal(f, c) {
                 let (cx, cy) = corner_at(c, n);
                 let (ax, ay) = TOWARD_NEXT[c as usize];
                 let (bx, by) = TOWARD_PREV[c as usize];
