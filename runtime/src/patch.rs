@@ -163,7 +163,7 @@ impl Base {
     /// The diagonal (face, corner) across corner c of face f when that vertex is ordinary.
     fn diagonal(&self, f: u32, c: u8) -> Option<(u32, u8)> {
         let d = self.diagonal[f as usize][c as usize];
-        (d != u32::MAX).then(|| (d / 4, (d % 4) as u8))
+        (d != u32::MAX).then_some((d / 4, (d % 4) as u8))
     }
 }
 
