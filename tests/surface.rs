@@ -311,3 +311,14 @@ fn patch_path_matches_the_reference_driver() {
         }
     }
 }
+
+#[test]
+fn results_beyond_u32_indices_are_refused_not_wrapped() {
+    use lsubdiv::runtime::patch::Refiner;
+    let s = surface("uniform-binary");
+    // 2^17 sub-edges per edge of the cube: 6·2^34 quads, more than u32 can index.
+    let e = Refiner::<_, f32>::new(&s, &cube(), 17, 1)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("too large"), "{e}");
+}

@@ -62,15 +62,16 @@ impl Plan {
         let label = |i: i64| w[i.rem_euclid(n) as usize];
         // Off(x): new knot of old knot x (Off(0) = 0).
         let len = |i: i64| t.rule(label(i)).len() as i64;
-        let off = |x: i64| -> i64 {
-            if x >= 0 {
-                (0..x).map(len).sum()
-            } else {
-                -(x..0).map(len).sum::<i64>()
-            }
-        };
-        let n_new = off(n);
         let half = (d + 1) / 2;
+        // Off(x) for x = −half−1 ..= n + half + 1, by prefix sums (Off(0) = 0).
+        let lo_x = -half - 1;
+        let mut prefix = vec![0i64];
+        for x in lo_x..n + half + 1 {
+            prefix.push(prefix.last().copied().unwrap_or(0) + len(x));
+        }
+        let zero = prefix[(-lo_x) as usize];
+        let off = |x: i64| prefix[(x - lo_x) as usize] - zero;
+        let n_new = off(n);
         let mut points = Vec::new();
         let mut sums: HashMap<i64, f64> = HashMap::new();
         for x in -1..=n + 1 {
@@ -388,6 +389,33 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         } else {
             st.contained_from.min(steps)
         };
+        // Output quads index vertices with u32: refuse a result that would not fit, before
+        // building anything. |π^steps(ω)| from symbol counts (counts · M per step).
+        let mut counts = vec![0u128; t.symbol_count()];
+        counts[*omega as usize] = 1;
+        for _ in 0..steps {
+            let mut next = vec![0u128; counts.len()];
+            for (a, &c) in counts.iter().enumerate() {
+                for &b in t.rule(a as u8) {
+                    next[b as usize] = next[b as usize].saturating_add(c);
+                }
+            }
+            counts = next;
+        }
+        let n = counts.iter().fold(0u128, |a, &c| a.saturating_add(c));
+        let (nv, nf) = (
+            base.topo.vertex_count() as u128,
+            base.topo.face_count() as u128,
+        );
+        let k = n.saturating_sub(1);
+        let out_v = nv.saturating_add(nf.saturating_mul(k).saturating_mul(k.saturating_add(2)));
+        let out_f = nf.saturating_mul(n).saturating_mul(n);
+        if out_v > u128::from(u32::MAX) || out_f > u128::from(u32::MAX) {
+            return Err(SurfaceError::Mesh(crate::mesh::MeshError::TooLarge {
+                vertices: usize::try_from(out_v).unwrap_or(usize::MAX),
+                faces: usize::try_from(out_f).unwrap_or(usize::MAX),
+            }));
+        }
         let mut word = vec![*omega];
         for _ in 0..first {
             word = t_rewrite(&t, &word);
