@@ -131,10 +131,9 @@ pub fn measure<T: Real>(
             .ok_or_else(|| format!("`{scheme}` has no generated surface code"))??,
         Path::Generic => timed.visit(surface)?,
     };
-    // Unique vertices of a level with N sub-edges per base edge: V + E(N−1) + F(N−1)², E = 2F.
     let ls = &surface.scheme().ls;
-    let (v, f) = (mesh.positions.len(), mesh.faces.len());
-    let count = |n: usize| v + 2 * f * (n - 1) + f * (n - 1) * (n - 1);
+    let v = mesh.positions.len();
+    let count = |n| unique_vertices(mesh, n);
     let mut word = ls.axiom.clone();
     let mut prev = v;
     for _ in 0..steps.saturating_sub(1) {
@@ -161,12 +160,17 @@ pub fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// Vertices of a closed quad mesh after every edge splits into n: V + E(n−1) + F(n−1)², with
+/// E = 2F.
+fn unique_vertices(mesh: &QuadMesh, n: usize) -> usize {
+    let (v, f) = (mesh.positions.len(), mesh.faces.len());
+    v + 2 * f * (n - 1) + f * (n - 1) * (n - 1)
+}
+
 /// The number of steps that brings `mesh` closest to `target` output vertices.
 pub fn steps_for(surface: &GenericSurface, mesh: &QuadMesh, target: usize) -> usize {
     let ls = &surface.scheme().ls;
-    let (v, f) = (mesh.positions.len(), mesh.faces.len());
-    let e = 2 * f; // closed quad meshes: 4F = 2E
-    let count = |n: usize| v + e * (n - 1) + f * (n - 1) * (n - 1);
+    let count = |n| unique_vertices(mesh, n);
     let mut word = ls.axiom.clone();
     let mut best = (0, usize::MAX);
     for s in 0..12 {

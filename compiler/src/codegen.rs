@@ -38,10 +38,7 @@ pub fn ring_weights(s: &Scheme) -> Vec<f64> {
         .iter()
         .map(|m| {
             m.child.map_or(0.0, |c| {
-                let h0 = &m.contributions[c].weight;
-                let one = crate::field::Elem::one(h0.field());
-                let four = crate::field::Elem::int(h0.field(), 4);
-                one.sub(&h0.mul(h0)).div(&four).expect("nonzero").to_f64()
+                ev::ring_weight(&m.contributions[c].weight).to_f64()
             })
         })
         .collect()
@@ -421,20 +418,10 @@ pub fn write_if_changed(path: &Path, text: &str) -> Result<(), Error> {
     write_atomic(path, text.as_bytes())
 }
 
-/// Writes through a temporary sibling file and a rename.
+/// Writes whole or not at all (the runtime's temporary-file-and-rename writer).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let io = |e: std::io::Error| Error::Io {
+    lsubdiv_runtime::mesh::write_atomic(path, bytes).map_err(|e| Error::Io {
         path: path.display().to_string(),
         message: e.to_string(),
-    };
-    let tmp = path.with_extension(format!(
-        "{}.tmp{}",
-        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
     })
 }

@@ -90,6 +90,16 @@ impl SurfaceAnalysis {
     }
 }
 
+/// What each sector's ordinary neighbours give the EV child whose radial mask has child weight
+/// h(0): (1 − h(0)²)/4 (in the regular configuration the child gets h(0)² + 4 of these = 1).
+pub fn ring_weight(h0: &Elem) -> Elem {
+    let f = h0.field();
+    Elem::one(f)
+        .sub(&h0.mul(h0))
+        .div(&Elem::int(f, 4))
+        .expect("nonzero")
+}
+
 /// Proposition 4.8 for odd d at one step: among the first (d+1)/2 − 1 intervals of the ray, at
 /// most one splits, and into at most two.
 fn contained(ls: &LSystem, ray: &[Sym]) -> bool {
@@ -178,8 +188,6 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
             ),
         );
     }
-    let one = Elem::one(&s.analysis.field);
-    let four = Elem::int(&s.analysis.field, 4);
     let mut steps = Vec::new();
     for (step, ray) in rays.iter().enumerate() {
         let xi = &ray[..half];
@@ -190,7 +198,7 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
             .collect();
         let m = s.mask_of(&radial_word);
         let h0 = &m.contributions[m.child.expect("odd degree")].weight;
-        let ring_weight = one.sub(&h0.mul(h0)).div(&four).expect("nonzero");
+        let ring_weight = ring_weight(h0);
         // R_k along the ray reads σ(ξ0) ξ0 ξ1 ξ2 outward; the EV child is P = |π(ξ0)| back.
         let w1: Word = vec![sigma[ray[0] as usize], ray[0], ray[1], ray[2]];
         let m1 = s.mask_of(&w1);
@@ -292,10 +300,7 @@ fn stationary_coefficients(
         .add(&two.mul(&values[4]));
     let row_d = values[1].add(&two.mul(&values[5])).add(&values[6]);
     let ring = values[7].add(&values[8]);
-    let expect_ring = one
-        .sub(&h0.mul(&h0))
-        .div(&Elem::int(f, 4))
-        .expect("nonzero");
+    let expect_ring = ring_weight(&h0);
     if row_r != one || row_d != one || ring != expect_ring {
         return Err(ls.error(
             Part::Rules,

@@ -358,9 +358,8 @@ pub struct Refiner<'s, S, T> {
     /// The numbering of every level: after the reference steps, then after each plan.
     numberings: Vec<Numbering>,
     threads: usize,
-    /// Two levels' points (ping-pong); the last refine's output is `levels[out]`.
+    /// Two levels' points (ping-pong); the last refine's output is the one it returns.
     levels: [Vec<[T; 3]>; 2],
-    out: usize,
     /// Wall time of each step of the last `refine` (the reference steps as one entry).
     level_seconds: Vec<f64>,
     /// One scratch per worker, kept across steps and calls (no fresh pages per step).
@@ -449,7 +448,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             numberings,
             threads: threads.max(1),
             levels: [Vec::new(), Vec::new()],
-            out: 0,
             level_seconds: Vec::new(),
             scratch: Vec::new(),
         })
@@ -464,11 +462,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// driver count as one entry).
     pub fn level_seconds(&self) -> &[f64] {
         &self.level_seconds
-    }
-
-    /// Bytes held by the two level buffers (the last holds the output).
-    pub fn buffer_bytes(&self) -> usize {
-        (self.levels[0].capacity() + self.levels[1].capacity()) * std::mem::size_of::<[T; 3]>()
     }
 
     /// Refines new positions of the base vertices; returns the output positions.
@@ -548,7 +541,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             cur = 1 - cur;
             self.level_seconds.push(clock.elapsed().as_secs_f64());
         }
-        self.out = cur;
         Ok(&self.levels[cur])
     }
 
