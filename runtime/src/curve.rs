@@ -297,16 +297,27 @@ fn initial_words<const D: usize>(
     words: &mut Vec<u32>,
 ) -> Result<(), CurveError> {
     let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
-    let d = t.degree;
-    let mut wrapped = curve.labels.clone();
-    if curve.closed {
-        let head: Vec<u8> = curve.labels.iter().cycle().take(d).copied().collect();
-        wrapped.extend(head);
-    }
+    let (d, labels) = (t.degree, &curve.labels);
+    // A closed curve's last windows wrap around to its first labels: only those d windows are
+    // copied, never the whole label sequence.
+    let split = labels.len().saturating_sub(d);
+    let tail: Vec<u8> = if curve.closed {
+        labels[split..]
+            .iter()
+            .chain(labels.iter().cycle().take(d))
+            .copied()
+            .collect()
+    } else {
+        labels[split..].to_vec()
+    };
     words.clear();
     let mut last: Option<(&[u8], u32)> = None;
     for k in 0..curve.points.len() {
-        let w = &wrapped[k..k + d + 1];
+        let w = if k < split {
+            &labels[k..k + d + 1]
+        } else {
+            &tail[k - split..k - split + d + 1]
+        };
         let i = match last {
             Some((prev, i)) if prev == w => i,
             _ => *lookup
