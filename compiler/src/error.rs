@@ -78,6 +78,16 @@ impl Error {
     }
 }
 
+impl Error {
+    /// What is wrong, without the location or hint (for tables and JSON fields).
+    pub fn message(&self) -> String {
+        match self {
+            Error::Io { message, .. } | Error::Scheme { message, .. } => message.clone(),
+            Error::Input(m) => m.clone(),
+        }
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -63,6 +63,27 @@ impl Field {
         *iv = refine_root(&self.minpoly, &iv.0, &iv.1, &width);
     }
 
+    /// Exact comparison of the generators of two fields (ρ of one scheme against another's): equal
+    /// minimal polynomials mean the same root (each field holds its polynomial's largest real
+    /// root); otherwise the isolating intervals are refined until they separate, which they do
+    /// since distinct irreducible polynomials share no root.
+    pub fn cmp_generator(&self, other: &Field) -> Ordering {
+        if self.minpoly == other.minpoly {
+            return Ordering::Equal;
+        }
+        loop {
+            let ((alo, ahi), (blo, bhi)) = (self.interval(), other.interval());
+            if ahi <= blo {
+                return Ordering::Less;
+            }
+            if bhi <= alo {
+                return Ordering::Greater;
+            }
+            self.refine();
+            other.refine();
+        }
+    }
+
     /// The element ρ.
     pub fn rho(self: &FieldRef) -> Elem {
         if self.degree() == 1 {

@@ -7,6 +7,7 @@
 pub mod codegen;
 pub mod error;
 pub mod ev;
+pub mod explore;
 pub mod field;
 pub mod generic;
 pub mod graph;
