@@ -16,6 +16,7 @@ pub use lsubdiv_runtime::{
 pub mod bench;
 pub mod points;
 pub mod report;
+pub mod tables;
 
 use lsubdiv_compiler::{lsystem::LSystem, scheme, Error};
 use std::path::Path;

@@ -3,7 +3,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use lsubdiv::points::{self, Points};
-use lsubdiv::{report, resolve, Curve, CurveError, Resolved};
+use lsubdiv::{report, resolve, tables, Curve, CurveError, Resolved};
 use lsubdiv_compiler::codegen::{generate, write_atomic};
 use lsubdiv_compiler::generic::GenericScheme;
 use lsubdiv_compiler::validity::analyse;
@@ -132,6 +132,58 @@ enum Command {
     },
     /// Lists the shipped schemes.
     Schemes,
+    /// The L-systems of a [G] §5.2 family, exactly, sorted by ρ then masks (Appendix B).
+    Enumerate {
+        /// lcr (eq. 44), slcr (45), lcdr (46), slcdr (47), or all.
+        #[arg(long)]
+        family: String,
+        /// Longest π(C).
+        #[arg(long, default_value_t = 3)]
+        max_word_len: usize,
+        /// Lift the paper's constraints on π(C) (symmetry, first and last letters; S allowed).
+        #[arg(long)]
+        unconstrained: bool,
+        /// Keep integer ratios (Remark 5.5 leaves them out).
+        #[arg(long)]
+        include_integer: bool,
+        /// Spline degree.
+        #[arg(long, default_value_t = 3)]
+        degree: usize,
+        #[command(flatten)]
+        out: TableArgs,
+    },
+    /// Searches symmetric L-systems for the Pareto front of (ρ, masks).
+    Search {
+        /// Alphabet size (2 to 6).
+        #[arg(long)]
+        symbols: usize,
+        /// Longest rule (1 to 4).
+        #[arg(long)]
+        max_word_len: usize,
+        /// Smallest ρ, exact (an integer, a fraction a/b or a decimal).
+        #[arg(long)]
+        rho_min: Option<String>,
+        /// Largest ρ, exact.
+        #[arg(long)]
+        rho_max: Option<String>,
+        /// Most masks (mirror pairs counted once).
+        #[arg(long)]
+        max_masks: Option<usize>,
+        /// Keep only surface schemes ([G] §4.2: stationary and contained).
+        #[arg(long)]
+        require_surface: bool,
+        /// Keep integer ratios.
+        #[arg(long)]
+        include_integer: bool,
+        /// Most rule sets examined (the whole space when smaller, else a deterministic sample).
+        #[arg(long, default_value_t = 300_000)]
+        limit: u64,
+        /// Spline degree.
+        #[arg(long, default_value_t = 3)]
+        degree: usize,
+        #[command(flatten)]
+        out: TableArgs,
+    },
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -160,6 +212,78 @@ impl From<Error> for Failure {
             message: e.to_string(),
         }
     }
+}
+
+/// Output options shared by `enumerate` and `search`.
+#[derive(clap::Args)]
+struct TableArgs {
+    /// A JSON array.
+    #[arg(long, group = "format")]
+    json: bool,
+    /// CSV with a header.
+    #[arg(long, group = "format")]
+    csv: bool,
+    /// A Markdown table (the default).
+    #[arg(long, group = "format")]
+    markdown: bool,
+    /// Also write every listed system as a scheme file into this directory.
+    #[arg(long)]
+    emit_scheme: Option<std::path::PathBuf>,
+}
+
+impl TableArgs {
+    fn format(&self) -> tables::Format {
+        if self.json {
+            tables::Format::Json
+        } else if self.csv {
+            tables::Format::Csv
+        } else {
+            tables::Format::Markdown
+        }
+    }
+
+    /// Prints the rows and writes the scheme files.
+    fn emit(&self, rows: &[lsubdiv_compiler::explore::Row]) -> Result<(), Failure> {
+        print!("{}", tables::render(rows, self.format()));
+        if let Some(dir) = &self.emit_scheme {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| bad(format!("{}: error: {e}", dir.display())))?;
+            for r in rows {
+                let path = dir.join(format!("{}.toml", r.ls.name));
+                write_atomic(&path, lsubdiv_compiler::explore::scheme_toml(r).as_bytes())?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An exact rational from `3`, `7/2` or `1.45`.
+fn rational(flag: &str, text: &str) -> Result<num_rational::BigRational, Failure> {
+    let fail = || {
+        bad(format!(
+            "error: {flag} {text}: expected an integer, a fraction a/b or a decimal"
+        ))
+    };
+    let int = |t: &str| t.trim().parse::<num_bigint::BigInt>().map_err(|_| fail());
+    if let Some((a, b)) = text.split_once('/') {
+        let b = int(b)?;
+        if b == num_bigint::BigInt::from(0) {
+            return Err(fail());
+        }
+        return Ok(num_rational::BigRational::new(int(a)?, b));
+    }
+    let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
+    if frac.starts_with(['-', '+']) || whole.is_empty() && frac.is_empty() {
+        return Err(fail());
+    }
+    let digits = int(&format!("{whole}{frac}").replace("-", "").replace("+", ""))?;
+    let sign = if text.trim_start().starts_with('-') {
+        -1
+    } else {
+        1
+    };
+    let scale = num_bigint::BigInt::from(10).pow(frac.len() as u32);
+    Ok(num_rational::BigRational::new(digits * sign, scale))
 }
 
 fn bad(message: String) -> Failure {
@@ -201,6 +325,97 @@ fn build(r: &Resolved) -> Result<Scheme, Failure> {
 fn run(command: Option<Command>) -> Result<(), Failure> {
     match command {
         None => demo(),
+        Some(Command::Enumerate {
+            family,
+            max_word_len,
+            unconstrained,
+            include_integer,
+            degree,
+            out,
+        }) => {
+            use lsubdiv_compiler::explore::{enumerate, Enumeration, Family};
+            let families = match family.as_str() {
+                "all" => Family::ALL.to_vec(),
+                f => vec![Family::parse(f).ok_or_else(|| {
+                    bad(format!(
+                        "error: --family {f}: expected lcr, slcr, lcdr, slcdr or all"
+                    ))
+                })?],
+            };
+            if !(1..=6).contains(&max_word_len)
+                || !(1..=lsubdiv_compiler::scheme::MAX_DEGREE).contains(&degree)
+            {
+                return Err(bad(format!("error: --max-word-len {max_word_len} must be 1 to 6 and --degree {degree} 1 to {}", lsubdiv_compiler::scheme::MAX_DEGREE)));
+            }
+            let opts = Enumeration {
+                max_word_len,
+                unconstrained,
+                include_integer,
+                degree,
+            };
+            let mut rows = Vec::new();
+            for f in families {
+                rows.extend(enumerate(f, opts)?);
+            }
+            out.emit(&rows)
+        }
+        Some(Command::Search {
+            symbols,
+            max_word_len,
+            rho_min,
+            rho_max,
+            max_masks,
+            require_surface,
+            include_integer,
+            limit,
+            degree,
+            out,
+        }) => {
+            if !(2..=6).contains(&symbols) || !(1..=4).contains(&max_word_len) {
+                return Err(bad(format!(
+                    "error: --symbols {symbols} must be 2 to 6 and --max-word-len {max_word_len} 1 to 4"
+                )));
+            }
+            if !(1..=lsubdiv_compiler::scheme::MAX_DEGREE).contains(&degree) {
+                return Err(bad(format!(
+                    "error: --degree {degree} must be 1 to {}",
+                    lsubdiv_compiler::scheme::MAX_DEGREE
+                )));
+            }
+            let opts = lsubdiv_compiler::explore::Search {
+                symbols,
+                max_word_len,
+                rho_min: rho_min.map(|t| rational("--rho-min", &t)).transpose()?,
+                rho_max: rho_max.map(|t| rational("--rho-max", &t)).transpose()?,
+                max_masks,
+                require_surface,
+                include_integer,
+                limit,
+                degree,
+            };
+            let bar = indicatif::ProgressBar::new(0).with_style(
+                indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rule sets ({eta})")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            let found = lsubdiv_compiler::explore::search(&opts, &|done, total| {
+                bar.set_length(total);
+                bar.set_position(done);
+            })?;
+            bar.finish_and_clear();
+            eprintln!(
+                "searched {} of {} rule sets ({}); {} distinct candidates; {} on the Pareto front",
+                found.examined,
+                found.space,
+                if u128::from(found.examined) == found.space {
+                    "all"
+                } else {
+                    "a deterministic sample"
+                },
+                found.candidates,
+                found.front.len()
+            );
+            out.emit(&found.front)
+        }
         Some(Command::Schemes) => {
             for n in lsubdiv::builtin_names() {
                 println!("{n}");

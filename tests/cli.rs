@@ -361,3 +361,80 @@ fn ev_json_per_valence() {
     let o = lsubdiv(&["ev", "binary-ternary", "--valence", "2..5"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn enumerate_json_has_the_documented_columns() {
+    let o = lsubdiv(&["enumerate", "--family", "slcdr", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = v.as_array().unwrap();
+    let drl = rows.iter().find(|r| r["pi_c"] == "DRL").unwrap();
+    for key in [
+        "family",
+        "pi_c",
+        "rho",
+        "minimal_polynomial",
+        "masks",
+        "words",
+        "valid",
+        "symmetric",
+        "surface_ready",
+    ] {
+        assert!(!drl[key].is_null(), "{key}");
+    }
+    assert_eq!(drl["masks"], 7);
+    assert_eq!(drl["minimal_polynomial"], serde_json::json!([-1, -2, 1]));
+    assert_eq!(drl["surface_ready"], true);
+    // Sorted by ρ: the golden-ratio rows first.
+    assert!(rows[0]["rho"].as_f64().unwrap() < 1.62);
+}
+
+#[test]
+fn enumerate_csv_and_bad_family() {
+    let o = lsubdiv(&["enumerate", "--family", "lcr", "--csv"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(text.starts_with("family,pi_c,"), "{text}");
+    assert_eq!(text.lines().count(), 2, "{text}");
+    let o = lsubdiv(&["enumerate", "--family", "xyz"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--family xyz"), "{}", stderr(&o));
+}
+
+#[test]
+fn search_emits_scheme_files_the_toolkit_accepts() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("found");
+    let o = lsubdiv(&[
+        "search",
+        "--symbols",
+        "3",
+        "--max-word-len",
+        "2",
+        "--json",
+        "--emit-scheme",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let n = v.as_array().unwrap().len();
+    let files: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+    assert_eq!(files.len(), n);
+    for f in files {
+        let p = f.unwrap().path();
+        let o = lsubdiv(&["inspect", p.to_str().unwrap()]);
+        assert!(o.status.success(), "{}: {}", p.display(), stderr(&o));
+    }
+    let o = lsubdiv(&["search", "--symbols", "9", "--max-word-len", "2"]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = lsubdiv(&[
+        "search",
+        "--symbols",
+        "3",
+        "--max-word-len",
+        "2",
+        "--rho-min",
+        "1.x",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+}

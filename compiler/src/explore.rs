@@ -342,3 +342,325 @@ pub fn enumerate(family: Family, opts: Enumeration) -> Result<Vec<Row>, Error> {
     rows.sort_by(Row::cmp_paper);
     Ok(rows)
 }
+
+/// What to search (\[G\] §5 beyond its families): symmetric L-systems on `symbols` letters with
+/// a one-letter symmetric axiom and rules of 1 ..= `max_word_len` letters.
+#[derive(Clone, Debug)]
+pub struct Search {
+    /// Alphabet size, 2 ..= 6.
+    pub symbols: usize,
+    /// Longest rule, 1 ..= 4.
+    pub max_word_len: usize,
+    /// ρ bounds (exact rationals), inclusive.
+    pub rho_min: Option<num_rational::BigRational>,
+    /// Upper ρ bound.
+    pub rho_max: Option<num_rational::BigRational>,
+    /// Most masks (mirror pairs once).
+    pub max_masks: Option<usize>,
+    /// Keep only systems that pass \[G\] §4.2 (stationary, contained): surface schemes.
+    pub require_surface: bool,
+    /// Keep integer ratios.
+    pub include_integer: bool,
+    /// Most rule sets examined: the whole space when it is smaller, else a seeded sample.
+    pub limit: u64,
+    /// Spline degree.
+    pub degree: usize,
+}
+
+/// Outcome of a search.
+#[derive(Debug)]
+pub struct Found {
+    /// The Pareto front of (ρ, masks), by increasing ρ.
+    pub front: Vec<Row>,
+    /// Rule sets in the space, and how many were examined (all, or a sample).
+    pub space: u128,
+    /// Rule sets examined.
+    pub examined: u64,
+    /// Distinct systems (up to renaming) that passed every filter before the front.
+    pub candidates: usize,
+}
+
+/// Letter names: fixed symbols first (the axiom S), then twin pairs.
+const FIXED: [&str; 6] = ["S", "C", "E", "G", "H", "K"];
+const PAIRS: [(&str, &str); 3] = [("L", "R"), ("A", "B"), ("D", "F")];
+
+/// One shape of involution: `fixed` symmetric letters (≥ 1, the first is the axiom) and `pairs`
+/// twin pairs; the choices for each rule of a fixed letter (symmetric words) and of the first of
+/// each pair (any word; its twin's rule is the mirror).
+struct Shape {
+    symbols: Vec<String>,
+    sigma: Vec<Sym>,
+    fixed: usize,
+    pairs: usize,
+    symmetric_words: Vec<Word>,
+    any_words: Vec<Word>,
+}
+
+impl Shape {
+    fn new(fixed: usize, pairs: usize, k: usize) -> Shape {
+        let mut symbols: Vec<String> = FIXED[..fixed].iter().map(|s| s.to_string()).collect();
+        let mut sigma: Vec<Sym> = (0..fixed as Sym).collect();
+        for (i, (a, b)) in PAIRS[..pairs].iter().enumerate() {
+            symbols.push(a.to_string());
+            symbols.push(b.to_string());
+            let at = (fixed + 2 * i) as Sym;
+            sigma.extend([at + 1, at]);
+        }
+        let n = symbols.len() as Sym;
+        let mut any_words = Vec::new();
+        let mut layer: Vec<Word> = vec![Vec::new()];
+        for _ in 0..k {
+            layer = layer
+                .iter()
+                .flat_map(|w| {
+                    (0..n).map(move |a| {
+                        let mut v = w.clone();
+                        v.push(a);
+                        v
+                    })
+                })
+                .collect();
+            any_words.extend(layer.iter().cloned());
+        }
+        let mirror = |w: &Word| -> Word { w.iter().rev().map(|&s| sigma[s as usize]).collect() };
+        let symmetric_words = any_words
+            .iter()
+            .filter(|w| mirror(w) == **w)
+            .cloned()
+            .collect();
+        Shape {
+            symbols,
+            sigma,
+            fixed,
+            pairs,
+            symmetric_words,
+            any_words,
+        }
+    }
+
+    /// Number of rule sets of this shape.
+    fn size(&self) -> u128 {
+        (self.symmetric_words.len() as u128).pow(self.fixed as u32)
+            * (self.any_words.len() as u128).pow(self.pairs as u32)
+    }
+
+    /// The i-th rule set (mixed radix over the rule choices).
+    fn system(&self, mut i: u128, degree: usize) -> LSystem {
+        let n = self.symbols.len();
+        let mut rules = vec![Word::new(); n];
+        for rule in rules.iter_mut().take(self.fixed) {
+            let c = self.symmetric_words.len() as u128;
+            *rule = self.symmetric_words[(i % c) as usize].clone();
+            i /= c;
+        }
+        for p in 0..self.pairs {
+            let c = self.any_words.len() as u128;
+            let w = self.any_words[(i % c) as usize].clone();
+            i /= c;
+            let a = self.fixed + 2 * p;
+            rules[a + 1] = w.iter().rev().map(|&s| self.sigma[s as usize]).collect();
+            rules[a] = w;
+        }
+        LSystem {
+            name: String::new(),
+            degree,
+            symbols: self.symbols.clone(),
+            rules,
+            axiom: vec![0],
+            symmetry: Some(self.sigma.clone()),
+            lengths: None,
+            source: Source::default(),
+        }
+    }
+}
+
+/// Every symbol is reachable from the axiom (otherwise the system is a smaller one).
+fn all_reachable(ls: &LSystem) -> bool {
+    let mut seen = vec![false; ls.n()];
+    let mut stack = ls.axiom.clone();
+    while let Some(a) = stack.pop() {
+        if !std::mem::replace(&mut seen[a as usize], true) {
+            stack.extend(ls.rules[a as usize].iter().copied());
+        }
+    }
+    seen.into_iter().all(|s| s)
+}
+
+/// A form equal for systems equal up to renaming: symbols renumbered in order of first
+/// appearance, reading the axiom and then each symbol's rule in that order.
+fn canonical(ls: &LSystem) -> Vec<Word> {
+    let mut order: Vec<Sym> = Vec::new();
+    let mut new = vec![Sym::MAX; ls.n()];
+    let mut visit = |a: Sym, order: &mut Vec<Sym>| {
+        if new[a as usize] == Sym::MAX {
+            new[a as usize] = order.len() as Sym;
+            order.push(a);
+        }
+    };
+    for &a in &ls.axiom {
+        visit(a, &mut order);
+    }
+    let mut i = 0;
+    while i < order.len() {
+        for &b in &ls.rules[order[i] as usize] {
+            visit(b, &mut order);
+        }
+        i += 1;
+    }
+    let mut key: Vec<Word> = vec![ls.axiom.iter().map(|&a| new[a as usize]).collect()];
+    key.extend(order.iter().map(|&a| {
+        ls.rules[a as usize]
+            .iter()
+            .map(|&b| new[b as usize])
+            .collect()
+    }));
+    key
+}
+
+/// The rules written `A→w` and joined by spaces.
+fn rules_text(ls: &LSystem) -> String {
+    (0..ls.n())
+        .map(|a| format!("{}→{}", ls.symbols[a], ls.word_str(&ls.rules[a])))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Searches the symmetric L-systems of `opts` and returns the Pareto front of (ρ, masks): no
+/// listed system has another with ρ ≤ and fewer masks, or ρ < and as few. `progress` is called
+/// with the number of rule sets examined so far and the number to examine.
+pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Found, Error> {
+    let n = opts.symbols;
+    let shapes: Vec<Shape> = (0..=n / 2)
+        .filter(|&p| n - 2 * p >= 1)
+        .map(|p| Shape::new(n - 2 * p, p, opts.max_word_len))
+        .collect();
+    let space: u128 = shapes.iter().map(Shape::size).sum();
+    let examined = u64::try_from(space.min(u128::from(opts.limit))).unwrap_or(opts.limit);
+    // Index j of the examined rule sets: all of them, or a sample spread evenly over the space
+    // with a fixed multiplicative scramble (deterministic: the same run gives the same front).
+    let pick = |j: u64| -> u128 {
+        if space <= u128::from(opts.limit) {
+            u128::from(j)
+        } else {
+            (u128::from(j) * 0x9E37_79B9_7F4A_7C15u128 + 0x2545_F491) % space
+        }
+    };
+    let done = std::sync::atomic::AtomicU64::new(0);
+    // Phase 1 (cheap, combinatorial): reachability, canonical form, mask count.
+    let mut survivors: Vec<(Vec<Word>, LSystem, usize)> = (0..examined)
+        .into_par_iter()
+        .filter_map(|j| {
+            let c = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            if c % 4096 == 0 {
+                progress(c, examined);
+            }
+            let mut i = pick(j);
+            let shape = shapes.iter().find(|s| {
+                let fits = i < s.size();
+                if !fits {
+                    i -= s.size();
+                }
+                fits
+            })?;
+            let ls = shape.system(i, opts.degree);
+            if !all_reachable(&ls) {
+                return None;
+            }
+            let g = reach(&ls, ls.degree + 1);
+            let sigma = ls.symmetry.as_ref()?;
+            let masks = g
+                .words
+                .iter()
+                .map(|w| w.word.clone().min(ls.mirror(sigma, &w.word)))
+                .collect::<BTreeSet<Word>>()
+                .len();
+            if opts.max_masks.is_some_and(|m| masks > m) {
+                return None;
+            }
+            Some((canonical(&ls), ls, masks))
+        })
+        .collect();
+    progress(examined, examined);
+    survivors.sort_by(|a, b| a.0.cmp(&b.0));
+    survivors.dedup_by(|a, b| a.0 == b.0);
+    // Phase 2 (exact): ρ, validity, bounds.
+    let exact: Vec<(LSystem, usize, FieldRef)> = survivors
+        .into_par_iter()
+        .filter_map(|(_, ls, masks)| {
+            let a = analyse(&ls).ok()?;
+            let rho = &a.rho;
+            let integer = rho
+                .as_rational()
+                .is_some_and(num_rational::BigRational::is_integer);
+            let bound =
+                |r: &num_rational::BigRational| crate::field::Elem::rational(&a.field, r.clone());
+            let keep = a.valid
+                && (opts.include_integer || !integer)
+                && opts
+                    .rho_min
+                    .as_ref()
+                    .is_none_or(|m| rho.cmp_exact(&bound(m)).is_ge())
+                && opts
+                    .rho_max
+                    .as_ref()
+                    .is_none_or(|m| rho.cmp_exact(&bound(m)).is_le());
+            keep.then(|| (ls, masks, a.field.clone()))
+        })
+        .collect();
+    let candidates = exact.len();
+    // Phase 3: sweep by increasing ρ (exact), then masks; a system is on the front when it has
+    // fewer masks than every system before it (checking the surface verdict only there).
+    let mut order: Vec<usize> = (0..exact.len()).collect();
+    order.sort_by(|&i, &j| {
+        exact[i]
+            .2
+            .cmp_generator(&exact[j].2)
+            .then(exact[i].1.cmp(&exact[j].1))
+    });
+    let mut front: Vec<Row> = Vec::new();
+    for i in order {
+        let (ls, masks, _) = &exact[i];
+        if front.last().is_some_and(|r| r.masks <= *masks) {
+            continue;
+        }
+        let mut ls = ls.clone();
+        ls.name = format!("search-{}", front.len() + 1);
+        let text = rules_text(&ls);
+        let row = describe("search", ls, text, Vec::new(), None)?;
+        if opts.require_surface && row.surface.is_err() {
+            continue;
+        }
+        front.push(row);
+    }
+    Ok(Found {
+        front,
+        space,
+        examined,
+        candidates,
+    })
+}
+
+/// A scheme file for the row's L-system, accepted by the rest of the toolkit.
+pub fn scheme_toml(row: &Row) -> String {
+    let ls = &row.ls;
+    let mut out = format!(
+        "# Found by `lsubdiv {}`: rho ~ {:.6} (minimal polynomial {}, constant term first), {} masks.\nname = \"{}\"\ndegree = {}\naxiom = \"{}\"\n\n[rules]\n",
+        if row.family == "search" { "search" } else { "enumerate" },
+        row.rho_f64(),
+        row.minimal_polynomial().join(", "),
+        row.masks,
+        ls.name,
+        ls.degree,
+        ls.word_str(&ls.axiom)
+    );
+    for a in 0..ls.n() {
+        out += &format!("{} = \"{}\"\n", ls.symbols[a], ls.word_str(&ls.rules[a]));
+    }
+    if let Some(s) = &row.sigma {
+        out += "\n[symmetry]\n";
+        for a in (0..ls.n()).filter(|&a| s[a] as usize > a) {
+            out += &format!("{} = \"{}\"\n", ls.symbols[a], ls.symbols[s[a] as usize]);
+        }
+    }
+    out
+}

@@ -171,3 +171,49 @@ fn surface_verdicts_follow_section_4_2() {
     // Every listed system of (47) is symmetric by construction.
     assert!(r.iter().all(|r| r.sigma.is_some()));
 }
+
+fn small_search(require_surface: bool) -> lsubdiv_compiler::explore::Found {
+    use lsubdiv_compiler::explore::{search, Search};
+    let opts = Search {
+        symbols: 3,
+        max_word_len: 2,
+        rho_min: None,
+        rho_max: None,
+        max_masks: None,
+        require_surface,
+        include_integer: false,
+        limit: 1_000_000,
+        degree: 3,
+    };
+    search(&opts, &|_, _| {}).unwrap()
+}
+
+#[test]
+fn search_front_is_a_pareto_front_and_round_trips_through_scheme_files() {
+    let found = small_search(false);
+    assert_eq!(u128::from(found.examined), found.space, "exhaustive");
+    let front = &found.front;
+    assert!(!front.is_empty());
+    for w in front.windows(2) {
+        // Strictly increasing ρ (exact), strictly decreasing masks: nobody dominates anybody.
+        assert_eq!(
+            w[0].field.cmp_generator(&w[1].field),
+            std::cmp::Ordering::Less
+        );
+        assert!(w[0].masks > w[1].masks);
+    }
+    for r in front {
+        assert!(r.valid.is_ok() && !r.integer);
+        let text = lsubdiv_compiler::explore::scheme_toml(r);
+        let ls = lsubdiv_compiler::scheme::parse("found.toml", &text).unwrap();
+        let again = describe("search", ls, String::new(), vec![], None).unwrap();
+        assert_eq!(again.masks, r.masks, "{text}");
+        assert_eq!(again.minimal_polynomial(), r.minimal_polynomial(), "{text}");
+    }
+}
+
+#[test]
+fn search_with_surfaces_keeps_only_surface_schemes() {
+    let found = small_search(true);
+    assert!(found.front.iter().all(|r| r.surface.is_ok()));
+}
