@@ -551,7 +551,7 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
         .into_par_iter()
         .filter_map(|j| {
             let c = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            if c % 4096 == 0 {
+            if c & 4095 == 0 {
                 progress(c, examined);
             }
             let mut i = pick(j);
@@ -594,16 +594,9 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
                 .is_some_and(num_rational::BigRational::is_integer);
             let bound =
                 |r: &num_rational::BigRational| crate::field::Elem::rational(&a.field, r.clone());
-            let keep = a.valid
-                && (opts.include_integer || !integer)
-                && opts
-                    .rho_min
-                    .as_ref()
-                    .is_none_or(|m| rho.cmp_exact(&bound(m)).is_ge())
-                && opts
-                    .rho_max
-                    .as_ref()
-                    .is_none_or(|m| rho.cmp_exact(&bound(m)).is_le());
+            let below = matches!(&opts.rho_min, Some(m) if rho.cmp_exact(&bound(m)).is_lt());
+            let above = matches!(&opts.rho_max, Some(m) if rho.cmp_exact(&bound(m)).is_gt());
+            let keep = a.valid && (opts.include_integer || !integer) && !below && !above;
             keep.then(|| (ls, masks, a.field.clone()))
         })
         .collect();
