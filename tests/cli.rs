@@ -401,20 +401,18 @@ fn enumerate_csv_and_bad_family() {
     assert!(stderr(&o).contains("--family xyz"), "{}", stderr(&o));
 }
 
+/// `lsubdiv search` on three letters and rules of up to two (exhaustive, fast), plus `extra`.
+fn small_search(extra: &[&str]) -> Output {
+    let mut args = vec!["search", "--symbols", "3", "--max-word-len", "2"];
+    args.extend_from_slice(extra);
+    lsubdiv(&args)
+}
+
 #[test]
 fn search_emits_scheme_files_the_toolkit_accepts() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("found");
-    let o = lsubdiv(&[
-        "search",
-        "--symbols",
-        "3",
-        "--max-word-len",
-        "2",
-        "--json",
-        "--emit-scheme",
-        out.to_str().unwrap(),
-    ]);
+    let o = small_search(&["--json", "--emit-scheme", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let n = v.as_array().unwrap().len();
@@ -427,14 +425,7 @@ fn search_emits_scheme_files_the_toolkit_accepts() {
     }
     let o = lsubdiv(&["search", "--symbols", "9", "--max-word-len", "2"]);
     assert_eq!(o.status.code(), Some(2));
-    let o = lsubdiv(&[
-        "search",
-        "--symbols",
-        "3",
-        "--max-word-len",
-        "2",
-        "--rho-min",
-        "1.x",
-    ]);
+    let o = small_search(&["--rho-min", "1.x"]);
     assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--rho-min 1.x"), "{}", stderr(&o));
 }

@@ -619,7 +619,9 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
         let mut ls = ls.clone();
         ls.name = format!("search-{}", front.len() + 1);
         let text = rules_text(&ls);
-        let row = describe("search", ls, text, Vec::new(), None)?;
+        // Count with the σ the sweep used (a system may have several, Remark 4.5).
+        let sigma = ls.symmetry.clone();
+        let row = describe("search", ls, text, Vec::new(), sigma.as_deref())?;
         if opts.require_surface && row.surface.is_err() {
             continue;
         }
