@@ -33,6 +33,7 @@ fn main() {
         max_masks: None,
         require_surface: false,
         include_integer: false,
+        asymmetric: false,
         limit: u64::MAX,
         degree: 3,
     };

@@ -175,6 +175,9 @@ enum Command {
         /// Keep integer ratios.
         #[arg(long)]
         include_integer: bool,
+        /// Also examine rule sets without an involution (curve schemes only).
+        #[arg(long)]
+        asymmetric: bool,
         /// Most rule sets examined (the whole space when smaller, else a deterministic sample).
         #[arg(long, default_value_t = 300_000)]
         limit: u64,
@@ -367,6 +370,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             max_masks,
             require_surface,
             include_integer,
+            asymmetric,
             limit,
             degree,
             out,
@@ -390,6 +394,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                 max_masks,
                 require_surface,
                 include_integer,
+                asymmetric,
                 limit,
                 degree,
             };

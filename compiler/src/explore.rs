@@ -344,7 +344,8 @@ pub fn enumerate(family: Family, opts: Enumeration) -> Result<Vec<Row>, Error> {
 }
 
 /// What to search (\[G\] §5 beyond its families): symmetric L-systems on `symbols` letters with
-/// a one-letter symmetric axiom and rules of 1 ..= `max_word_len` letters.
+/// a one-letter symmetric axiom and rules of 1 ..= `max_word_len` letters (with `asymmetric`,
+/// also every rule set with a one-letter axiom).
 #[derive(Clone, Debug)]
 pub struct Search {
     /// Alphabet size, 2 ..= 6.
@@ -361,6 +362,8 @@ pub struct Search {
     pub require_surface: bool,
     /// Keep integer ratios.
     pub include_integer: bool,
+    /// Also examine rule sets without an involution (curves; they cannot drive surfaces).
+    pub asymmetric: bool,
     /// Most rule sets examined: the whole space when it is smaller, else a seeded sample.
     pub limit: u64,
     /// Spline degree.
@@ -386,10 +389,12 @@ const PAIRS: [(&str, &str); 3] = [("L", "R"), ("A", "B"), ("D", "F")];
 
 /// One shape of involution: `fixed` symmetric letters (≥ 1, the first is the axiom) and `pairs`
 /// twin pairs; the choices for each rule of a fixed letter (symmetric words) and of the first of
-/// each pair (any word; its twin's rule is the mirror).
+/// each pair (any word; its twin's rule is the mirror). A `free` shape has no involution: every
+/// rule is any word.
 struct Shape {
     symbols: Vec<String>,
     sigma: Vec<Sym>,
+    free: bool,
     fixed: usize,
     pairs: usize,
     symmetric_words: Vec<Word>,
@@ -431,6 +436,7 @@ impl Shape {
         Shape {
             symbols,
             sigma,
+            free: false,
             fixed,
             pairs,
             symmetric_words,
@@ -438,9 +444,29 @@ impl Shape {
         }
     }
 
+    /// The shape without involution on n letters (S, A, B, …; S the axiom).
+    fn free(n: usize, k: usize) -> Shape {
+        let mut shape = Shape::new(n, 0, k);
+        shape.free = true;
+        shape.symbols = ["S", "A", "B", "C", "D", "E"][..n]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        shape
+    }
+
+    /// The words a fixed (or, in a free shape, any) letter's rule is chosen from.
+    fn fixed_words(&self) -> &[Word] {
+        if self.free {
+            &self.any_words
+        } else {
+            &self.symmetric_words
+        }
+    }
+
     /// Number of rule sets of this shape.
     fn size(&self) -> u128 {
-        (self.symmetric_words.len() as u128).pow(self.fixed as u32)
+        (self.fixed_words().len() as u128).pow(self.fixed as u32)
             * (self.any_words.len() as u128).pow(self.pairs as u32)
     }
 
@@ -449,8 +475,8 @@ impl Shape {
         let n = self.symbols.len();
         let mut rules = vec![Word::new(); n];
         for rule in rules.iter_mut().take(self.fixed) {
-            let c = self.symmetric_words.len() as u128;
-            *rule = self.symmetric_words[(i % c) as usize].clone();
+            let c = self.fixed_words().len() as u128;
+            *rule = self.fixed_words()[(i % c) as usize].clone();
             i /= c;
         }
         for p in 0..self.pairs {
@@ -467,7 +493,7 @@ impl Shape {
             symbols: self.symbols.clone(),
             rules,
             axiom: vec![0],
-            symmetry: Some(self.sigma.clone()),
+            symmetry: (!self.free).then(|| self.sigma.clone()),
             lengths: None,
             source: Source::default(),
         }
@@ -530,10 +556,13 @@ fn rules_text(ls: &LSystem) -> String {
 /// with the number of rule sets examined so far and the number to examine.
 pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Found, Error> {
     let n = opts.symbols;
-    let shapes: Vec<Shape> = (0..=n / 2)
+    let mut shapes: Vec<Shape> = (0..=n / 2)
         .filter(|&p| n - 2 * p >= 1)
         .map(|p| Shape::new(n - 2 * p, p, opts.max_word_len))
         .collect();
+    if opts.asymmetric {
+        shapes.push(Shape::free(n, opts.max_word_len));
+    }
     let space: u128 = shapes.iter().map(Shape::size).sum();
     let examined = u64::try_from(space.min(u128::from(opts.limit))).unwrap_or(opts.limit);
     // Index j of the examined rule sets: all of them, or a sample spread evenly over the space
@@ -567,13 +596,21 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
                 return None;
             }
             let g = reach(&ls, ls.degree + 1);
-            let sigma = ls.symmetry.as_ref()?;
-            let masks = g
-                .words
-                .iter()
-                .map(|w| w.word.clone().min(ls.mirror(sigma, &w.word)))
-                .collect::<BTreeSet<Word>>()
-                .len();
+            // Pair mirror words with the shape's σ, or with the system's own symmetry if a
+            // free rule set happens to have one (as `describe` does).
+            let masks = match ls
+                .symmetry
+                .clone()
+                .or_else(|| involutions(&ls).into_iter().next())
+            {
+                Some(sigma) => g
+                    .words
+                    .iter()
+                    .map(|w| w.word.clone().min(ls.mirror(&sigma, &w.word)))
+                    .collect::<BTreeSet<Word>>()
+                    .len(),
+                None => g.words.len(),
+            };
             if opts.max_masks.is_some_and(|m| masks > m) {
                 return None;
             }

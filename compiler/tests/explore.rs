@@ -172,7 +172,7 @@ fn surface_verdicts_follow_section_4_2() {
     assert!(r.iter().all(|r| r.sigma.is_some()));
 }
 
-fn small_search(require_surface: bool) -> lsubdiv_compiler::explore::Found {
+fn small_search(require_surface: bool, asymmetric: bool) -> lsubdiv_compiler::explore::Found {
     use lsubdiv_compiler::explore::{search, Search};
     let opts = Search {
         symbols: 3,
@@ -182,6 +182,7 @@ fn small_search(require_surface: bool) -> lsubdiv_compiler::explore::Found {
         max_masks: None,
         require_surface,
         include_integer: false,
+        asymmetric,
         limit: 1_000_000,
         degree: 3,
     };
@@ -190,7 +191,7 @@ fn small_search(require_surface: bool) -> lsubdiv_compiler::explore::Found {
 
 #[test]
 fn search_front_is_a_pareto_front_and_round_trips_through_scheme_files() {
-    let found = small_search(false);
+    let found = small_search(false, false);
     assert_eq!(u128::from(found.examined), found.space, "exhaustive");
     let front = &found.front;
     assert!(!front.is_empty());
@@ -214,6 +215,19 @@ fn search_front_is_a_pareto_front_and_round_trips_through_scheme_files() {
 
 #[test]
 fn search_with_surfaces_keeps_only_surface_schemes() {
-    let found = small_search(true);
+    let found = small_search(true, false);
     assert!(found.front.iter().all(|r| r.surface.is_ok()));
+}
+
+#[test]
+fn asymmetric_search_adds_rule_sets_without_involution() {
+    let (sym, all) = (small_search(false, false), small_search(false, true));
+    assert!(all.space > sym.space && all.candidates > sym.candidates);
+    // The wider front is never worse: each symmetric front row is matched or dominated.
+    for r in &sym.front {
+        assert!(all
+            .front
+            .iter()
+            .any(|a| { a.field.cmp_generator(&r.field).is_le() && a.masks <= r.masks }));
+    }
 }
