@@ -86,6 +86,40 @@ impl Row {
     }
 }
 
+/// Every word of 1 ..= k letters over `letters`, shortest first.
+fn words_up_to(letters: &[Sym], k: usize) -> Vec<Word> {
+    let mut all = Vec::new();
+    let mut layer: Vec<Word> = vec![Vec::new()];
+    for _ in 0..k {
+        layer = layer
+            .iter()
+            .flat_map(|w| {
+                letters.iter().map(move |&a| {
+                    let mut v = w.clone();
+                    v.push(a);
+                    v
+                })
+            })
+            .collect();
+        all.extend(layer.iter().cloned());
+    }
+    all
+}
+
+/// The number of masks: reachable words with w and σ̄(w) counted once (every word alone
+/// without σ).
+fn mask_count(ls: &LSystem, graph: &crate::graph::Reach, sigma: Option<&[Sym]>) -> usize {
+    match sigma {
+        Some(s) => graph
+            .words
+            .iter()
+            .map(|w| w.word.clone().min(ls.mirror(s, &w.word)))
+            .collect::<BTreeSet<Word>>()
+            .len(),
+        None => graph.words.len(),
+    }
+}
+
 /// Describes one L-system. `family_sigma` (a family's σ, \[G\] §5.2) pairs mirror words for the
 /// count even when the axiom is not symmetric (the masks of w and σ̄(w) are reverses of each
 /// other as soon as twin lengths are equal); without it the system's own symmetry pairs them,
@@ -114,16 +148,7 @@ pub fn describe(
         .or_else(|| all.first().cloned());
     let graph = reach(&ls, ls.degree + 1);
     let words = graph.words.len();
-    let pairing = family_sigma.map(<[Sym]>::to_vec).or_else(|| sigma.clone());
-    let masks = match &pairing {
-        Some(s) => graph
-            .words
-            .iter()
-            .map(|w| w.word.clone().min(ls.mirror(s, &w.word)))
-            .collect::<BTreeSet<Word>>()
-            .len(),
-        None => words,
-    };
+    let masks = mask_count(&ls, &graph, family_sigma.or(sigma.as_deref()));
     let surface = match (&valid, &sigma) {
         (Err(r), _) => Err(format!("invalid L-system: {r}")),
         (_, None) => Err("not symmetric under any involution ([G] Prop. 4.2)".into()),
@@ -303,26 +328,10 @@ impl Default for Enumeration {
 /// Every L-system of `family` with |π(C)| ≤ K, described and sorted as in Appendix B.
 pub fn enumerate(family: Family, opts: Enumeration) -> Result<Vec<Row>, Error> {
     let letters = family.letters(opts.unconstrained);
-    let mut candidates: Vec<Word> = Vec::new();
-    let mut layer: Vec<Word> = vec![Vec::new()];
-    for _ in 0..opts.max_word_len {
-        layer = layer
-            .iter()
-            .flat_map(|w| {
-                letters.iter().map(move |&a| {
-                    let mut v = w.clone();
-                    v.push(a);
-                    v
-                })
-            })
-            .collect();
-        candidates.extend(
-            layer
-                .iter()
-                .filter(|w| opts.unconstrained || family.allows(w))
-                .cloned(),
-        );
-    }
+    let candidates: Vec<Word> = words_up_to(&letters, opts.max_word_len)
+        .into_iter()
+        .filter(|w| opts.unconstrained || family.allows(w))
+        .collect();
     let sigma = family.sigma();
     let rows: Vec<Result<Row, Error>> = candidates
         .par_iter()
@@ -411,22 +420,8 @@ impl Shape {
             let at = (fixed + 2 * i) as Sym;
             sigma.extend([at + 1, at]);
         }
-        let n = symbols.len() as Sym;
-        let mut any_words = Vec::new();
-        let mut layer: Vec<Word> = vec![Vec::new()];
-        for _ in 0..k {
-            layer = layer
-                .iter()
-                .flat_map(|w| {
-                    (0..n).map(move |a| {
-                        let mut v = w.clone();
-                        v.push(a);
-                        v
-                    })
-                })
-                .collect();
-            any_words.extend(layer.iter().cloned());
-        }
+        let letters: Vec<Sym> = (0..symbols.len() as Sym).collect();
+        let any_words = words_up_to(&letters, k);
         let mirror = |w: &Word| -> Word { w.iter().rev().map(|&s| sigma[s as usize]).collect() };
         let symmetric_words = any_words
             .iter()
@@ -598,19 +593,11 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
             let g = reach(&ls, ls.degree + 1);
             // Pair mirror words with the shape's σ, or with the system's own symmetry if a
             // free rule set happens to have one (as `describe` does).
-            let masks = match ls
+            let sigma = ls
                 .symmetry
                 .clone()
-                .or_else(|| involutions(&ls).into_iter().next())
-            {
-                Some(sigma) => g
-                    .words
-                    .iter()
-                    .map(|w| w.word.clone().min(ls.mirror(&sigma, &w.word)))
-                    .collect::<BTreeSet<Word>>()
-                    .len(),
-                None => g.words.len(),
-            };
+                .or_else(|| involutions(&ls).into_iter().next());
+            let masks = mask_count(&ls, &g, sigma.as_deref());
             if opts.max_masks.is_some_and(|m| masks > m) {
                 return None;
             }
