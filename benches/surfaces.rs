@@ -100,7 +100,7 @@ fn main() {
             results.entry(i).or_default().push(run(c));
         }
     }
-    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms per level | peak RSS MB | RSS / essential | vs generated 1-thread f64 |");
+    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | peak RSS MB | RSS / essential | vs generated 1-thread f64 |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baseline: BTreeMap<(String, String), f64> = BTreeMap::new();
     for (i, runs) in &results {
@@ -119,14 +119,15 @@ fn main() {
         if is_base {
             baseline.insert(key.clone(), mvps);
         }
-        let levels: Vec<String> = first["level_seconds"]
-            .as_array()
-            .map(|a| {
-                a.iter()
-                    .map(|x| format!("{:.1}", x.as_f64().unwrap_or(0.0) * 1e3))
-                    .collect()
+        let levels: Vec<String> = ["start", "ordinary", "fans"]
+            .iter()
+            .map(|k| {
+                format!(
+                    "{:.1}",
+                    first["phase_seconds"][k].as_f64().unwrap_or(0.0) * 1e3
+                )
             })
-            .unwrap_or_default();
+            .collect();
         let rss = first["peak_rss_bytes"].as_f64().unwrap_or(0.0);
         let essential = first["essential_bytes"].as_f64().unwrap_or(1.0);
         let ratio = baseline

@@ -54,8 +54,8 @@ pub struct Measurement {
     pub output_vertices: usize,
     /// Median wall time of one refinement.
     pub median_seconds: f64,
-    /// Per step, the median wall time.
-    pub level_seconds: Vec<f64>,
+    /// Median wall time of each phase (start level, ordinary faces, fans of the EVs).
+    pub phase_seconds: [f64; 3],
     /// Bytes of the input positions (f64), the output, and the largest intermediate level as
     /// unique vertices: the memory a level-by-level refinement cannot do without.
     pub essential_bytes: usize,
@@ -85,25 +85,24 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             .map_err(|e| e.to_string())?;
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
-        let mut levels: Vec<Vec<f64>> = Vec::new();
+        let mut phases: Vec<[f64; 3]> = Vec::new();
         for _ in 0..self.runs.max(1) {
             let t = Instant::now();
             std::hint::black_box(r.refine(&self.mesh.positions).map_err(|e| e.to_string())?);
             times.push(t.elapsed().as_secs_f64());
-            levels.push(r.level_seconds().to_vec());
+            let p = r.phase_seconds();
+            phases.push([p.start, p.ordinary, p.fans]);
         }
         times.sort_by(f64::total_cmp);
         let median = |mut v: Vec<f64>| {
             v.sort_by(f64::total_cmp);
             v[v.len() / 2]
         };
-        let level_seconds = (0..levels[0].len())
-            .map(|i| median(levels.iter().map(|l| l[i]).collect()))
-            .collect();
+        let phase_seconds = [0, 1, 2].map(|i| median(phases.iter().map(|l| l[i]).collect()));
         Ok(Measurement {
             output_vertices: r.output_vertices(),
             median_seconds: times[times.len() / 2],
-            level_seconds,
+            phase_seconds,
             essential_bytes: 0,
         })
     }

@@ -315,6 +315,26 @@ fn patch_path_matches_the_reference_driver() {
 }
 
 #[test]
+fn every_contained_step_runs_depth_first() {
+    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        let contained = s.surface().contained_from;
+        for steps in 1..=5 {
+            let torus = Refiner::<_, f64>::new(&s, &torus(4, 5), steps, 1).unwrap();
+            assert_eq!(torus.reference_steps(), 0, "{name}, {steps} steps, torus");
+            let star = Refiner::<_, f64>::new(&s, &star(), steps, 1).unwrap();
+            assert_eq!(
+                star.reference_steps(),
+                contained.min(steps),
+                "{name}, {steps} steps, star"
+            );
+        }
+    }
+}
+
+#[test]
 fn results_beyond_u32_indices_are_refused_not_wrapped() {
     use lsubdiv::runtime::patch::Refiner;
     let s = surface("uniform-binary");

@@ -153,27 +153,18 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
     let mut weights = Vec::new();
     let mut exact = Vec::new();
     let mut arms = Vec::new();
-    let mut slab_arms = Vec::new();
     for (i, m) in s.masks.iter().enumerate() {
         let mut adds = Vec::new();
-        let mut slabs = Vec::new();
         for (j, c) in m.contributions.iter().enumerate() {
             mask_words.push(s.graph.index[&c.word]);
             let w = f64_lit(c.weight.to_f64());
             weights.push(w.clone());
             exact.push(c.weight.to_string());
             adds.push(quote! { axpy(&mut out[#j], #w, p); });
-            slabs.push(quote! {
-                if keep.start <= #j && #j < keep.end {
-                    let at = (#j - keep.start) * n;
-                    ::lsubdiv_runtime::real::axpy_slab(&mut dst[at..at + n], T::from_f64(#w), src);
-                }
-            });
         }
         mask_offsets.push(mask_words.len());
         let i = Literal::u32_suffixed(i as u32);
         arms.push(quote! { #i => { #(#adds)* } });
-        slab_arms.push(quote! { #i => { #(#slabs)* } });
     }
     let mask_offsets = u32s(mask_offsets);
     let children: Vec<Literal> = s
@@ -246,20 +237,6 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
                 }
             }
 
-            #[inline]
-                        fn axpy_mask<T: ::lsubdiv_runtime::real::Real>(
-                &self,
-                word: u32,
-                keep: ::core::ops::Range<usize>,
-                src: &[T],
-                dst: &mut [T],
-            ) {
-                let n = src.len();
-                match word {
-                    #(#slab_arms)*
-                    _ => unreachable!("word index {} outside the tables", word),
-                }
-            }
         }
 
         #surface

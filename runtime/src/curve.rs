@@ -4,7 +4,6 @@
 //! rewrites every interval (π) and scatters each old point into the new points of its mask, in
 //! order of k, so that every path that uses the same tables produces the same bits.
 
-use crate::real::{axpy_slab, Real};
 use std::collections::HashMap;
 use std::fmt;
 
@@ -86,25 +85,6 @@ pub trait CurveScheme {
             for c in 0..D {
                 o[c] += w * p[c];
             }
-        }
-    }
-
-    /// Entries `keep` of the mask of `word` on slabs: for every entry j in `keep`,
-    /// `dst[(j − keep.start)·len ..][..len] += w_j · src` with `len = src.len()` (whole rows of
-    /// points at once).
-    fn axpy_mask<T: Real>(
-        &self,
-        word: u32,
-        keep: std::ops::Range<usize>,
-        src: &[T],
-        dst: &mut [T],
-    ) {
-        let t = self.tables();
-        let n = src.len();
-        let weights = &t.mask_weights[t.mask_range(word as usize)];
-        for (j, &w) in weights.iter().enumerate().take(keep.end).skip(keep.start) {
-            let at = (j - keep.start) * n;
-            axpy_slab(&mut dst[at..at + n], T::from_f64(w), src);
         }
     }
 }

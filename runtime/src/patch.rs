@@ -3,26 +3,30 @@
 //! Every initial edge carries the one-symbol axiom ω, so after s steps every face of the input
 //! mesh is an (N+1)×(N+1) grid whose rows and columns are both labelled W_s = π^s(ω), a
 //! symmetric word (\[G\] Cor. 4.4). One step of a patch is the tensor product of two 1D
-//! refinements: the patch plus a ring of old points gathered from its neighbours is refined
-//! along x, transposed, and refined along y. Each pass is a sequence of slab updates
-//! `dst += w · src` driven by the 1D masks (`CurveScheme::axpy_mask`, specialised with constant
-//! weights in generated code), clipped to the entries that land in the patch. Patches are
-//! processed in blocks, interleaved so that a slab spans the whole block. A ring of width one
-//! suffices for d = 3: the halo is checked when the 1D plan is built.
+//! refinements: the patch plus a ring of old points is refined along one axis, transposed, and
+//! refined along the other. Each pass is a sequence of slab updates `dst += w · src` driven by
+//! the 1D masks (`CurveScheme::axpy_mask`, specialised with constant weights in generated code).
 //!
-//! Every level is stored once per point in its final numbering (`Numbering`: base vertices,
-//! edge points, face interiors), so a level costs what its unique points cost and the last step
-//! writes the output directly.
+//! **Depth first.** A step also refines the ring itself (new points −1..=N'+1, checked when
+//! the 1D plan is built), so a patch carries its own ring from step to step: the ring is
+//! gathered once from the start level, every step runs in cache, and only the last level is
+//! written, in its final numbering (`Numbering`: base vertices, edge points, face interiors).
+//! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
+//! and go through all steps at once, in blocks interleaved so that a slab spans the block.
 //!
-//! At an EV corner the diagonal point of the ring does not exist (it is left zero): with contained
-//! masks (\[G\] Prop. 4.8) it could only reach the EV child, which is then set from its 1-ring:
-//! (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)). Steps whose masks are not yet contained
-//! (e.g. Binary-Ternary's first) are run by the reference driver (`surface`) when the mesh has
-//! EVs, on the coarse mesh, and lifted into the numbering: one semantics for every path.
+//! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
+//! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
+//! next to the corner. Faces with an EV corner therefore advance in lock-step: after each step
+//! the EV child is set from its old 1-ring, (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)),
+//! and those two ring points are copied from the neighbouring faces of the fan, which own them.
+//! An EV child can only enter another face's ring when N' = 1; such steps, and steps whose
+//! masks are not yet contained (e.g. Binary-Ternary's first) or whose ring is not
+//! self-sustaining, run by the reference driver (`surface`) on the coarse mesh, lifted into the
+//! start numbering: one semantics for every path.
 
-use crate::curve::{CurveScheme, CurveTables};
+use crate::curve::CurveTables;
 use crate::mesh::QuadMesh;
-use crate::real::Real;
+use crate::real::{axpy_slab, Real};
 use crate::surface::{refine_surface, LabelledMesh, SurfaceError, SurfaceScheme};
 use crate::topology::Topology;
 use std::collections::HashMap;
@@ -43,12 +47,21 @@ fn corner_at(c: u8, n: i64) -> (i64, i64) {
 const TOWARD_NEXT: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
 const TOWARD_PREV: [(i64, i64); 4] = [(0, 1), (-1, 0), (0, -1), (1, 0)];
 
-/// The 1D refinement of one extended row (old points x = −1..=N+1) for one step.
+/// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
+/// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept
+/// in gather form: per new point, its parents among the old points and their weights, summed
+/// in the order of the old points (as the scattered masks would add them).
 struct Plan {
-    /// Per old point: its word, the new coordinate of its first mask entry, its entry count.
-    points: Vec<(u32, i64, i64)>,
+    /// Per new point X' = −h..=N'+h: the range of its parents in `parents`.
+    rows: Vec<std::ops::Range<usize>>,
+    /// (old point index x + 1, weight).
+    parents: Vec<(usize, f64)>,
+    /// Old side N + 3 (ring included).
+    old_side: usize,
     /// New side N'.
     n_new: i64,
+    /// Whether every new point −h..=N'+h has all its parents among the old points −1..=N+1.
+    complete: bool,
 }
 
 impl Plan {
@@ -56,6 +69,7 @@ impl Plan {
         t: &CurveTables<'_>,
         lookup: &HashMap<&[u8], u32>,
         w: &[u8],
+        h: i64,
     ) -> Result<Plan, SurfaceError> {
         let d = t.degree as i64;
         let n = w.len() as i64;
@@ -72,8 +86,8 @@ impl Plan {
         let zero = prefix[(-lo_x) as usize];
         let off = |x: i64| prefix[(x - lo_x) as usize] - zero;
         let n_new = off(n);
-        let mut points = Vec::new();
-        let mut sums: HashMap<i64, f64> = HashMap::new();
+        // Scatter every old point's mask, keeping the entries that land on −h..=N'+h.
+        let mut by_new: Vec<Vec<(usize, f64)>> = vec![Vec::new(); (n_new + 1 + 2 * h) as usize];
         for x in -1..=n + 1 {
             let word: Vec<u8> = (x - half..x + half).map(label).collect();
             let wi = *lookup
@@ -81,39 +95,102 @@ impl Plan {
                 .ok_or_else(|| SurfaceError::UnknownWord(t.word_str(&word)))?;
             // The entry j of the mask has its middle knot at new knot Off(x − half) + j + half.
             let base = off(x - half) + half;
-            let r = t.mask_range(wi as usize);
-            let count = r.len() as i64;
-            for (j, wt) in t.mask_weights[r].iter().enumerate() {
-                *sums.entry(base + j as i64).or_default() += wt;
-            }
-            points.push((wi, base, count));
-        }
-        // The ring of width one must hold every parent of the new points 0..=N'.
-        for xn in 0..=n_new {
-            let s = sums.get(&xn).copied().unwrap_or(0.0);
-            if (s - 1.0).abs() > 1e-9 {
-                return Err(SurfaceError::UnknownWord(format!(
-                    "(new point {xn} of a patch has parents beyond a ring of width one)"
-                )));
+            for (j, &wt) in t.mask_weights[t.mask_range(wi as usize)].iter().enumerate() {
+                let xn = base + j as i64 + h;
+                if (0..by_new.len() as i64).contains(&xn) {
+                    by_new[xn as usize].push(((x + 1) as usize, wt));
+                }
             }
         }
-        Ok(Plan { points, n_new })
+        // Mask weights are non-negative and sum to one at every new point (the compiler's
+        // partition-of-unity certificate), so a sum of one means no parent is missing.
+        let complete = by_new
+            .iter()
+            .all(|p| (p.iter().map(|&(_, w)| w).sum::<f64>() - 1.0).abs() <= 1e-9);
+        let mut rows = Vec::with_capacity(by_new.len());
+        let mut parents = Vec::new();
+        for p in by_new {
+            rows.push(parents.len()..parents.len() + p.len());
+            parents.extend(p);
+        }
+        Ok(Plan {
+            rows,
+            parents,
+            old_side: (n + 3) as usize,
+            n_new,
+            complete,
+        })
     }
 
-    /// `dst[X'·len ..] = Σ` mask entries of every old slab `src[i·len ..]`, for X' = 0..=N' only
-    /// (the entries of the ring's masks that land outside the patch are skipped).
-    fn pass<S: CurveScheme, T: Real>(&self, scheme: &S, src: &[T], len: usize, dst: &mut Vec<T>) {
-        dst.clear();
-        dst.resize((self.n_new + 1) as usize * len, T::default());
-        for (i, &(w, base, count)) in self.points.iter().enumerate() {
-            let start = (-base).max(0);
-            let end = (self.n_new + 1 - base).min(count);
-            if start < end {
-                let at = (base + start) as usize * len;
-                let keep = start as usize..end as usize;
-                scheme.axpy_mask(w, keep, &src[i * len..(i + 1) * len], &mut dst[at..]);
+    /// Side of the new patch, ring included.
+    fn new_side(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// `dst[X'·len ..][..len] = Σ w · src[x·len ..][..len]` over the parents (x, w) of every new
+    /// point X' (slabs of `len` values: whole rows of k interleaved patches at once).
+    fn pass<T: Real>(&self, src: &[T], len: usize, dst: &mut Vec<T>) {
+        let need = self.new_side() * len;
+        if dst.len() < need {
+            dst.resize(need, T::default());
+        }
+        for (row, d) in self.rows.iter().zip(dst.chunks_exact_mut(len)) {
+            let slab = |x: usize| &src[x * len..(x + 1) * len];
+            let w = |i: usize| T::from_f64(self.parents[row.start + i].1);
+            match self.parents[row.clone()] {
+                [(a, _)] => combine(d, [w(0)], [slab(a)]),
+                [(a, _), (b, _)] => combine(d, [w(0), w(1)], [slab(a), slab(b)]),
+                [(a, _), (b, _), (c, _)] => {
+                    combine(d, [w(0), w(1), w(2)], [slab(a), slab(b), slab(c)])
+                }
+                [(a, _), (b, _), (c, _), (e, _)] => combine(
+                    d,
+                    [w(0), w(1), w(2), w(3)],
+                    [slab(a), slab(b), slab(c), slab(e)],
+                ),
+                ref ps => {
+                    d.fill(T::default());
+                    for &(x, wt) in ps {
+                        axpy_slab(d, T::from_f64(wt), slab(x));
+                    }
+                }
             }
         }
+    }
+
+    /// One step of k interleaved patches: `src` ([a][patch][b], side N+3) is refined along a,
+    /// transposed, and refined along b into `dst` ([b'][patch][a'], side `new_side`).
+    fn step<T: Real>(&self, k: usize, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
+        const L: usize = 3;
+        let m = self.old_side;
+        self.pass(src, k * m * L, &mut p.a);
+        let side = self.new_side();
+        if p.at.len() < m * k * side * L {
+            p.at.resize(m * k * side * L, T::default());
+        }
+        for xn in 0..side {
+            for fi in 0..k {
+                let s = (xn * k + fi) * m * L;
+                for y in 0..m {
+                    let d = ((y * k + fi) * side + xn) * L;
+                    p.at[d..d + L].copy_from_slice(&p.a[s + y * L..s + y * L + L]);
+                }
+            }
+        }
+        self.pass(&p.at, k * side * L, dst);
+    }
+}
+
+/// `d = Σ_i w_i · s_i`, element-wise, summed in order i = 0, 1, … (vectorises; one store per
+/// element).
+#[inline(always)]
+fn combine<T: Real, const P: usize>(d: &mut [T], w: [T; P], s: [&[T]; P]) {
+    for (e, out) in d.iter_mut().enumerate() {
+        let mut acc = w[0] * s[0][e];
+        for i in 1..P {
+            acc += w[i] * s[i][e];
+        }
+        *out = acc;
     }
 }
 
@@ -166,16 +243,56 @@ impl Base {
         let d = self.diagonal[f as usize][c as usize];
         (d != u32::MAX).then_some((d / 4, (d % 4) as u8))
     }
+
+    /// Whether all four corners of face f are ordinary.
+    fn ordinary(&self, f: u32) -> bool {
+        self.diagonal[f as usize].iter().all(|&d| d != u32::MAX)
+    }
+
+    /// The two ring points of face f next to its corner c (side N): their place in f's frame,
+    /// and the (face, x, y) that owns them, one step inside the neighbour across edge c (at
+    /// t = 0) and across edge c−1 (at t = N).
+    fn corner_ring(&self, f: u32, c: u8, n: i64) -> [RingPoint; 2] {
+        [(c, 0), ((c + 3) % 4, n)].map(|(l, t)| {
+            let (g, gl, back) = self.across(f, l);
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            let (ox, oy) = TOWARD_PREV[l as usize];
+            let u = if back { n - t } else { t };
+            let (gx, gy) = inward_xy(gl, u, 1, n);
+            ((cx + t * dx - ox, cy + t * dy - oy), (g, gx, gy))
+        })
+    }
 }
 
-/// One level, stored once per point in that level's final numbering ([`Numbering`]).
+/// A ring point of a face next to a corner: (x, y) in that face, and (face, x, y) of its owner.
+type RingPoint = ((i64, i64), (u32, i64, i64));
+
+/// The point `inward` steps into a face from its local edge `gl`, at parameter u along that
+/// edge (from corner gl), in the face's frame (side N).
+fn inward_xy(gl: u8, u: i64, inward: i64, n: i64) -> (i64, i64) {
+    match gl {
+        0 => (u, inward),
+        1 => (n - inward, u),
+        2 => (n - u, n - inward),
+        _ => (inward, n - u),
+    }
+}
+
+/// Points of one level, addressed by face and grid position (−1..=N+1 where a ring is kept).
+trait Points<T> {
+    fn n(&self) -> i64;
+    fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3];
+}
+
+/// The start level, stored once per point in its final numbering ([`Numbering`]).
 #[derive(Clone, Copy)]
 struct Level<'a, T> {
     num: &'a Numbering,
     data: &'a [[T; 3]],
 }
 
-impl<T: Real> Level<'_, T> {
+impl<T> Points<T> for Level<'_, T> {
     fn n(&self) -> i64 {
         self.num.n
     }
@@ -183,7 +300,9 @@ impl<T: Real> Level<'_, T> {
     fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
         &self.data[self.num.index(f as usize, x, y).0]
     }
+}
 
+impl<T: Real> Level<'_, T> {
     /// Points x = 1..N−1 of interior row y (1 ≤ y < N) of face f.
     fn interior_row(&self, f: u32, y: i64) -> &[[T; 3]] {
         let k = (self.n() - 1) as usize;
@@ -192,27 +311,126 @@ impl<T: Real> Level<'_, T> {
         &self.data[s..s + k]
     }
 
-    /// The point `inward` steps into face g from its local edge `gl`, at parameter u along that
-    /// edge (from corner gl).
-    fn inward(&self, g: u32, gl: u8, u: i64, inward: i64) -> &[T; 3] {
+    /// Face f's patch with its ring (side N+3), each point handed to `put(x, y, p)`; the
+    /// diagonal point at an EV corner does not exist and is not handed.
+    fn gather(&self, base: &Base, f: u32, mut put: impl FnMut(i64, i64, &[T; 3])) {
         let n = self.n();
-        let (x, y) = match gl {
-            0 => (u, inward),
-            1 => (n - inward, u),
-            2 => (n - u, n - inward),
-            _ => (inward, n - u),
-        };
-        self.point(g, x, y)
+        let num = self.num;
+        let kk = (n - 1) as usize;
+        // The patch: interior rows as slices, then corners, then each edge as a run (forward
+        // or backward in the numbering).
+        for y in 1..n {
+            for (x, p) in self.interior_row(f, y).iter().enumerate() {
+                put(x as i64 + 1, y, p);
+            }
+        }
+        for c in 0..4u8 {
+            let (x, y) = corner_at(c, n);
+            put(
+                x,
+                y,
+                &self.data[num.vertex[f as usize][c as usize] as usize],
+            );
+        }
+        for l in 0..4u8 {
+            let (e, forward, _) = num.edges[f as usize][l as usize];
+            let first = num.nv + e as usize * kk;
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            for t in 1..n {
+                let i = first + if forward { t - 1 } else { n - t - 1 } as usize;
+                put(cx + t * dx, cy + t * dy, &self.data[i]);
+            }
+        }
+        // The ring along the four edges: local edge l runs from corner l to l+1.
+        for l in 0..4u8 {
+            let (g, gl, back) = base.across(f, l);
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            // Outward normal of edge l: the opposite of the step toward corner l−1.
+            let (ox, oy) = TOWARD_PREV[l as usize];
+            let (first, _) = num.index(g as usize, 1, 1);
+            for t in 0..=n {
+                let u = if back { n - t } else { t };
+                let p = if u == 0 || u == n {
+                    let (x, y) = inward_xy(gl, u, 1, n);
+                    self.point(g, x, y)
+                } else {
+                    // Inside g: a row or column of its interior block, next to edge gl.
+                    let u = u as usize;
+                    let i = match gl {
+                        0 => first + u - 1,
+                        1 => first + (u - 1) * kk + (kk - 1),
+                        2 => first + (kk - 1) * kk + (kk - u),
+                        _ => first + (kk - u) * kk,
+                    };
+                    &self.data[i]
+                };
+                put(cx + t * dx - ox, cy + t * dy - oy, p);
+            }
+        }
+        // Corners: the diagonal point across an ordinary vertex; none at an EV.
+        for c in 0..4u8 {
+            if let Some((g, gc)) = base.diagonal(f, c) {
+                let (cx, cy) = corner_at(c, n);
+                let (ax, ay) = TOWARD_NEXT[c as usize];
+                let (bx, by) = TOWARD_PREV[c as usize];
+                let (gx, gy) = corner_at(gc, n);
+                let (hx, hy) = TOWARD_NEXT[gc as usize];
+                let (kx, ky) = TOWARD_PREV[gc as usize];
+                put(
+                    cx - ax - bx,
+                    cy - ay - by,
+                    self.point(g, gx + hx + kx, gy + hy + ky),
+                );
+            }
+        }
     }
 }
 
-/// Scratch buffers of one worker.
+/// Index of point (x, y) (x, y = −1..=N+1) of the fi-th of k interleaved patches of side
+/// m = N+3, laid out [a][patch][b] with (a, b) = (x, y) when `a_is_x`, else (y, x).
+fn slot(m: usize, k: usize, fi: usize, a_is_x: bool, x: i64, y: i64) -> usize {
+    let (a, b) = if a_is_x { (x, y) } else { (y, x) };
+    ((((a + 1) as usize) * k + fi) * m + (b + 1) as usize) * 3
+}
+
+/// The patches (ring included) of the faces with an EV corner, one buffer per face.
+struct Fans<'a, T> {
+    /// Face → its slot (`u32::MAX`: an ordinary face).
+    slot: &'a [u32],
+    patches: &'a [Vec<T>],
+    n: i64,
+    a_is_x: bool,
+}
+
+impl<T> Points<T> for Fans<'_, T> {
+    fn n(&self) -> i64 {
+        self.n
+    }
+
+    fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
+        let m = (self.n + 3) as usize;
+        let i = slot(m, 1, 0, self.a_is_x, x, y);
+        let p = &self.patches[self.slot[f as usize] as usize];
+        p[i..i + 3].try_into().expect("three coordinates")
+    }
+}
+
+/// The buffers between one step's two passes.
+#[derive(Default)]
+struct Passes<T> {
+    a: Vec<T>,
+    at: Vec<T>,
+}
+
+/// Scratch buffers of one worker: a block's patches at the current and the next level, and
+/// the passes' buffers. Buffers only grow, so a worker touches fresh pages only once.
 #[derive(Default)]
 struct Scratch<T> {
     ext: Vec<T>,
-    a: Vec<T>,
-    at: Vec<T>,
-    b: Vec<T>,
+    next: Vec<T>,
+    p: Passes<T>,
 }
 
 /// Where the points of a patch go in the final numbering: base vertices, then N−1 points per
@@ -329,6 +547,13 @@ unsafe impl<T: Send> Send for SharedOut<T> {}
 unsafe impl<T: Send> Sync for SharedOut<T> {}
 
 impl<T: Copy> SharedOut<T> {
+    fn new(v: &mut [[T; 3]]) -> SharedOut<T> {
+        SharedOut {
+            ptr: v.as_mut_ptr(),
+            len: v.len(),
+        }
+    }
+
     /// Writes points i, i+1, … from `coords` (three values per point).
     ///
     /// # Safety
@@ -351,19 +576,39 @@ pub struct Refiner<'s, S, T> {
     /// The base quads (positions come with each `refine`).
     faces: Vec<[u32; 4]>,
     base: Base,
-    /// Steps run by the reference driver (masks not contained, EVs present).
+    /// Steps run by the reference driver before the depth-first ones.
     first: usize,
+    /// One plan per depth-first step.
     plans: Vec<Plan>,
     alphas: Vec<f64>,
-    /// The numbering of every level: after the reference steps, then after each plan.
-    numberings: Vec<Numbering>,
+    /// Numbering of the start level (after the reference steps) and of the output.
+    start_num: Numbering,
+    out_num: Numbering,
+    /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
+    /// slot of each face among them.
+    ordinary: Vec<u32>,
+    fan_faces: Vec<u32>,
+    fan_slot: Vec<u32>,
     threads: usize,
-    /// Two levels' points (ping-pong); the last refine's output is the one it returns.
-    levels: [Vec<[T; 3]>; 2],
-    /// Wall time of each step of the last `refine` (the reference steps as one entry).
-    level_seconds: Vec<f64>,
+    start: Vec<[T; 3]>,
+    output: Vec<[T; 3]>,
+    /// The fans' patches at the current and the next level.
+    fans: [Vec<Vec<T>>; 2],
+    /// Wall time of the phases of the last `refine`.
+    phase_seconds: Phases,
     /// One scratch per worker, kept across steps and calls (no fresh pages per step).
     scratch: Vec<Scratch<T>>,
+}
+
+/// Wall time of the phases of one refinement, in seconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Phases {
+    /// The start level: lifting the input, and the reference driver's steps if any.
+    pub start: f64,
+    /// Every step of the faces with four ordinary corners, depth first.
+    pub ordinary: f64,
+    /// Every step of the faces around EVs, in lock-step.
+    pub fans: f64,
 }
 
 impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
@@ -383,11 +628,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let base = Base::new(mesh)?;
         let lookup: HashMap<&[u8], u32> =
             (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
-        let first = if base.evs.is_empty() {
-            0
-        } else {
-            st.contained_from.min(steps)
-        };
         // Output quads index vertices with u32: refuse a result that would not fit, before
         // building anything. |π^steps(ω)| from symbol counts (counts · M per step).
         let mut counts = vec![0u128; t.symbol_count()];
@@ -415,18 +655,29 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 faces: usize::try_from(out_f).unwrap_or(usize::MAX),
             }));
         }
-        let mut word = vec![*omega];
-        for _ in 0..first {
-            word = t_rewrite(&t, &word);
+        let mut words = vec![vec![*omega]];
+        for s in 0..steps {
+            words.push(t_rewrite(&t, &words[s]));
         }
+        // Depth-first steps start after the last step that cannot run that way: masks not yet
+        // contained (with EVs), a ring that does not sustain itself, or N' = 1 with EVs.
+        let mut first = if base.evs.is_empty() {
+            0
+        } else {
+            st.contained_from.min(steps)
+        };
         let mut plans = Vec::new();
-        let mut numberings = vec![Numbering::new(&base.topo, word.len() as i64)];
-        for _ in first..steps {
-            let plan = Plan::new(&t, &lookup, &word)?;
-            numberings.push(numberings[0].with_n(plan.n_new));
-            plans.push(plan);
-            word = t_rewrite(&t, &word);
+        for (s, w) in words.iter().enumerate().take(steps).skip(first) {
+            let plan = Plan::new(&t, &lookup, w, i64::from(s + 1 < steps))?;
+            if plan.complete && (plan.n_new >= 2 || base.evs.is_empty()) {
+                plans.push(plan);
+            } else {
+                plans.clear();
+                first = s + 1;
+            }
         }
+        let start_num = Numbering::new(&base.topo, words[first].len() as i64);
+        let out_num = start_num.with_n(words[steps].len() as i64);
         let alphas = base
             .evs
             .iter()
@@ -438,6 +689,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
             })
             .collect::<Result<_, _>>()?;
+        let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
+            (0..mesh.faces.len() as u32).partition(|&f| base.ordinary(f));
+        let mut fan_slot = vec![u32::MAX; mesh.faces.len()];
+        for (i, &f) in fan_faces.iter().enumerate() {
+            fan_slot[f as usize] = i as u32;
+        }
         Ok(Refiner {
             scheme,
             faces: mesh.faces.clone(),
@@ -445,31 +702,38 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             first,
             plans,
             alphas,
-            numberings,
+            start_num,
+            out_num,
+            ordinary,
+            fan_faces,
+            fan_slot,
             threads: threads.max(1),
-            levels: [Vec::new(), Vec::new()],
-            level_seconds: Vec::new(),
+            start: Vec::new(),
+            output: Vec::new(),
+            fans: [Vec::new(), Vec::new()],
+            phase_seconds: Phases::default(),
             scratch: Vec::new(),
         })
     }
 
     /// Number of output vertices.
     pub fn output_vertices(&self) -> usize {
-        self.numberings.last().map_or(0, Numbering::len)
+        self.out_num.len()
     }
 
-    /// Wall time of each step of the last `refine`, in seconds (steps run by the reference
-    /// driver count as one entry).
-    pub fn level_seconds(&self) -> &[f64] {
-        &self.level_seconds
+    /// Steps run by the reference driver before the depth-first ones (see the module docs).
+    pub fn reference_steps(&self) -> usize {
+        self.first
+    }
+
+    /// Wall time of the phases of the last `refine`.
+    pub fn phase_seconds(&self) -> Phases {
+        self.phase_seconds
     }
 
     /// Refines new positions of the base vertices; returns the output positions.
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
         let t = self.scheme.tables();
-        let st = self.scheme.surface();
-        let nf = self.faces.len();
-        self.level_seconds.clear();
         let clock = std::time::Instant::now();
         if self.first == 0 {
             lift(
@@ -477,8 +741,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &self.faces,
                 positions,
                 0,
-                &self.numberings[0],
-                &mut self.levels[0],
+                &self.start_num,
+                &mut self.start,
             );
         } else {
             let mesh = QuadMesh {
@@ -492,61 +756,185 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &coarse.mesh.faces,
                 &coarse.mesh.positions,
                 self.first,
-                &self.numberings[0],
-                &mut self.levels[0],
+                &self.start_num,
+                &mut self.start,
             );
-            self.level_seconds.push(clock.elapsed().as_secs_f64());
         }
-        let workers = self.threads.min(nf).max(1);
-        let chunk = nf.div_ceil(workers);
-        self.scratch.resize_with(workers, Scratch::default);
-        let mut cur = 0;
-        for (i, plan) in self.plans.iter().enumerate() {
-            let clock = std::time::Instant::now();
-            let s = self.first + i;
-            let ring = st.rings[s.min(st.rings.len() - 1)];
-            let [a, b] = &mut self.levels;
-            let (old_data, new_data) = if cur == 0 { (&*a, b) } else { (&*b, a) };
-            let old = Level {
-                num: &self.numberings[i],
-                data: old_data,
-            };
-            let new_num = &self.numberings[i + 1];
-            new_data.resize(new_num.len(), [T::default(); 3]);
-            let out = SharedOut {
-                ptr: new_data.as_mut_ptr(),
-                len: new_data.len(),
-            };
-            let (scheme, base, out) = (self.scheme, &self.base, &out);
+        self.phase_seconds = Phases {
+            start: clock.elapsed().as_secs_f64(),
+            ..Phases::default()
+        };
+        if self.plans.is_empty() {
+            return Ok(&self.start);
+        }
+        self.output.clear();
+        self.output.resize(self.out_num.len(), [T::default(); 3]);
+        self.scratch.resize_with(self.threads, Scratch::default);
+        let clock = std::time::Instant::now();
+        self.ordinary_faces();
+        self.phase_seconds.ordinary = clock.elapsed().as_secs_f64();
+        let clock = std::time::Instant::now();
+        self.fan_faces();
+        self.phase_seconds.fans = clock.elapsed().as_secs_f64();
+        Ok(&self.output)
+    }
+
+    /// Whether the start level's patches are gathered x-major, so that after every step (each
+    /// transposes) the last level comes out row-major.
+    fn start_a_is_x(&self) -> bool {
+        self.plans.len() % 2 == 1
+    }
+
+    /// Every step of the ordinary faces, depth first, in blocks per worker; the last level is
+    /// scattered into the output.
+    fn ordinary_faces(&mut self) {
+        let level = Level {
+            num: &self.start_num,
+            data: &self.start,
+        };
+        let a_is_x = self.start_a_is_x();
+        let out = SharedOut::new(&mut self.output);
+        let (out, base, plans) = (&out, &self.base, &self.plans);
+        let out_num = &self.out_num;
+        let bs = block_size(out_num.n);
+        let m = (level.n() + 3) as usize;
+        let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
+        std::thread::scope(|sc| {
+            for (faces, scratch) in self.ordinary.chunks(chunk).zip(&mut self.scratch) {
+                sc.spawn(move || {
+                    for block in faces.chunks(bs) {
+                        let k = block.len();
+                        // Every point is gathered (four ordinary corners): no zeroing.
+                        if scratch.ext.len() < m * k * m * 3 {
+                            scratch.ext.resize(m * k * m * 3, T::default());
+                        }
+                        for (fi, &f) in block.iter().enumerate() {
+                            level.gather(base, f, |x, y, p| {
+                                let i = slot(m, k, fi, a_is_x, x, y);
+                                scratch.ext[i..i + 3].copy_from_slice(p);
+                            });
+                        }
+                        for plan in plans {
+                            plan.step(k, &scratch.ext, &mut scratch.p, &mut scratch.next);
+                            std::mem::swap(&mut scratch.ext, &mut scratch.next);
+                        }
+                        for (j, &f) in block.iter().enumerate() {
+                            let rows = |y| &scratch.ext[block_row(out_num.n, k, j, y)];
+                            scatter(out_num, f as usize, rows, out);
+                        }
+                    }
+                });
+            }
+        });
+    }
+
+    /// Every step of the faces around EVs, in lock-step: each step refines every fan patch,
+    /// then sets the EV children and the ring points next to them (see the module docs).
+    fn fan_faces(&mut self) {
+        if self.fan_faces.is_empty() {
+            return;
+        }
+        let st = self.scheme.surface();
+        let level = Level {
+            num: &self.start_num,
+            data: &self.start,
+        };
+        let mut a_is_x = self.start_a_is_x();
+        let m = (level.n() + 3) as usize;
+        let [old, new] = &mut self.fans;
+        old.resize_with(self.fan_faces.len(), Vec::new);
+        new.resize_with(self.fan_faces.len(), Vec::new);
+        for (patch, &f) in old.iter_mut().zip(&self.fan_faces) {
+            patch.clear();
+            patch.resize(m * m * 3, T::default());
+            level.gather(&self.base, f, |x, y, p| {
+                let i = slot(m, 1, 0, a_is_x, x, y);
+                patch[i..i + 3].copy_from_slice(p);
+            });
+        }
+        let mut n = level.n();
+        let out = SharedOut::new(&mut self.output);
+        for (s, plan) in self.plans.iter().enumerate() {
+            let last = s + 1 == self.plans.len();
+            let chunk = self.fan_faces.len().div_ceil(self.threads).max(1);
+            let (out, out_num) = (&out, &self.out_num);
             std::thread::scope(|sc| {
-                for (k, scratch) in self.scratch.iter_mut().enumerate() {
+                let work = self
+                    .fan_faces
+                    .chunks(chunk)
+                    .zip(old.chunks(chunk))
+                    .zip(new.chunks_mut(chunk))
+                    .zip(&mut self.scratch);
+                for (((faces, old), new), scratch) in work {
                     sc.spawn(move || {
-                        let bs = block_size(old.n());
-                        let (lo, hi) = (k * chunk, ((k + 1) * chunk).min(nf));
-                        for b in (lo..hi).step_by(bs) {
-                            let faces = b..(b + bs).min(hi);
-                            refine_block(scheme, plan, base, old, faces.clone(), scratch);
-                            let kk = faces.len();
-                            for (j, f) in faces.enumerate() {
-                                let rows = |yn| &scratch.b[block_row(plan, kk, j, yn)];
-                                scatter(new_num, f, rows, out);
+                        for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
+                            if last {
+                                plan.step(1, src, &mut scratch.p, &mut scratch.next);
+                                let rows = |y| &scratch.next[block_row(out_num.n, 1, 0, y)];
+                                scatter(out_num, f as usize, rows, out);
+                            } else {
+                                plan.step(1, src, &mut scratch.p, dst);
                             }
                         }
                     });
                 }
             });
-            for (&v, &alpha) in base.evs.iter().zip(&self.alphas) {
-                new_data[v as usize] = ev_child(base, old, v, alpha, ring);
+            let ring = st.rings[(self.first + s).min(st.rings.len() - 1)];
+            let fans = Fans {
+                slot: &self.fan_slot,
+                patches: old,
+                n,
+                a_is_x,
+            };
+            let children: Vec<[T; 3]> = self
+                .base
+                .evs
+                .iter()
+                .zip(&self.alphas)
+                .map(|(&v, &alpha)| ev_child(&self.base, &fans, v, alpha, ring))
+                .collect();
+            let (n_new, new_a_is_x) = (plan.n_new, !a_is_x);
+            for (&v, child) in self.base.evs.iter().zip(&children) {
+                if last {
+                    // SAFETY: the workers are done; nothing else writes the output now.
+                    unsafe { out.write_run(v as usize, child) };
+                    continue;
+                }
+                let mn = (n_new + 3) as usize;
+                for w in self.base.topo.rotation(v) {
+                    let f = w.face;
+                    let (cx, cy) = corner_at(w.corner, n_new);
+                    let (ax, ay) = TOWARD_NEXT[w.corner as usize];
+                    let (bx, by) = TOWARD_PREV[w.corner as usize];
+                    let owned = self
+                        .base
+                        .corner_ring(f, w.corner, n_new)
+                        .map(|(at, (g, x, y))| {
+                            let g = &new[self.fan_slot[g as usize] as usize];
+                            let i = slot(mn, 1, 0, new_a_is_x, x, y);
+                            (at, [g[i], g[i + 1], g[i + 2]])
+                        });
+                    let patch = &mut new[self.fan_slot[f as usize] as usize];
+                    let mut set = |(x, y): (i64, i64), p: &[T; 3]| {
+                        let i = slot(mn, 1, 0, new_a_is_x, x, y);
+                        patch[i..i + 3].copy_from_slice(p);
+                    };
+                    set((cx, cy), child);
+                    set((cx - ax - bx, cy - ay - by), &[T::default(); 3]);
+                    for (at, p) in owned {
+                        set(at, &p);
+                    }
+                }
             }
-            cur = 1 - cur;
-            self.level_seconds.push(clock.elapsed().as_secs_f64());
+            std::mem::swap(old, new);
+            n = n_new;
+            a_is_x = new_a_is_x;
         }
-        Ok(&self.levels[cur])
     }
 
     /// The output quads (every face of the base mesh becomes an N × N grid).
     pub fn faces(&self) -> Vec<[u32; 4]> {
-        let num = self.numberings.last().expect("at least one level");
+        let num = &self.out_num;
         let n = num.n;
         let mut faces = Vec::with_capacity(self.faces.len() * (n * n) as usize);
         for f in 0..self.faces.len() {
@@ -671,7 +1059,7 @@ fn t_rewrite(t: &CurveTables<'_>, w: &[u8]) -> Vec<u8> {
 /// The EV child from the old 1-ring: (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)).
 fn ev_child<T: Real>(
     base: &Base,
-    level: Level<'_, T>,
+    level: &impl Points<T>,
     v: u32,
     alpha: f64,
     ring: [f64; 2],
@@ -700,128 +1088,15 @@ fn ev_child<T: Real>(
     acc.map(|a| T::from_f64(a / norm))
 }
 
-/// A block of patches (faces `faces`): gather each patch with its ring, refine along x,
-/// transpose, refine along y. Patches are interleaved so that every slab spans the whole block
-/// (long vectors, one dispatch per old point and block). The new patches are left in `sc.b`:
-/// row Y' of the j-th patch is `sc.b[row(j, Y')]` (see [`block_row`]).
-fn refine_block<S: CurveScheme, T: Real>(
-    scheme: &S,
-    plan: &Plan,
-    base: &Base,
-    level: Level<'_, T>,
-    faces: std::ops::Range<usize>,
-    sc: &mut Scratch<T>,
-) {
-    const L: usize = 3;
-    let n = level.n();
-    let k = faces.len();
-    let m = (n + 3) as usize; // extended side: x = −1..=N+1
-                              // ext[x][face][y]: x-major, then patch, then y; three values each.
-    sc.ext.clear();
-    sc.ext.resize(m * k * m * L, T::default());
-    for (fi, f) in faces.clone().enumerate() {
-        let f = f as u32;
-        let mut put = |x: i64, y: i64, p: &[T; 3]| {
-            let i = ((((x + 1) as usize) * k + fi) * m + (y + 1) as usize) * L;
-            sc.ext[i..i + L].copy_from_slice(p);
-        };
-        // The patch: interior rows as slices, the boundary point by point.
-        for y in 1..n {
-            for (x, p) in level.interior_row(f, y).iter().enumerate() {
-                put(x as i64 + 1, y, p);
-            }
-        }
-        // Corners, then each edge as a run (forward or backward in the numbering).
-        let num = level.num;
-        let kk = (n - 1) as usize;
-        for c in 0..4u8 {
-            let (x, y) = corner_at(c, n);
-            put(
-                x,
-                y,
-                &level.data[num.vertex[f as usize][c as usize] as usize],
-            );
-        }
-        for l in 0..4u8 {
-            let (e, forward, _) = num.edges[f as usize][l as usize];
-            let base = num.nv + e as usize * kk;
-            let (cx, cy) = corner_at(l, n);
-            let (dx, dy) = TOWARD_NEXT[l as usize];
-            for t in 1..n {
-                let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
-                put(cx + t * dx, cy + t * dy, &level.data[i]);
-            }
-        }
-        // The ring along the four edges: local edge l runs from corner l to l+1.
-        for l in 0..4u8 {
-            let (g, gl, back) = base.across(f, l);
-            let (cx, cy) = corner_at(l, n);
-            let (dx, dy) = TOWARD_NEXT[l as usize];
-            // Outward normal of edge l: the opposite of the step toward corner l−1.
-            let (ox, oy) = TOWARD_PREV[l as usize];
-            for t in 0..=n {
-                let u = if back { n - t } else { t };
-                let p = if u == 0 || u == n {
-                    level.inward(g, gl, u, 1)
-                } else {
-                    // Inside g: a row or column of its interior block, next to edge gl.
-                    let (first, _) = num.index(g as usize, 1, 1);
-                    let (u, k) = (u as usize, kk);
-                    let i = match gl {
-                        0 => first + u - 1,
-                        1 => first + (u - 1) * k + (k - 1),
-                        2 => first + (k - 1) * k + (k - u),
-                        _ => first + (k - u) * k,
-                    };
-                    &level.data[i]
-                };
-                put(cx + t * dx - ox, cy + t * dy - oy, p);
-            }
-        }
-        // Corners: the diagonal point across an ordinary vertex; none at an EV.
-        for c in 0..4u8 {
-            if let Some((g, gc)) = base.diagonal(f, c) {
-                let (cx, cy) = corner_at(c, n);
-                let (ax, ay) = TOWARD_NEXT[c as usize];
-                let (bx, by) = TOWARD_PREV[c as usize];
-                let (gx, gy) = corner_at(gc, n);
-                let (hx, hy) = TOWARD_NEXT[gc as usize];
-                let (kx, ky) = TOWARD_PREV[gc as usize];
-                put(
-                    cx - ax - bx,
-                    cy - ay - by,
-                    level.point(g, gx + hx + kx, gy + hy + ky),
-                );
-            }
-        }
-    }
-    // Along x: slab x holds column x of every patch.
-    plan.pass(scheme, &sc.ext, k * m * L, &mut sc.a);
-    // Keep X' = 0..=N' and transpose to at[y][face][X'].
-    let side = plan.n_new as usize + 1;
-    sc.at.clear();
-    sc.at.resize(m * k * side * L, T::default());
-    for xn in 0..side {
-        for fi in 0..k {
-            let src = (xn * k + fi) * m * L;
-            for y in 0..m {
-                let d = ((y * k + fi) * side + xn) * L;
-                sc.at[d..d + L].copy_from_slice(&sc.a[src + y * L..src + y * L + L]);
-            }
-        }
-    }
-    // Along y: slab y holds row y of every patch; rows Y' = 0..=N' are the new patches.
-    plan.pass(scheme, &sc.at, k * side * L, &mut sc.b);
-}
-
-/// The range of `sc.b` holding row Y' of the j-th patch of a block of k.
-fn block_row(plan: &Plan, k: usize, j: usize, yn: usize) -> std::ops::Range<usize> {
-    let row = (plan.n_new as usize + 1) * 3;
+/// The range of a block's last level holding row Y' of the j-th of k patches (side N'+1).
+fn block_row(n: i64, k: usize, j: usize, yn: usize) -> std::ops::Range<usize> {
+    let row = (n as usize + 1) * 3;
     let s = (yn * k + j) * row;
     s..s + row
 }
 
-/// Patches per block: enough to make slabs long, few enough to stay in cache.
+/// Patches per block: enough to make slabs long, few enough that the last level of the block
+/// (side N'+1, its parents with their ring) stays in cache.
 fn block_size(n: i64) -> usize {
     let m = (n + 3) as usize;
     (2048 / (m * m)).clamp(1, 64)
