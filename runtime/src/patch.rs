@@ -279,115 +279,6 @@ fn inward_xy(gl: u8, u: i64, inward: i64, n: i64) -> (i64, i64) {
     }
 }
 
-/// Points of one level, addressed by face and grid position (−1..=N+1 where a ring is kept).
-trait Points<T> {
-    fn n(&self) -> i64;
-    fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3];
-}
-
-/// The start level, stored once per point in its final numbering ([`Numbering`]).
-#[derive(Clone, Copy)]
-struct Level<'a, T> {
-    num: &'a Numbering,
-    data: &'a [[T; 3]],
-}
-
-impl<T> Points<T> for Level<'_, T> {
-    fn n(&self) -> i64 {
-        self.num.n
-    }
-
-    fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
-        &self.data[self.num.index(f as usize, x, y).0]
-    }
-}
-
-impl<T: Real> Level<'_, T> {
-    /// Points x = 1..N−1 of interior row y (1 ≤ y < N) of face f.
-    fn interior_row(&self, f: u32, y: i64) -> &[[T; 3]] {
-        let k = (self.n() - 1) as usize;
-        let (first, _) = self.num.index(f as usize, 1, 1);
-        let s = first + (y - 1) as usize * k;
-        &self.data[s..s + k]
-    }
-
-    /// Face f's patch with its ring (side N+3), each point handed to `put(x, y, p)`; the
-    /// diagonal point at an EV corner does not exist and is not handed.
-    fn gather(&self, base: &Base, f: u32, mut put: impl FnMut(i64, i64, &[T; 3])) {
-        let n = self.n();
-        let num = self.num;
-        let kk = (n - 1) as usize;
-        // The patch: interior rows as slices, then corners, then each edge as a run (forward
-        // or backward in the numbering).
-        for y in 1..n {
-            for (x, p) in self.interior_row(f, y).iter().enumerate() {
-                put(x as i64 + 1, y, p);
-            }
-        }
-        for c in 0..4u8 {
-            let (x, y) = corner_at(c, n);
-            put(
-                x,
-                y,
-                &self.data[num.vertex[f as usize][c as usize] as usize],
-            );
-        }
-        for l in 0..4u8 {
-            let (e, forward, _) = num.edges[f as usize][l as usize];
-            let first = num.nv + e as usize * kk;
-            let (cx, cy) = corner_at(l, n);
-            let (dx, dy) = TOWARD_NEXT[l as usize];
-            for t in 1..n {
-                let i = first + if forward { t - 1 } else { n - t - 1 } as usize;
-                put(cx + t * dx, cy + t * dy, &self.data[i]);
-            }
-        }
-        // The ring along the four edges: local edge l runs from corner l to l+1.
-        for l in 0..4u8 {
-            let (g, gl, back) = base.across(f, l);
-            let (cx, cy) = corner_at(l, n);
-            let (dx, dy) = TOWARD_NEXT[l as usize];
-            // Outward normal of edge l: the opposite of the step toward corner l−1.
-            let (ox, oy) = TOWARD_PREV[l as usize];
-            let (first, _) = num.index(g as usize, 1, 1);
-            for t in 0..=n {
-                let u = if back { n - t } else { t };
-                let p = if u == 0 || u == n {
-                    let (x, y) = inward_xy(gl, u, 1, n);
-                    self.point(g, x, y)
-                } else {
-                    // Inside g: a row or column of its interior block, next to edge gl.
-                    let u = u as usize;
-                    let i = match gl {
-                        0 => first + u - 1,
-                        1 => first + (u - 1) * kk + (kk - 1),
-                        2 => first + (kk - 1) * kk + (kk - u),
-                        _ => first + (kk - u) * kk,
-                    };
-                    &self.data[i]
-                };
-                put(cx + t * dx - ox, cy + t * dy - oy, p);
-            }
-        }
-        // Corners: the diagonal point across an ordinary vertex; none at an EV.
-        for c in 0..4u8 {
-            if let Some((g, gc)) = base.diagonal(f, c) {
-                let (cx, cy) = corner_at(c, n);
-                let (ax, ay) = TOWARD_NEXT[c as usize];
-                let (bx, by) = TOWARD_PREV[c as usize];
-                let (gx, gy) = corner_at(gc, n);
-                let (hx, hy) = TOWARD_NEXT[gc as usize];
-                let (kx, ky) = TOWARD_PREV[gc as usize];
-                put(
-                    cx - ax - bx,
-                    cy - ay - by,
-                    self.point(g, gx + hx + kx, gy + hy + ky),
-                );
-            }
-        }
-    }
-}
-
 /// Index of point (x, y) (x, y = −1..=N+1) of the fi-th of k interleaved patches of side
 /// m = N+3, laid out [a][patch][b] with (a, b) = (x, y) when `a_is_x`, else (y, x).
 fn slot(m: usize, k: usize, fi: usize, a_is_x: bool, x: i64, y: i64) -> usize {
@@ -404,11 +295,7 @@ struct Fans<'a, T> {
     a_is_x: bool,
 }
 
-impl<T> Points<T> for Fans<'_, T> {
-    fn n(&self) -> i64 {
-        self.n
-    }
-
+impl<T> Fans<'_, T> {
     fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
         let m = (self.n + 3) as usize;
         let i = slot(m, 1, 0, self.a_is_x, x, y);
@@ -535,6 +422,71 @@ impl Numbering {
     }
 }
 
+impl Numbering {
+    /// Face f's patch with its ring (side N+3): `put(x, y, i)` for each point and its index
+    /// in this numbering; the diagonal point at an EV corner does not exist and is not handed.
+    fn gather(&self, base: &Base, f: u32, mut put: impl FnMut(i64, i64, usize)) {
+        let n = self.n;
+        let kk = (n - 1) as usize;
+        let fu = f as usize;
+        // The patch: interior rows, then corners, then each edge as a run (forward or backward
+        // in the numbering).
+        let (inner, _) = self.index(fu, 1, 1);
+        for y in 1..n {
+            for x in 1..n {
+                put(x, y, inner + (y - 1) as usize * kk + (x - 1) as usize);
+            }
+        }
+        for c in 0..4u8 {
+            let (x, y) = corner_at(c, n);
+            put(x, y, self.vertex[fu][c as usize] as usize);
+        }
+        for l in 0..4u8 {
+            let (e, forward, _) = self.edges[fu][l as usize];
+            let first = self.nv + e as usize * kk;
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            for t in 1..n {
+                put(
+                    cx + t * dx,
+                    cy + t * dy,
+                    first + if forward { t - 1 } else { n - t - 1 } as usize,
+                );
+            }
+        }
+        // The ring along the four edges: local edge l runs from corner l to l+1.
+        for l in 0..4u8 {
+            let (g, gl, back) = base.across(f, l);
+            let (cx, cy) = corner_at(l, n);
+            let (dx, dy) = TOWARD_NEXT[l as usize];
+            // Outward normal of edge l: the opposite of the step toward corner l−1.
+            let (ox, oy) = TOWARD_PREV[l as usize];
+            for t in 0..=n {
+                let u = if back { n - t } else { t };
+                let (x, y) = inward_xy(gl, u, 1, n);
+                put(
+                    cx + t * dx - ox,
+                    cy + t * dy - oy,
+                    self.index(g as usize, x, y).0,
+                );
+            }
+        }
+        // Corners: the diagonal point across an ordinary vertex; none at an EV.
+        for c in 0..4u8 {
+            if let Some((g, gc)) = base.diagonal(f, c) {
+                let (cx, cy) = corner_at(c, n);
+                let (ax, ay) = TOWARD_NEXT[c as usize];
+                let (bx, by) = TOWARD_PREV[c as usize];
+                let (gx, gy) = corner_at(gc, n);
+                let (hx, hy) = TOWARD_NEXT[gc as usize];
+                let (kx, ky) = TOWARD_PREV[gc as usize];
+                let i = self.index(g as usize, gx + hx + kx, gy + hy + ky).0;
+                put(cx - ax - bx, cy - ay - by, i);
+            }
+        }
+    }
+}
+
 /// The output positions, written by several workers at disjoint indices.
 struct SharedOut<T> {
     ptr: *mut [T; 3],
@@ -584,6 +536,9 @@ pub struct Refiner<'s, S, T> {
     /// Numbering of the start level (after the reference steps) and of the output.
     start_num: Numbering,
     out_num: Numbering,
+    /// Per face, its start patch (ring included) as indices into the start level, in the
+    /// gathered layout ([`load`]).
+    start_gather: Vec<u32>,
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
     ordinary: Vec<u32>,
@@ -678,6 +633,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         let start_num = Numbering::new(&base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
+        // Every face's start patch as indices, in the gathered layout.
+        let m = (start_num.n + 3) as usize;
+        let a_is_x = start_a_is_x(&plans);
+        let mut start_gather = vec![u32::MAX; mesh.faces.len() * m * m];
+        for (f, t) in start_gather.chunks_exact_mut(m * m).enumerate() {
+            start_num.gather(&base, f as u32, |x, y, i| {
+                let (a, b) = if a_is_x { (x, y) } else { (y, x) };
+                t[(a + 1) as usize * m + (b + 1) as usize] = i as u32;
+            });
+        }
         let alphas = base
             .evs
             .iter()
@@ -704,6 +669,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             alphas,
             start_num,
             out_num,
+            start_gather,
             ordinary,
             fan_faces,
             fan_slot,
@@ -782,37 +748,30 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// Whether the start level's patches are gathered x-major, so that after every step (each
     /// transposes) the last level comes out row-major.
     fn start_a_is_x(&self) -> bool {
-        self.plans.len() % 2 == 1
+        start_a_is_x(&self.plans)
     }
 
     /// Every step of the ordinary faces, depth first, in blocks per worker; the last level is
     /// scattered into the output.
     fn ordinary_faces(&mut self) {
-        let level = Level {
-            num: &self.start_num,
-            data: &self.start,
-        };
-        let a_is_x = self.start_a_is_x();
         let out = SharedOut::new(&mut self.output);
-        let (out, base, plans) = (&out, &self.base, &self.plans);
+        let (out, plans, start) = (&out, &self.plans, &self.start);
         let out_num = &self.out_num;
         let bs = block_size(out_num.n);
-        let m = (level.n() + 3) as usize;
+        let m = (self.start_num.n + 3) as usize;
+        let table = &self.start_gather;
         let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
         std::thread::scope(|sc| {
             for (faces, scratch) in self.ordinary.chunks(chunk).zip(&mut self.scratch) {
                 sc.spawn(move || {
                     for block in faces.chunks(bs) {
                         let k = block.len();
-                        // Every point is gathered (four ordinary corners): no zeroing.
                         if scratch.ext.len() < m * k * m * 3 {
                             scratch.ext.resize(m * k * m * 3, T::default());
                         }
                         for (fi, &f) in block.iter().enumerate() {
-                            level.gather(base, f, |x, y, p| {
-                                let i = slot(m, k, fi, a_is_x, x, y);
-                                scratch.ext[i..i + 3].copy_from_slice(p);
-                            });
+                            let t = &table[f as usize * m * m..][..m * m];
+                            load(t, start, m, k, fi, &mut scratch.ext);
                         }
                         for plan in plans {
                             plan.step(k, &scratch.ext, &mut scratch.p, &mut scratch.next);
@@ -835,24 +794,19 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             return;
         }
         let st = self.scheme.surface();
-        let level = Level {
-            num: &self.start_num,
-            data: &self.start,
-        };
         let mut a_is_x = self.start_a_is_x();
-        let m = (level.n() + 3) as usize;
+        let m = (self.start_num.n + 3) as usize;
         let [old, new] = &mut self.fans;
         old.resize_with(self.fan_faces.len(), Vec::new);
         new.resize_with(self.fan_faces.len(), Vec::new);
         for (patch, &f) in old.iter_mut().zip(&self.fan_faces) {
-            patch.clear();
-            patch.resize(m * m * 3, T::default());
-            level.gather(&self.base, f, |x, y, p| {
-                let i = slot(m, 1, 0, a_is_x, x, y);
-                patch[i..i + 3].copy_from_slice(p);
-            });
+            if patch.len() < m * m * 3 {
+                patch.resize(m * m * 3, T::default());
+            }
+            let t = &self.start_gather[f as usize * m * m..][..m * m];
+            load(t, &self.start, m, 1, 0, patch);
         }
-        let mut n = level.n();
+        let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
         for (s, plan) in self.plans.iter().enumerate() {
             let last = s + 1 == self.plans.len();
@@ -1056,15 +1010,34 @@ fn t_rewrite(t: &CurveTables<'_>, w: &[u8]) -> Vec<u8> {
     w.iter().flat_map(|&s| t.rule(s).iter().copied()).collect()
 }
 
+/// Whether the start level's patches are gathered x-major, so that after every plan (each
+/// transposes) the last level comes out row-major.
+fn start_a_is_x(plans: &[Plan]) -> bool {
+    plans.len() % 2 == 1
+}
+
+/// Copies a start patch (`table`: its indices into `start` in [a][b] order, `u32::MAX` for the
+/// missing diagonal at an EV corner, which reads as zero) into the fi-th of k interleaved
+/// patches of `dst`.
+fn load<T: Real>(table: &[u32], start: &[[T; 3]], m: usize, k: usize, fi: usize, dst: &mut [T]) {
+    for (a, run) in table.chunks_exact(m).enumerate() {
+        let d = (a * k + fi) * m * 3;
+        for (o, &i) in dst[d..d + m * 3].chunks_exact_mut(3).zip(run) {
+            let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
+            o.copy_from_slice(&p);
+        }
+    }
+}
+
 /// The EV child from the old 1-ring: (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)).
 fn ev_child<T: Real>(
     base: &Base,
-    level: &impl Points<T>,
+    level: &Fans<'_, T>,
     v: u32,
     alpha: f64,
     ring: [f64; 2],
 ) -> [T; 3] {
-    let n = level.n();
+    let n = level.n;
     let rot = base.topo.rotation(v);
     let mut acc = [0.0f64; 3];
     let mut add = |p: &[T; 3], w: f64| {
