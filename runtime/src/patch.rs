@@ -129,11 +129,7 @@ impl Plan {
 
     /// `dst[X'·len ..][..len] = Σ w · src[x·len ..][..len]` over the parents (x, w) of every new
     /// point X' (slabs of `len` values: whole rows of k interleaved patches at once).
-    fn pass<T: Real>(&self, src: &[T], len: usize, dst: &mut Vec<T>) {
-        let need = self.new_side() * len;
-        if dst.len() < need {
-            dst.resize(need, T::default());
-        }
+    fn pass<T: Real>(&self, src: &[T], len: usize, dst: &mut [T]) {
         for (row, d) in self.rows.iter().zip(dst.chunks_exact_mut(len)) {
             let slab = |x: usize| &src[x * len..(x + 1) * len];
             let w = |i: usize| T::from_f64(self.parents[row.start + i].1);
@@ -158,27 +154,41 @@ impl Plan {
         }
     }
 
-    /// One step of k interleaved patches: `src` ([a][patch][b], side N+3) is refined along a,
-    /// transposed, and refined along b into `dst` ([b'][patch][a'], side `new_side`).
-    fn step<T: Real>(&self, k: usize, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
-        const L: usize = 3;
-        let m = self.old_side;
-        self.pass(src, k * m * L, &mut p.a);
-        let side = self.new_side();
-        if p.at.len() < m * k * side * L {
-            p.at.resize(m * k * side * L, T::default());
+    /// One step of k patches interleaved point by point: `src` ([x][y][patch], side N+3) is
+    /// refined along x (slabs of whole [y][patch] planes), then every new plane along y (slabs
+    /// of [patch] rows), into `dst` ([x'][y'][patch], side `new_side`).
+    fn step_interleaved<T: Real>(&self, k: usize, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
+        let (m, side, l) = (self.old_side, self.new_side(), k * 3);
+        self.pass(src, m * l, grown(&mut p.a, side * m * l));
+        let dst = grown(dst, side * side * l);
+        for (plane, d) in p.a.chunks_exact(m * l).zip(dst.chunks_exact_mut(side * l)) {
+            self.pass(plane, l, d);
         }
-        for xn in 0..side {
-            for fi in 0..k {
-                let s = (xn * k + fi) * m * L;
-                for y in 0..m {
-                    let d = ((y * k + fi) * side + xn) * L;
-                    p.at[d..d + L].copy_from_slice(&p.a[s + y * L..s + y * L + L]);
-                }
+    }
+
+    /// One step of one large patch: `src` ([a][b], side N+3) is refined along a, transposed,
+    /// and refined along b into `dst` ([b'][a'], side `new_side`): long slabs both times.
+    fn step_transposing<T: Real>(&self, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
+        const L: usize = 3;
+        let (m, side) = (self.old_side, self.new_side());
+        self.pass(src, m * L, grown(&mut p.a, side * m * L));
+        let at = grown(&mut p.at, m * side * L);
+        for (xn, column) in p.a.chunks_exact(m * L).take(side).enumerate() {
+            for (y, q) in column.chunks_exact(L).enumerate() {
+                let d = (y * side + xn) * L;
+                at[d..d + L].copy_from_slice(q);
             }
         }
-        self.pass(&p.at, k * side * L, dst);
+        self.pass(at, side * L, grown(dst, side * side * L));
     }
+}
+
+/// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
+fn grown<T: Real>(v: &mut Vec<T>, n: usize) -> &mut [T] {
+    if v.len() < n {
+        v.resize(n, T::default());
+    }
+    &mut v[..n]
 }
 
 /// `d = Σ_i w_i · s_i`, element-wise, summed in order i = 0, 1, … (vectorises; one store per
@@ -279,11 +289,33 @@ fn inward_xy(gl: u8, u: i64, inward: i64, n: i64) -> (i64, i64) {
     }
 }
 
-/// Index of point (x, y) (x, y = −1..=N+1) of the fi-th of k interleaved patches of side
-/// m = N+3, laid out [a][patch][b] with (a, b) = (x, y) when `a_is_x`, else (y, x).
-fn slot(m: usize, k: usize, fi: usize, a_is_x: bool, x: i64, y: i64) -> usize {
-    let (a, b) = if a_is_x { (x, y) } else { (y, x) };
-    ((((a + 1) as usize) * k + fi) * m + (b + 1) as usize) * 3
+/// Where k patches of side `side` (ring of width `ring` included) keep their points: the
+/// fi-th patch's point (x, y), x, y = −ring..=side−1−ring, is at `3 · (((a·side + b)·k + fi)`
+/// with (a, b) the shifted (x, y), or (y, x) when the patch is stored transposed.
+#[derive(Clone, Copy)]
+struct Layout {
+    side: usize,
+    k: usize,
+    ring: i64,
+    a_is_x: bool,
+}
+
+impl Layout {
+    fn at(self, fi: usize, x: i64, y: i64) -> usize {
+        let (a, b) = if self.a_is_x { (x, y) } else { (y, x) };
+        let (a, b) = ((a + self.ring) as usize, (b + self.ring) as usize);
+        ((a * self.side + b) * self.k + fi) * 3
+    }
+}
+
+/// The layout of k patches of side N with their ring.
+fn ring_layout(n: i64, k: usize, a_is_x: bool) -> Layout {
+    Layout {
+        side: (n + 3) as usize,
+        k,
+        ring: 1,
+        a_is_x,
+    }
 }
 
 /// The patches (ring included) of the faces with an EV corner, one buffer per face.
@@ -297,8 +329,7 @@ struct Fans<'a, T> {
 
 impl<T> Fans<'_, T> {
     fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
-        let m = (self.n + 3) as usize;
-        let i = slot(m, 1, 0, self.a_is_x, x, y);
+        let i = ring_layout(self.n, 1, self.a_is_x).at(0, x, y);
         let p = &self.patches[self.slot[f as usize] as usize];
         p[i..i + 3].try_into().expect("three coordinates")
     }
@@ -506,18 +537,14 @@ impl<T: Copy> SharedOut<T> {
         }
     }
 
-    /// Writes points i, i+1, … from `coords` (three values per point).
+    /// Writes point i.
     ///
     /// # Safety
-    /// No other thread reads or writes those indices during the call.
-    unsafe fn write_run(&self, i: usize, coords: &[T]) {
-        let count = coords.len() / 3;
-        assert!(i + count <= self.len, "output indices in range");
-        // SAFETY: in range (checked); exclusive to this caller (the function's contract); the
-        // destination is `count` consecutive [T; 3] values, laid out as 3·count T values.
-        unsafe {
-            std::ptr::copy_nonoverlapping(coords.as_ptr(), self.ptr.add(i).cast::<T>(), count * 3)
-        };
+    /// No other thread reads or writes index i during the call.
+    unsafe fn write(&self, i: usize, p: &[T; 3]) {
+        assert!(i < self.len, "output index in range");
+        // SAFETY: in range (checked); exclusive to this caller (the function's contract).
+        unsafe { self.ptr.add(i).write(*p) };
     }
 }
 
@@ -633,15 +660,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         let start_num = Numbering::new(&base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
-        // Every face's start patch as indices, in the gathered layout.
-        let m = (start_num.n + 3) as usize;
-        let a_is_x = start_a_is_x(&plans);
-        let mut start_gather = vec![u32::MAX; mesh.faces.len() * m * m];
-        for (f, t) in start_gather.chunks_exact_mut(m * m).enumerate() {
-            start_num.gather(&base, f as u32, |x, y, i| {
-                let (a, b) = if a_is_x { (x, y) } else { (y, x) };
-                t[(a + 1) as usize * m + (b + 1) as usize] = i as u32;
-            });
+        // Every face's start patch as indices, x-major ([`load`]).
+        let m = ring_layout(start_num.n, 1, true);
+        let mut start_gather = vec![u32::MAX; mesh.faces.len() * m.side * m.side];
+        for (f, t) in start_gather.chunks_exact_mut(m.side * m.side).enumerate() {
+            start_num.gather(&base, f as u32, |x, y, i| t[m.at(0, x, y) / 3] = i as u32);
         }
         let alphas = base
             .evs
@@ -745,12 +768,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         Ok(&self.output)
     }
 
-    /// Whether the start level's patches are gathered x-major, so that after every step (each
-    /// transposes) the last level comes out row-major.
-    fn start_a_is_x(&self) -> bool {
-        start_a_is_x(&self.plans)
-    }
-
     /// Every step of the ordinary faces, depth first, in blocks per worker; the last level is
     /// scattered into the output.
     fn ordinary_faces(&mut self) {
@@ -758,7 +775,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let (out, plans, start) = (&out, &self.plans, &self.start);
         let out_num = &self.out_num;
         let bs = block_size(out_num.n);
-        let m = (self.start_num.n + 3) as usize;
+        let n0 = self.start_num.n;
+        let m = (n0 + 3) as usize;
         let table = &self.start_gather;
         let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
         std::thread::scope(|sc| {
@@ -771,15 +789,22 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         }
                         for (fi, &f) in block.iter().enumerate() {
                             let t = &table[f as usize * m * m..][..m * m];
-                            load(t, start, m, k, fi, &mut scratch.ext);
+                            load(t, start, ring_layout(n0, k, true), fi, &mut scratch.ext);
                         }
                         for plan in plans {
-                            plan.step(k, &scratch.ext, &mut scratch.p, &mut scratch.next);
+                            let (ext, next) = (&scratch.ext, &mut scratch.next);
+                            plan.step_interleaved(k, ext, &mut scratch.p, next);
                             std::mem::swap(&mut scratch.ext, &mut scratch.next);
                         }
+                        let layout = Layout {
+                            side: out_num.n as usize + 1,
+                            k,
+                            ring: 0,
+                            a_is_x: true,
+                        };
                         for (j, &f) in block.iter().enumerate() {
-                            let rows = |y| &scratch.ext[block_row(out_num.n, k, j, y)];
-                            scatter(out_num, f as usize, rows, out);
+                            let at = |x, y| layout.at(j, x, y);
+                            scatter(out_num, f as usize, &scratch.ext, at, out);
                         }
                     }
                 });
@@ -794,7 +819,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             return;
         }
         let st = self.scheme.surface();
-        let mut a_is_x = self.start_a_is_x();
+        // Each step transposes: start so that the last level comes out row-major, which
+        // the scatter reads best.
+        let mut a_is_x = self.plans.len() % 2 == 1;
         let m = (self.start_num.n + 3) as usize;
         let [old, new] = &mut self.fans;
         old.resize_with(self.fan_faces.len(), Vec::new);
@@ -804,7 +831,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 patch.resize(m * m * 3, T::default());
             }
             let t = &self.start_gather[f as usize * m * m..][..m * m];
-            load(t, &self.start, m, 1, 0, patch);
+            load(
+                t,
+                &self.start,
+                ring_layout(self.start_num.n, 1, a_is_x),
+                0,
+                patch,
+            );
         }
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
@@ -823,11 +856,17 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     sc.spawn(move || {
                         for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                             if last {
-                                plan.step(1, src, &mut scratch.p, &mut scratch.next);
-                                let rows = |y| &scratch.next[block_row(out_num.n, 1, 0, y)];
-                                scatter(out_num, f as usize, rows, out);
+                                plan.step_transposing(src, &mut scratch.p, &mut scratch.next);
+                                let layout = Layout {
+                                    side: out_num.n as usize + 1,
+                                    k: 1,
+                                    ring: 0,
+                                    a_is_x: !a_is_x,
+                                };
+                                let at = |x, y| layout.at(0, x, y);
+                                scatter(out_num, f as usize, &scratch.next, at, out);
                             } else {
-                                plan.step(1, src, &mut scratch.p, dst);
+                                plan.step_transposing(src, &mut scratch.p, dst);
                             }
                         }
                     });
@@ -851,10 +890,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             for (&v, child) in self.base.evs.iter().zip(&children) {
                 if last {
                     // SAFETY: the workers are done; nothing else writes the output now.
-                    unsafe { out.write_run(v as usize, child) };
+                    unsafe { out.write(v as usize, child) };
                     continue;
                 }
-                let mn = (n_new + 3) as usize;
+                let layout = ring_layout(n_new, 1, new_a_is_x);
                 for w in self.base.topo.rotation(v) {
                     let f = w.face;
                     let (cx, cy) = corner_at(w.corner, n_new);
@@ -865,12 +904,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         .corner_ring(f, w.corner, n_new)
                         .map(|(at, (g, x, y))| {
                             let g = &new[self.fan_slot[g as usize] as usize];
-                            let i = slot(mn, 1, 0, new_a_is_x, x, y);
+                            let i = layout.at(0, x, y);
                             (at, [g[i], g[i + 1], g[i + 2]])
                         });
                     let patch = &mut new[self.fan_slot[f as usize] as usize];
                     let mut set = |(x, y): (i64, i64), p: &[T; 3]| {
-                        let i = slot(mn, 1, 0, new_a_is_x, x, y);
+                        let i = layout.at(0, x, y);
                         patch[i..i + 3].copy_from_slice(p);
                     };
                     set((cx, cy), child);
@@ -903,26 +942,33 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 }
 
-/// Writes the points of face f's final patch (`rows(y)`: row y) that face f owns: interior rows
-/// as slices, each owned edge as a run, each owned corner.
-fn scatter<'r, T: Real>(
+/// Writes the points of face f's final patch (point (x, y) at `src[at(x, y)..][..3]`) that
+/// face f owns: its interior, each owned edge, each owned corner.
+fn scatter<T: Real>(
     num: &Numbering,
     f: usize,
-    rows: impl Fn(usize) -> &'r [T],
+    src: &[T],
+    at: impl Fn(i64, i64) -> usize,
     out: &SharedOut<T>,
 ) {
-    let n = num.n as usize;
+    let n = num.n;
+    let point = |x, y| {
+        let i = at(x, y);
+        [src[i], src[i + 1], src[i + 2]]
+    };
     let (first, _) = num.index(f, 1, 1);
+    let k = (n - 1) as usize;
     for y in 1..n {
-        let row = &rows(y)[3..n * 3];
-        // SAFETY: interior points of face f are written by face f only.
-        unsafe { out.write_run(first + (y - 1) * (n - 1), row) };
+        for x in 1..n {
+            let i = first + (y - 1) as usize * k + (x - 1) as usize;
+            // SAFETY: interior points of face f are written by face f only.
+            unsafe { out.write(i, &point(x, y)) };
+        }
     }
-    let point = |x: usize, y: usize| &rows(y)[x * 3..x * 3 + 3];
     for l in 0..4 {
         let (e, forward, owner) = num.edges[f][l];
         if owner {
-            let base = num.nv + e as usize * (n - 1);
+            let base = num.nv + e as usize * k;
             for t in 1..n {
                 // Point t from corner l along edge l.
                 let (x, y) = match l {
@@ -931,15 +977,15 @@ fn scatter<'r, T: Real>(
                     2 => (n - t, n),
                     _ => (0, n - t),
                 };
-                let i = base + if forward { t - 1 } else { n - t - 1 };
+                let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
                 // SAFETY: face f is the only writer of the points of an edge it owns.
-                unsafe { out.write_run(i, point(x, y)) };
+                unsafe { out.write(i, &point(x, y)) };
             }
         }
         if num.corners[f][l] {
-            let (x, y) = [(0, 0), (n, 0), (n, n), (0, n)][l];
+            let (x, y) = corner_at(l as u8, n);
             // SAFETY: face f is the only writer of a corner it owns.
-            unsafe { out.write_run(num.vertex[f][l] as usize, point(x, y)) };
+            unsafe { out.write(num.vertex[f][l] as usize, &point(x, y)) };
         }
     }
 }
@@ -1010,22 +1056,15 @@ fn t_rewrite(t: &CurveTables<'_>, w: &[u8]) -> Vec<u8> {
     w.iter().flat_map(|&s| t.rule(s).iter().copied()).collect()
 }
 
-/// Whether the start level's patches are gathered x-major, so that after every plan (each
-/// transposes) the last level comes out row-major.
-fn start_a_is_x(plans: &[Plan]) -> bool {
-    plans.len() % 2 == 1
-}
-
-/// Copies a start patch (`table`: its indices into `start` in [a][b] order, `u32::MAX` for the
-/// missing diagonal at an EV corner, which reads as zero) into the fi-th of k interleaved
-/// patches of `dst`.
-fn load<T: Real>(table: &[u32], start: &[[T; 3]], m: usize, k: usize, fi: usize, dst: &mut [T]) {
-    for (a, run) in table.chunks_exact(m).enumerate() {
-        let d = (a * k + fi) * m * 3;
-        for (o, &i) in dst[d..d + m * 3].chunks_exact_mut(3).zip(run) {
-            let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
-            o.copy_from_slice(&p);
-        }
+/// Copies a start patch (`table`: its indices into `start`, x-major with side m, `u32::MAX`
+/// for the missing diagonal at an EV corner, which reads as zero) into the fi-th patch of
+/// `dst` in `layout`.
+fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, fi: usize, dst: &mut [T]) {
+    let m = layout.side;
+    for (j, &i) in table.iter().enumerate() {
+        let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
+        let d = layout.at(fi, (j / m) as i64 - 1, (j % m) as i64 - 1);
+        dst[d..d + 3].copy_from_slice(&p);
     }
 }
 
@@ -1059,13 +1098,6 @@ fn ev_child<T: Real>(
     }
     let norm = alpha + rot.len() as f64 * (ring[0] + ring[1]);
     acc.map(|a| T::from_f64(a / norm))
-}
-
-/// The range of a block's last level holding row Y' of the j-th of k patches (side N'+1).
-fn block_row(n: i64, k: usize, j: usize, yn: usize) -> std::ops::Range<usize> {
-    let row = (n as usize + 1) * 3;
-    let s = (yn * k + j) * row;
-    s..s + row
 }
 
 /// Patches per block: enough to make slabs long, few enough that the last level of the block
