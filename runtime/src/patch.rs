@@ -132,23 +132,28 @@ impl Plan {
     /// twice on x86-64, for the baseline and for AVX2 (chosen at run time): the same
     /// operations in the same order, so the same bits, only wider vectors.
     fn pass<T: Real>(&self, src: &[T], len: usize, dst: &mut [T]) {
+        self.pass_rows(src, len, 0, dst);
+    }
+
+    /// [`Plan::pass`] for the new points X' = `first`, `first` + 1, … that `dst` holds.
+    fn pass_rows<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { self.pass_avx2(src, len, dst) };
+            return unsafe { self.pass_avx2(src, len, first, dst) };
         }
-        self.pass_any(src, len, dst);
+        self.pass_any(src, len, first, dst);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn pass_avx2<T: Real>(&self, src: &[T], len: usize, dst: &mut [T]) {
-        self.pass_any(src, len, dst);
+    unsafe fn pass_avx2<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
+        self.pass_any(src, len, first, dst);
     }
 
     #[inline(always)]
-    fn pass_any<T: Real>(&self, src: &[T], len: usize, dst: &mut [T]) {
-        for (row, d) in self.rows.iter().zip(dst.chunks_exact_mut(len)) {
+    fn pass_any<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
+        for (row, d) in self.rows[first..].iter().zip(dst.chunks_exact_mut(len)) {
             let slab = |x: usize| &src[x * len..(x + 1) * len];
             let w = |i: usize| T::from_f64(self.parents[row.start + i].1);
             match self.parents[row.clone()] {
@@ -187,6 +192,31 @@ impl Plan {
     /// One step of one large patch: `src` ([a][b], side N+3) is refined along a, transposed,
     /// and refined along b into `dst` ([b'][a'], side `new_side`): long slabs both times.
     fn step_transposing<T: Real>(&self, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
+        let side = self.new_side();
+        let at = self.along_a_transposed(src, p);
+        self.pass(at, side * 3, grown(dst, side * side * 3));
+    }
+
+    /// [`Plan::step_transposing`] handing each new row b' to `each(b', row)` instead of storing
+    /// the new patch (the last step of a large patch: one row of scratch, not a patch).
+    fn step_transposing_rows<T: Real>(
+        &self,
+        src: &[T],
+        p: &mut Passes<T>,
+        mut each: impl FnMut(usize, &[T]),
+    ) {
+        let side = self.new_side();
+        self.along_a_transposed(src, p);
+        let row = grown(&mut p.a, side * 3);
+        for b in 0..side {
+            self.pass_rows(&p.at, side * 3, b, row);
+            each(b, row);
+        }
+    }
+
+    /// The first pass of [`Plan::step_transposing`], left transposed ([b][a'], side N+3 by
+    /// `new_side`) in `p.at`.
+    fn along_a_transposed<'p, T: Real>(&self, src: &[T], p: &'p mut Passes<T>) -> &'p [T] {
         const L: usize = 3;
         let (m, side) = (self.old_side, self.new_side());
         self.pass(src, m * L, grown(&mut p.a, side * m * L));
@@ -197,7 +227,7 @@ impl Plan {
                 at[d..d + L].copy_from_slice(q);
             }
         }
-        self.pass(at, side * L, grown(dst, side * side * L));
+        at
     }
 }
 
@@ -821,8 +851,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                             a_is_x: true,
                         };
                         for (j, &f) in block.iter().enumerate() {
-                            let at = |x, y| layout.at(j, x, y);
-                            scatter(out_num, f as usize, &scratch.ext, at, out);
+                            let point = |x, y| {
+                                let i = layout.at(j, x, y);
+                                [scratch.ext[i], scratch.ext[i + 1], scratch.ext[i + 2]]
+                            };
+                            scatter_rows(out_num, f as usize, 0..=out_num.n, point, out);
                         }
                     }
                 });
@@ -874,15 +907,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     sc.spawn(move || {
                         for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                             if last {
-                                plan.step_transposing(src, &mut scratch.p, &mut scratch.next);
-                                let layout = Layout {
-                                    side: out_num.n as usize + 1,
-                                    k: 1,
-                                    ring: 0,
-                                    a_is_x: !a_is_x,
+                                // Rows come out as rows y (the parity chosen above).
+                                let each = |y: usize, row: &[T]| {
+                                    let point = |x: i64, _| {
+                                        let i = x as usize * 3;
+                                        [row[i], row[i + 1], row[i + 2]]
+                                    };
+                                    let y = y as i64;
+                                    scatter_rows(out_num, f as usize, y..=y, point, out);
                                 };
-                                let at = |x, y| layout.at(0, x, y);
-                                scatter(out_num, f as usize, &scratch.next, at, out);
+                                plan.step_transposing_rows(src, &mut scratch.p, each);
                             } else {
                                 plan.step_transposing(src, &mut scratch.p, dst);
                             }
@@ -960,50 +994,50 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 }
 
-/// Writes the points of face f's final patch (point (x, y) at `src[at(x, y)..][..3]`) that
-/// face f owns: its interior, each owned edge, each owned corner.
-fn scatter<T: Real>(
+/// Writes the points of rows `ys` of face f's final patch (`point(x, y)`) that face f owns:
+/// interior points, points of owned edges, owned corners.
+fn scatter_rows<T: Real>(
     num: &Numbering,
     f: usize,
-    src: &[T],
-    at: impl Fn(i64, i64) -> usize,
+    ys: std::ops::RangeInclusive<i64>,
+    point: impl Fn(i64, i64) -> [T; 3],
     out: &SharedOut<T>,
 ) {
     let n = num.n;
-    let point = |x, y| {
-        let i = at(x, y);
-        [src[i], src[i + 1], src[i + 2]]
-    };
-    let (first, _) = num.index(f, 1, 1);
     let k = (n - 1) as usize;
-    for y in 1..n {
+    let (lo, hi) = (*ys.start(), *ys.end());
+    let (first, _) = num.index(f, 1, 1);
+    for y in lo.max(1)..=hi.min(n - 1) {
+        let row = first + (y - 1) as usize * k;
         for x in 1..n {
-            let i = first + (y - 1) as usize * k + (x - 1) as usize;
             // SAFETY: interior points of face f are written by face f only.
-            unsafe { out.write(i, &point(x, y)) };
+            unsafe { out.write(row + (x - 1) as usize, &point(x, y)) };
         }
     }
+    let inner = lo.max(1)..hi.min(n - 1) + 1;
     for l in 0..4 {
         let (e, forward, owner) = num.edges[f][l];
         if owner {
+            // Points t = 1..N−1 of edge l (from corner l) on these rows.
+            let ts = match l {
+                0 if lo == 0 => 1..n,
+                2 if hi == n => 1..n,
+                1 => inner.clone(),
+                3 => n - inner.end + 1..n - inner.start + 1,
+                _ => 0..0,
+            };
             let base = num.nv + e as usize * k;
-            for t in 1..n {
-                // Point t from corner l along edge l.
-                let (x, y) = match l {
-                    0 => (t, 0),
-                    1 => (n, t),
-                    2 => (n - t, n),
-                    _ => (0, n - t),
-                };
+            for t in ts {
+                let (x, y) = [(t, 0), (n, t), (n - t, n), (0, n - t)][l];
                 let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
                 // SAFETY: face f is the only writer of the points of an edge it owns.
                 unsafe { out.write(i, &point(x, y)) };
             }
         }
-        if num.corners[f][l] {
-            let (x, y) = corner_at(l as u8, n);
+        let (cx, cy) = corner_at(l as u8, n);
+        if num.corners[f][l] && ys.contains(&cy) {
             // SAFETY: face f is the only writer of a corner it owns.
-            unsafe { out.write(num.vertex[f][l] as usize, &point(x, y)) };
+            unsafe { out.write(num.vertex[f][l] as usize, &point(cx, cy)) };
         }
     }
 }
