@@ -172,7 +172,7 @@ pub fn steps_for(surface: &GenericSurface, mesh: &QuadMesh, target: usize) -> us
     let count = |n| unique_vertices(mesh, n);
     let mut word = ls.axiom.clone();
     let mut best = (0, usize::MAX);
-    for s in 0..12 {
+    for s in 0..40 {
         let diff = count(word.len()).abs_diff(target);
         if diff < best.1 {
             best = (s, diff);

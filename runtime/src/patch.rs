@@ -3,16 +3,17 @@
 //! Every initial edge carries the one-symbol axiom ω, so after s steps every face of the input
 //! mesh is an (N+1)×(N+1) grid whose rows and columns are both labelled W_s = π^s(ω), a
 //! symmetric word (\[G\] Cor. 4.4). One step of a patch is the tensor product of two 1D
-//! refinements: the patch plus a ring of old points is refined along one axis, transposed, and
-//! refined along the other. Each pass is a sequence of slab updates `dst += w · src` driven by
-//! the 1D masks (`CurveScheme::axpy_mask`, specialised with constant weights in generated code).
+//! refinements: the patch plus a ring of old points is refined along one axis, then along the
+//! other. Each pass applies the level's 1D plan, the masks in gather form (`Plan`: per new
+//! point its parents and weights), to whole slabs of points at once.
 //!
 //! **Depth first.** A step also refines the ring itself (new points −1..=N'+1, checked when
 //! the 1D plan is built), so a patch carries its own ring from step to step: the ring is
 //! gathered once from the start level, every step runs in cache, and only the last level is
 //! written, in its final numbering (`Numbering`: base vertices, edge points, face interiors).
 //! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
-//! and go through all steps at once, in blocks interleaved so that a slab spans the block.
+//! and go through all steps at once, in blocks interleaved point by point so that a slab spans
+//! the block; faces around EVs are large patches, refined one at a time (pass, transpose, pass).
 //!
 //! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
 //! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
