@@ -308,23 +308,28 @@ impl Base {
         self.diagonal[f as usize].iter().all(|&d| d != u32::MAX)
     }
 
-    /// The two ring points of face f next to its corner c (side N): their place in f's frame,
-    /// and the (face, x, y) that owns them, one step inside the neighbour across edge c (at
-    /// t = 0) and across edge c−1 (at t = N).
+    /// The two ring points of face f next to its corner c (side N): point t = 0 of the ring
+    /// across edge c and point t = N of the ring across edge c−1.
     fn corner_ring(&self, f: u32, c: u8, n: i64) -> [RingPoint; 2] {
-        [(c, 0), ((c + 3) % 4, n)].map(|(l, t)| {
-            let (g, gl, back) = self.across(f, l);
-            let (cx, cy) = corner_at(l, n);
-            let (dx, dy) = TOWARD_NEXT[l as usize];
-            let (ox, oy) = TOWARD_PREV[l as usize];
-            let u = if back { n - t } else { t };
-            let (gx, gy) = inward_xy(gl, u, 1, n);
-            ((cx + t * dx - ox, cy + t * dy - oy), (g, gx, gy))
-        })
+        [(c, 0), ((c + 3) % 4, n)].map(|(l, t)| self.ring_point(f, l, t, n))
+    }
+
+    /// Point t = 0..=N of face f's ring across its local edge l (which runs from corner l to
+    /// l+1; side N): its place in f's frame, and the (face, x, y) that owns it, one step
+    /// inside the neighbour.
+    fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> RingPoint {
+        let (g, gl, back) = self.across(f, l);
+        let (cx, cy) = corner_at(l, n);
+        let (dx, dy) = TOWARD_NEXT[l as usize];
+        // Outward normal of edge l: the opposite of the step toward corner l−1.
+        let (ox, oy) = TOWARD_PREV[l as usize];
+        let u = if back { n - t } else { t };
+        let (gx, gy) = inward_xy(gl, u, 1, n);
+        ((cx + t * dx - ox, cy + t * dy - oy), (g, gx, gy))
     }
 }
 
-/// A ring point of a face next to a corner: (x, y) in that face, and (face, x, y) of its owner.
+/// A ring point of a face: (x, y) in that face, and (face, x, y) of its owner.
 type RingPoint = ((i64, i64), (u32, i64, i64));
 
 /// The point `inward` steps into a face from its local edge `gl`, at parameter u along that
@@ -534,21 +539,11 @@ impl Numbering {
                 );
             }
         }
-        // The ring along the four edges: local edge l runs from corner l to l+1.
+        // The ring along the four edges.
         for l in 0..4u8 {
-            let (g, gl, back) = base.across(f, l);
-            let (cx, cy) = corner_at(l, n);
-            let (dx, dy) = TOWARD_NEXT[l as usize];
-            // Outward normal of edge l: the opposite of the step toward corner l−1.
-            let (ox, oy) = TOWARD_PREV[l as usize];
             for t in 0..=n {
-                let u = if back { n - t } else { t };
-                let (x, y) = inward_xy(gl, u, 1, n);
-                put(
-                    cx + t * dx - ox,
-                    cy + t * dy - oy,
-                    self.index(g as usize, x, y).0,
-                );
+                let ((x, y), (g, gx, gy)) = base.ring_point(f, l, t, n);
+                put(x, y, self.index(g as usize, gx, gy).0);
             }
         }
         // Corners: the diagonal point across an ordinary vertex; none at an EV.
