@@ -152,19 +152,13 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
     let mut mask_words = Vec::new();
     let mut weights = Vec::new();
     let mut exact = Vec::new();
-    let mut arms = Vec::new();
-    for (i, m) in s.masks.iter().enumerate() {
-        let mut adds = Vec::new();
-        for (j, c) in m.contributions.iter().enumerate() {
+    for m in &s.masks {
+        for c in &m.contributions {
             mask_words.push(s.graph.index[&c.word]);
-            let w = f64_lit(c.weight.to_f64());
-            weights.push(w.clone());
+            weights.push(f64_lit(c.weight.to_f64()));
             exact.push(c.weight.to_string());
-            adds.push(quote! { axpy(&mut out[#j], #w, p); });
         }
         mask_offsets.push(mask_words.len());
-        let i = Literal::u32_suffixed(i as u32);
-        arms.push(quote! { #i => { #(#adds)* } });
     }
     let mask_offsets = u32s(mask_offsets);
     let children: Vec<Literal> = s
@@ -217,26 +211,10 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
             mask_children: &[#(#children),*],
         };
 
-        #[inline(always)]
-        fn axpy<const D: usize>(o: &mut [f64; D], w: f64, p: &[f64; D]) {
-            for c in 0..D {
-                o[c] += w * p[c];
-            }
-        }
-
         impl ::lsubdiv_runtime::CurveScheme for #ty {
             fn tables(&self) -> ::lsubdiv_runtime::CurveTables<'_> {
                 TABLES
             }
-
-            #[inline]
-            fn diffuse<const D: usize>(&self, word: u32, p: &[f64; D], out: &mut [[f64; D]]) {
-                match word {
-                    #(#arms)*
-                    _ => unreachable!("word index {} outside the tables", word),
-                }
-            }
-
         }
 
         #surface

@@ -1,10 +1,11 @@
 //! Curve refinement by mask diffusion (\[N\] §2.3, \[G\] §2.1.1).
 //!
 //! Intervals carry symbols; control point k owns the d+1 intervals k..k+d (its word). One step
-//! rewrites every interval (π) and scatters each old point into the new points of its mask, in
-//! order of k, so that every path that uses the same tables produces the same bits.
+//! rewrites every interval (π) and spreads each old point over the new points of its mask; the
+//! driver computes that in gather form ([`crate::gather`]), summing in order of k, so that every
+//! path that uses the same tables produces the same bits.
 
-use std::collections::HashMap;
+use crate::gather::Stencils;
 use std::fmt;
 
 /// Flat tables of a curve scheme (CSR layout, as OpenSubdiv's stencil tables).
@@ -72,21 +73,11 @@ impl CurveTables<'_> {
     }
 }
 
-/// A scheme that can refine curves: its tables plus a mask-diffusion kernel.
+/// A scheme that can refine curves: its tables (the driver builds its stencils from them,
+/// [`crate::gather`]).
 pub trait CurveScheme {
     /// The tables.
     fn tables(&self) -> CurveTables<'_>;
-
-    /// Adds `weight · p` for every entry of the mask of `word` into `out[j]`, j = entry index.
-    fn diffuse<const D: usize>(&self, word: u32, p: &[f64; D], out: &mut [[f64; D]]) {
-        let t = self.tables();
-        let range = t.mask_range(word as usize);
-        for (o, &w) in out.iter_mut().zip(&t.mask_weights[range]) {
-            for c in 0..D {
-                o[c] += w * p[c];
-            }
-        }
-    }
 }
 
 /// A control polygon with one label per knot interval.
@@ -168,10 +159,13 @@ impl<const D: usize> Curve<D> {
     /// Checks label count, symbols and point count against the tables.
     pub fn check(&self, t: &CurveTables<'_>) -> Result<(), CurveError> {
         let d = t.degree;
-        let (needed, expected) = if self.closed {
-            (d + 1, self.points.len())
+        // Open or closed, a spline of degree d needs d + 1 control points (fewer leave no
+        // knot interval on which every B-spline is defined, and nothing to refine).
+        let needed = d + 1;
+        let expected = if self.closed {
+            self.points.len()
         } else {
-            (1, self.points.len() + d)
+            self.points.len() + d
         };
         if self.points.len() < needed {
             return Err(CurveError::TooFewPoints {
@@ -207,18 +201,12 @@ pub fn refine<S: CurveScheme, const D: usize>(
     Ok(r.into_curve())
 }
 
-/// New points accumulated in cache before they are written out.
-const WINDOW: usize = 4096;
-
 /// Curve refinement with reusable buffers (refine the same kind of curve again and again
 /// without reallocating).
 #[derive(Clone, Debug, Default)]
 pub struct CurveRefiner<const D: usize> {
     cur: Curve<D>,
     next: Curve<D>,
-    words: Vec<u32>,
-    next_words: Vec<u32>,
-    window: Vec<[f64; D]>,
 }
 
 impl<const D: usize> Default for Curve<D> {
@@ -241,24 +229,20 @@ impl<const D: usize> CurveRefiner<D> {
     ) -> Result<&Curve<D>, CurveError> {
         let t = scheme.tables();
         curve.check(&t)?;
-        initial_words(&t, curve, &mut self.words)?;
+        let mut stencils = Stencils::new(t);
         if steps == 0 {
+            // Nothing to refine, but the words must still be known.
+            let d = t.degree;
+            for k in 0..curve.points.len() {
+                stencils.word(&curve.word(k, d))?;
+            }
             self.cur.clone_from(curve);
         }
         for i in 0..steps {
             // The first step reads the input itself (no copy).
             let src = if i == 0 { curve } else { &self.cur };
-            step(
-                scheme,
-                &t,
-                src,
-                &self.words,
-                &mut self.next,
-                &mut self.next_words,
-                &mut self.window,
-            );
+            step(&mut stencils, src, &mut self.next)?;
             std::mem::swap(&mut self.cur, &mut self.next);
-            std::mem::swap(&mut self.words, &mut self.next_words);
         }
         Ok(&self.cur)
     }
@@ -269,121 +253,197 @@ impl<const D: usize> CurveRefiner<D> {
     }
 }
 
-/// The word index of every point, from windows over the labels (wrapped for closed curves),
-/// without allocating per point; equal consecutive windows reuse the previous lookup.
-fn initial_words<const D: usize>(
-    t: &CurveTables<'_>,
-    curve: &Curve<D>,
-    words: &mut Vec<u32>,
+/// One refinement step into `next`, in gather form ([`crate::gather`]): the new points of
+/// interval k are new indices base_k..base_{k+1}. The first `reach` intervals, whose parents
+/// wrap around (closed) or are cut off (open), are summed by [`head_points`], the others by
+/// [`body_points`]. Fails on a word that has no mask.
+fn step<const D: usize>(
+    stencils: &mut Stencils<'_>,
+    cur: &Curve<D>,
+    next: &mut Curve<D>,
 ) -> Result<(), CurveError> {
-    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
-    let (d, labels) = (t.degree, &curve.labels);
-    // A closed curve's last windows wrap around to its first labels: only those d windows are
-    // copied, never the whole label sequence.
-    let split = labels.len().saturating_sub(d);
-    let tail: Vec<u8> = if curve.closed {
-        labels[split..]
-            .iter()
-            .chain(labels.iter().cycle().take(d))
-            .copied()
-            .collect()
+    let t = stencils.tables();
+    let d = t.degree;
+    rewrite(&t, &cur.labels, &mut next.labels);
+    let m = cur.points.len();
+    let total = if cur.closed {
+        next.labels.len()
     } else {
-        labels[split..].to_vec()
+        cur.labels[..m].iter().map(|&s| t.rule(s).len()).sum()
     };
-    words.clear();
-    let mut last: Option<(&[u8], u32)> = None;
-    for k in 0..curve.points.len() {
-        let w = if k < split {
-            &labels[k..k + d + 1]
-        } else {
-            &tail[k - split..k - split + d + 1]
-        };
-        let i = match last {
-            Some((prev, i)) if prev == w => i,
-            _ => *lookup
-                .get(w)
-                .ok_or_else(|| CurveError::UnknownWord(t.word_str(w)))?,
-        };
-        last = Some((w, i));
-        words.push(i);
+    // An open curve keeps the new points all of whose parents exist:
+    // l ∈ [Σ_{i<d}|π(label_i)| − d, total).
+    let lo = if cur.closed {
+        0
+    } else {
+        cur.labels[..d]
+            .iter()
+            .map(|&s| t.rule(s).len())
+            .sum::<usize>()
+            - d
+    };
+    next.closed = cur.closed;
+    next.points.clear();
+    next.points.reserve(total - lo);
+    let head = stencils.reach.min(m);
+    let base = head_points(stencils, cur, total, head, lo, &mut next.points)?;
+    if head < m {
+        body_points(stencils, cur, head, &mut next.points)?;
+    }
+    // B-spline masks reach d + 1 intervals, so `lo` is within the head; were it not, the
+    // points below it are dropped here.
+    next.points.drain(..lo.saturating_sub(base));
+    if !cur.closed {
+        next.labels.truncate(total + d);
+        next.labels.drain(..lo);
     }
     Ok(())
 }
 
-/// One refinement step into `next`. New point j of old point k's mask is new point base_k + j,
-/// base_k = Σ_{i<k} |π(label_i)|. Masks are accumulated in a cache-sized window; the new points
-/// before base_k are final once point k is reached, and are written out once.
-fn step<S: CurveScheme, const D: usize>(
-    scheme: &S,
-    t: &CurveTables<'_>,
+/// The new points of intervals `head..m` (every parent at k − back ≥ k − reach + 1 ≥ 0): one
+/// context transition per old point, one sum per new point.
+fn body_points<const D: usize>(
+    stencils: &mut Stencils<'_>,
     cur: &Curve<D>,
-    words: &[u32],
-    next: &mut Curve<D>,
-    next_words: &mut Vec<u32>,
-    window: &mut Vec<[f64; D]>,
-) {
-    let d = t.degree;
-    next.labels.clear();
-    for &s in &cur.labels {
-        next.labels.extend_from_slice(t.rule(s));
+    head: usize,
+    out: &mut Vec<[f64; D]>,
+) -> Result<(), CurveError> {
+    let (d, p, labels) = (stencils.tables().degree, &cur.points, &cur.labels);
+    let first = head + 1 - stencils.reach;
+    // The word of point k ends at label k + d (cyclically for a closed curve).
+    let start: Vec<u8> = (first..=head + d)
+        .map(|i| labels[i % labels.len()])
+        .collect();
+    let mut c = stencils.context_of(&start)?;
+    let later = labels.iter().cycle().skip(head + d + 1);
+    let spare = out.spare_capacity_mut();
+    let mut n = 0;
+    for (k, &a) in (head..p.len()).zip(std::iter::once(&0).chain(later)) {
+        if k > head {
+            c = stencils.advance(c, a)?;
+        }
+        for terms in stencils.segment(c) {
+            spare[n].write(gather(terms, p, k));
+            n += 1;
+        }
     }
-    let total = next.labels.len();
-    let longest = (0..t.word_count())
-        .map(|w| t.mask_range(w).len())
-        .max()
-        .unwrap_or(0);
-    next.points.clear();
-    next.points.reserve(total + longest);
-    next_words.clear();
-    next_words.resize(total + longest, 0);
-    window.clear();
-    window.resize(WINDOW + longest, [0.0; D]);
-    let mut w0 = 0; // new index of window[0]
+    // SAFETY: the first n spare slots were written just above.
+    unsafe { out.set_len(out.len() + n) };
+    Ok(())
+}
+
+/// π applied to every label. Rules of up to 8 symbols are written as one 8-byte store each
+/// (into a buffer sized from the symbol counts), longer ones appended.
+fn rewrite(t: &CurveTables<'_>, labels: &[u8], out: &mut Vec<u8>) {
+    const WIDE: usize = 8;
+    out.clear();
+    let rules: Vec<&[u8]> = (0..t.symbol_count()).map(|a| t.rule(a as u8)).collect();
+    if rules.iter().any(|r| r.len() > WIDE) {
+        for &s in labels {
+            out.extend_from_slice(rules[s as usize]);
+        }
+        return;
+    }
+    let mut count = vec![0usize; rules.len()];
+    for &s in labels {
+        count[s as usize] += 1;
+    }
+    let total = count
+        .iter()
+        .zip(&rules)
+        .map(|(c, r)| c * r.len())
+        .sum::<usize>();
+    let padded: Vec<[u8; WIDE]> = rules
+        .iter()
+        .map(|r| std::array::from_fn(|i| r.get(i).copied().unwrap_or(0)))
+        .collect();
+    out.resize(total + WIDE, 0);
+    let mut at = 0;
+    for &s in labels {
+        out[at..at + WIDE].copy_from_slice(&padded[s as usize]);
+        at += rules[s as usize].len();
+    }
+    out.truncate(total);
+}
+
+/// Σ weight · p[k − back] over `terms`, in their order.
+#[inline(always)]
+fn gather<const D: usize>(terms: &[(f64, u32)], p: &[[f64; D]], k: usize) -> [f64; D] {
+    let mut acc = [0.0; D];
+    for &(w, back) in terms {
+        let q = &p[k - back as usize];
+        for c in 0..D {
+            acc[c] += w * q[c];
+        }
+    }
+    acc
+}
+
+/// The new points of the first `head` intervals, each parent found by its new index; points
+/// below `lo` are skipped. For a closed curve, a parent near the end reaches new index l
+/// through l + q·total (q ≥ 1, the wrap); sums run in increasing old index within each q, and
+/// the q-sums are added in order of q, as in scatter form, where the wrapped part was added at
+/// the end. Returns the first new index after the head.
+fn head_points<const D: usize>(
+    stencils: &Stencils<'_>,
+    cur: &Curve<D>,
+    total: usize,
+    head: usize,
+    lo: usize,
+    out: &mut Vec<[f64; D]>,
+) -> Result<usize, CurveError> {
+    let (t, reach, m) = (stencils.tables(), stencils.reach, cur.points.len());
+    let len = |k: usize| t.rule(cur.labels[k]).len();
+    // Candidate parents (index, word, base): the head, and for a closed curve the tail, whose
+    // bases are counted back from `total`.
+    let all = cur.closed && m <= 2 * reach;
+    let mut indices: Vec<usize> = (0..if all { m } else { head }).collect();
+    if cur.closed && !all {
+        indices.extend(m - reach..m);
+    }
+    let mut parents = Vec::with_capacity(indices.len());
     let mut base = 0;
-    let mut end = 0;
-    for ((p, &w), &s) in cur.points.iter().zip(words).zip(&cur.labels) {
-        let range = t.mask_range(w as usize);
-        if base + range.len() > w0 + window.len() {
-            // Points before `base` are final: write them, slide the window.
-            let done = base - w0;
-            next.points.extend_from_slice(&window[..done]);
-            window.copy_within(done.., 0);
-            let keep = window.len() - done;
-            window[keep..].fill([0.0; D]);
-            w0 = base;
+    for &k in &indices {
+        if k >= head && !all {
+            break;
         }
-        scheme.diffuse(w, p, &mut window[base - w0..]);
-        end = end.max(base + range.len());
-        next_words[base..base + range.len()].copy_from_slice(&t.mask_words[range]);
-        base += t.rule(s).len();
+        parents.push((k, stencils.word(&cur.word(k, t.degree))?, base));
+        base += len(k);
     }
-    next.points.extend_from_slice(&window[..end - w0]);
-    next_words.truncate(end);
-    if cur.closed {
-        // New point l ≥ total is point l − total of the cycle.
-        for i in total..end {
-            let v = next.points[i];
-            for (o, x) in next.points[i - total].iter_mut().zip(v) {
-                *o += x;
+    let end = parents[head - 1].2 + len(head - 1);
+    let mut base = total;
+    let mut tail = Vec::new();
+    for &k in indices[parents.len()..].iter().rev() {
+        base -= len(k);
+        tail.push((k, stencils.word(&cur.word(k, t.degree))?, base));
+    }
+    parents.extend(tail.into_iter().rev());
+    let wraps = if cur.closed { reach / total + 1 } else { 0 };
+    for l in lo..end {
+        let mut point = [0.0; D];
+        for q in 0..=wraps {
+            let mut acc = [0.0; D];
+            let mut any = false;
+            for &(k, word, base) in &parents {
+                let range = t.mask_range(word as usize);
+                let j = (l + q * total).wrapping_sub(base);
+                if j < range.len() {
+                    let w = t.mask_weights[range.start + j];
+                    for (a, x) in acc.iter_mut().zip(&cur.points[k]) {
+                        *a += w * x;
+                    }
+                    any = true;
+                }
             }
-            next_words[i - total] = next_words[i];
+            if q == 0 {
+                point = acc;
+            } else if any {
+                for (o, x) in point.iter_mut().zip(acc) {
+                    *o += x;
+                }
+            }
         }
-        next.points.truncate(total);
-        next_words.truncate(total);
-        next.closed = true;
-    } else {
-        // Keep the new points all of whose parents exist: l ∈ [Σ_{i<d}|π(label_i)| − d, base).
-        let lo = cur.labels[..d]
-            .iter()
-            .map(|&s| t.rule(s).len())
-            .sum::<usize>()
-            - d;
-        next.points.truncate(base);
-        next.points.drain(..lo);
-        next_words.truncate(base);
-        next_words.drain(..lo);
-        next.labels.truncate(base + d);
-        next.labels.drain(..lo);
-        next.closed = false;
+        out.push(point);
     }
+    Ok(end)
 }

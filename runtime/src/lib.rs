@@ -5,6 +5,7 @@
 
 pub mod curve;
 pub mod ev;
+mod gather;
 pub mod generators;
 pub mod mesh;
 pub mod patch;
