@@ -251,3 +251,49 @@ fn bad_curves_are_refused() {
         );
     }
 }
+
+/// Every context met on a closed curve labelled by π^s(axiom) (cyclically) is one that the
+/// generated code specialises: `Stencils::reachable`, which the code generator numbers, is
+/// closed under π.
+#[test]
+fn build_time_contexts_cover_the_axioms_iterates() {
+    use lsubdiv::runtime::gather::Stencils;
+    use lsubdiv::runtime::CurveContexts;
+    for name in generated::NAMES {
+        let s = generic(name, None);
+        let t = s.tables();
+        let known = Stencils::reachable(t).unwrap();
+        let (keys, next) = known.contexts();
+        let mut offsets = vec![0u32];
+        let labels: Vec<u8> = keys.iter().flatten().copied().collect();
+        for k in keys {
+            offsets.push(offsets.last().unwrap() + k.len() as u32);
+        }
+        let contexts = CurveContexts {
+            offsets: &offsets,
+            labels: &labels,
+            next,
+        };
+        let (mut st, specialised) = Stencils::new(t, contexts).unwrap();
+        assert_eq!(specialised as usize, keys.len(), "{name}");
+        let mut word = t.axiom.to_vec();
+        for s in 0..6 {
+            let n = word.len();
+            let at = |i: usize| word[i % n];
+            let start: Vec<u8> = (0..st.reach + t.degree).map(at).collect();
+            let mut c = st.context_of(&start).unwrap();
+            for i in st.reach + t.degree..st.reach + t.degree + n {
+                assert!(c < specialised, "{name}: step {s}, label {i}");
+                c = st.advance(c, at(i)).unwrap();
+            }
+            word = word.iter().flat_map(|&a| t.rule(a)).copied().collect();
+        }
+    }
+    // The generated code numbers the same contexts.
+    let fib = generic("fibonacci", None);
+    let known = Stencils::reachable(fib.tables()).unwrap();
+    assert_eq!(
+        generated::fibonacci::CONTEXTS.len(),
+        known.contexts().0.len()
+    );
+}

@@ -1,12 +1,15 @@
-//! Rust source generation: const CSR mask tables and a specialised mask-diffusion kernel whose
-//! weights are constants (`quote!` → `syn::File` → `prettyplease`, as tonic-build does).
+//! Rust source generation: const CSR mask tables and specialised mask-diffusion stencils (one
+//! constant-weight sum per new point of every label context, in gather form) (`quote!` → `syn::File` → `prettyplease`, as tonic-build does).
 //!
 //! f64 appears here only as the nearest double of each exact weight, for the emitted tables.
 
 use crate::error::Error;
 use crate::ev::{self, SurfaceAnalysis};
+use crate::generic::GenericScheme;
 use crate::pipeline::Scheme;
 use crate::scheme;
+use lsubdiv_runtime::gather::Stencils;
+use lsubdiv_runtime::CurveScheme;
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::path::{Path, PathBuf};
@@ -184,6 +187,7 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
     );
     let ty = format_ident!("Scheme");
     let surface = surface.map(|a| surface_items(s, a));
+    let contexts = context_items(s);
     let tokens: TokenStream = quote! {
         #[doc = #doc]
         #[derive(Clone, Copy, Debug, Default)]
@@ -211,15 +215,87 @@ pub fn generate_with(s: &Scheme, surface: Option<&SurfaceAnalysis>) -> String {
             mask_children: &[#(#children),*],
         };
 
-        impl ::lsubdiv_runtime::CurveScheme for #ty {
-            fn tables(&self) -> ::lsubdiv_runtime::CurveTables<'_> {
-                TABLES
-            }
-        }
+        #contexts
 
         #surface
     };
     render(tokens)
+}
+
+/// The `CurveScheme` impl: the tables, and the gather stencils of every context the axiom's
+/// iterates produce ([`lsubdiv_runtime::gather`]) as constant-weight sums, one match arm each.
+fn context_items(s: &Scheme) -> TokenStream {
+    let generic = GenericScheme::new(s.clone());
+    let stencils = match Stencils::reachable(generic.tables()) {
+        Ok(st) => st,
+        Err(e) => {
+            let msg = format!("scheme `{}`: {e}", s.ls.name);
+            return quote! { compile_error!(#msg); };
+        }
+    };
+    let (keys, next) = stencils.contexts();
+    let mut offsets = vec![0usize];
+    let mut labels = Vec::new();
+    // Contexts with the same stencil share one arm, in order of first appearance.
+    let mut bodies: Vec<(String, TokenStream, Vec<u32>)> = Vec::new();
+    for (c, key) in keys.iter().enumerate() {
+        labels.extend_from_slice(key);
+        offsets.push(labels.len());
+        let writes: Vec<TokenStream> = stencils
+            .segment(c as u32)
+            .map(|terms| {
+                let terms = terms.iter().map(|&(w, back)| {
+                    let w = f64_lit(w);
+                    quote! { (#w, #back) }
+                });
+                quote! { emit(lin(&[#(#terms),*], p, k)); }
+            })
+            .collect();
+        let body = quote! { #(#writes)* };
+        let text = body.to_string();
+        match bodies.iter_mut().find(|(t, _, _)| *t == text) {
+            Some((_, _, ids)) => ids.push(c as u32),
+            None => bodies.push((text, body, vec![c as u32])),
+        }
+    }
+    let arms = bodies
+        .iter()
+        .map(|(_, body, ids)| quote! { #(#ids)|* => { #body true } });
+    let offsets = u32s(offsets);
+    let next: Vec<Literal> = next.iter().map(|&n| Literal::u32_suffixed(n)).collect();
+    quote! {
+        /// Label contexts of the curves the axiom's iterates label, numbered as `gather` uses them.
+        pub const CONTEXTS: ::lsubdiv_runtime::CurveContexts<'static> = ::lsubdiv_runtime::CurveContexts {
+            offsets: &[#(#offsets),*],
+            labels: &[#(#labels),*],
+            next: &[#(#next),*],
+        };
+
+        impl ::lsubdiv_runtime::CurveScheme for Scheme {
+            fn tables(&self) -> ::lsubdiv_runtime::CurveTables<'_> {
+                TABLES
+            }
+
+            fn contexts(&self) -> ::lsubdiv_runtime::CurveContexts<'_> {
+                CONTEXTS
+            }
+
+            #[inline]
+            fn gather<const D: usize>(
+                &self,
+                c: u32,
+                p: &[[f64; D]],
+                k: usize,
+                emit: &mut impl FnMut([f64; D]),
+            ) -> bool {
+                use ::lsubdiv_runtime::gather::lin;
+                match c {
+                    #(#arms)*
+                    _ => false,
+                }
+            }
+        }
+    }
 }
 
 fn render(tokens: TokenStream) -> String {

@@ -5,7 +5,7 @@
 //! driver computes that in gather form ([`crate::gather`]), summing in order of k, so that every
 //! path that uses the same tables produces the same bits.
 
-use crate::gather::Stencils;
+use crate::gather::{lin, CurveContexts, Stencils};
 use std::fmt;
 
 /// Flat tables of a curve scheme (CSR layout, as OpenSubdiv's stencil tables).
@@ -74,10 +74,30 @@ impl CurveTables<'_> {
 }
 
 /// A scheme that can refine curves: its tables (the driver builds its stencils from them,
-/// [`crate::gather`]).
+/// [`crate::gather`]) and, in generated code, stencils specialised for the contexts known at
+/// build time.
 pub trait CurveScheme {
     /// The tables.
     fn tables(&self) -> CurveTables<'_>;
+
+    /// The contexts that [`CurveScheme::gather`] specialises (none by default).
+    fn contexts(&self) -> CurveContexts<'_> {
+        CurveContexts::NONE
+    }
+
+    /// Hands the new points of old point k, in context `c` of [`CurveScheme::contexts`], to
+    /// `emit` in order; `false` leaves them to the table-driven stencils.
+    #[inline(always)]
+    fn gather<const D: usize>(
+        &self,
+        c: u32,
+        p: &[[f64; D]],
+        k: usize,
+        emit: &mut impl FnMut([f64; D]),
+    ) -> bool {
+        let _ = (c, p, k, emit);
+        false
+    }
 }
 
 /// A control polygon with one label per knot interval.
@@ -179,14 +199,14 @@ impl<const D: usize> Curve<D> {
                 got: self.labels.len(),
             });
         }
-        match self
-            .labels
-            .iter()
-            .find(|&&s| s as usize >= t.symbol_count())
-        {
-            Some(&s) => Err(CurveError::UnknownSymbol(s)),
-            None => Ok(()),
+        // The largest label first (a vectorised scan), the offender only if there is one.
+        let bad = |s: &&u8| **s as usize >= t.symbol_count();
+        if self.labels.iter().max().is_some_and(|s| bad(&s)) {
+            if let Some(&s) = self.labels.iter().find(bad) {
+                return Err(CurveError::UnknownSymbol(s));
+            }
         }
+        Ok(())
     }
 }
 
@@ -229,7 +249,7 @@ impl<const D: usize> CurveRefiner<D> {
     ) -> Result<&Curve<D>, CurveError> {
         let t = scheme.tables();
         curve.check(&t)?;
-        let mut stencils = Stencils::new(t);
+        let (mut stencils, specialised) = Stencils::new(t, scheme.contexts())?;
         if steps == 0 {
             // Nothing to refine, but the words must still be known.
             let d = t.degree;
@@ -241,7 +261,7 @@ impl<const D: usize> CurveRefiner<D> {
         for i in 0..steps {
             // The first step reads the input itself (no copy).
             let src = if i == 0 { curve } else { &self.cur };
-            step(&mut stencils, src, &mut self.next)?;
+            step(scheme, specialised, &mut stencils, src, &mut self.next)?;
             std::mem::swap(&mut self.cur, &mut self.next);
         }
         Ok(&self.cur)
@@ -257,7 +277,9 @@ impl<const D: usize> CurveRefiner<D> {
 /// interval k are new indices base_k..base_{k+1}. The first `reach` intervals, whose parents
 /// wrap around (closed) or are cut off (open), are summed by [`head_points`], the others by
 /// [`body_points`]. Fails on a word that has no mask.
-fn step<const D: usize>(
+fn step<S: CurveScheme, const D: usize>(
+    scheme: &S,
+    specialised: u32,
     stencils: &mut Stencils<'_>,
     cur: &Curve<D>,
     next: &mut Curve<D>,
@@ -288,7 +310,7 @@ fn step<const D: usize>(
     let head = stencils.reach.min(m);
     let base = head_points(stencils, cur, total, head, lo, &mut next.points)?;
     if head < m {
-        body_points(stencils, cur, head, &mut next.points)?;
+        body_points(scheme, specialised, stencils, cur, head, &mut next.points)?;
     }
     // B-spline masks reach d + 1 intervals, so `lo` is within the head; were it not, the
     // points below it are dropped here.
@@ -301,33 +323,42 @@ fn step<const D: usize>(
 }
 
 /// The new points of intervals `head..m` (every parent at k − back ≥ k − reach + 1 ≥ 0): one
-/// context transition per old point, one sum per new point.
-fn body_points<const D: usize>(
+/// context transition per old point, one sum per new point. Contexts below `specialised` are
+/// numbered as in `scheme.contexts()`, and the scheme's own code may sum them.
+fn body_points<S: CurveScheme, const D: usize>(
+    scheme: &S,
+    specialised: u32,
     stencils: &mut Stencils<'_>,
     cur: &Curve<D>,
     head: usize,
     out: &mut Vec<[f64; D]>,
 ) -> Result<(), CurveError> {
-    let (d, p, labels) = (stencils.tables().degree, &cur.points, &cur.labels);
+    let (d, labels) = (stencils.tables().degree, &cur.labels);
     let first = head + 1 - stencils.reach;
     // The word of point k ends at label k + d (cyclically for a closed curve).
     let start: Vec<u8> = (first..=head + d)
         .map(|i| labels[i % labels.len()])
         .collect();
     let mut c = stencils.context_of(&start)?;
+    let (p, spare) = (&cur.points, out.spare_capacity_mut());
     let later = labels.iter().cycle().skip(head + d + 1);
-    let spare = out.spare_capacity_mut();
     let mut n = 0;
+    let mut emit = |v| {
+        spare[n].write(v);
+        n += 1;
+    };
     for (k, &a) in (head..p.len()).zip(std::iter::once(&0).chain(later)) {
         if k > head {
             c = stencils.advance(c, a)?;
         }
+        if c < specialised && scheme.gather(c, p, k, &mut emit) {
+            continue;
+        }
         for terms in stencils.segment(c) {
-            spare[n].write(gather(terms, p, k));
-            n += 1;
+            emit(lin(terms, p, k));
         }
     }
-    // SAFETY: the first n spare slots were written just above.
+    // SAFETY: the first n spare slots were written by `emit`.
     unsafe { out.set_len(out.len() + n) };
     Ok(())
 }
@@ -344,39 +375,27 @@ fn rewrite(t: &CurveTables<'_>, labels: &[u8], out: &mut Vec<u8>) {
         }
         return;
     }
-    let mut count = vec![0usize; rules.len()];
-    for &s in labels {
-        count[s as usize] += 1;
-    }
-    let total = count
+    // One vectorised count per symbol.
+    let total: usize = rules
         .iter()
-        .zip(&rules)
-        .map(|(c, r)| c * r.len())
-        .sum::<usize>();
-    let padded: Vec<[u8; WIDE]> = rules
+        .enumerate()
+        .map(|(a, r)| labels.iter().filter(|&&s| s as usize == a).count() * r.len())
+        .sum();
+    let padded: Vec<(u64, usize)> = rules
         .iter()
-        .map(|r| std::array::from_fn(|i| r.get(i).copied().unwrap_or(0)))
+        .map(|r| {
+            let bytes: [u8; WIDE] = std::array::from_fn(|i| r.get(i).copied().unwrap_or(0));
+            (u64::from_le_bytes(bytes), r.len())
+        })
         .collect();
     out.resize(total + WIDE, 0);
     let mut at = 0;
     for &s in labels {
-        out[at..at + WIDE].copy_from_slice(&padded[s as usize]);
-        at += rules[s as usize].len();
+        let (bytes, len) = padded[s as usize];
+        out[at..at + WIDE].copy_from_slice(&bytes.to_le_bytes());
+        at += len;
     }
     out.truncate(total);
-}
-
-/// Σ weight · p[k − back] over `terms`, in their order.
-#[inline(always)]
-fn gather<const D: usize>(terms: &[(f64, u32)], p: &[[f64; D]], k: usize) -> [f64; D] {
-    let mut acc = [0.0; D];
-    for &(w, back) in terms {
-        let q = &p[k - back as usize];
-        for c in 0..D {
-            acc[c] += w * q[c];
-        }
-    }
-    acc
 }
 
 /// The new points of the first `head` intervals, each parent found by its new index; points

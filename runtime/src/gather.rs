@@ -11,16 +11,64 @@
 //!
 //! The terms are summed in increasing k', the order in which the scatter form adds them, so
 //! the gather form gives the same bits.
+//!
+//! The contexts that occur in curves labelled by the axiom's iterates are finite and known at
+//! build time ([`Stencils::reachable`]): generated code numbers them as [`CurveContexts`] and
+//! specialises their stencils with constant weights ([`crate::CurveScheme::gather`]); other
+//! contexts are met at run time and summed from the tables.
 
 use crate::curve::{CurveError, CurveTables};
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
+
+/// Contexts numbered at build time, in the order generated code uses.
+#[derive(Clone, Copy, Debug)]
+pub struct CurveContexts<'a> {
+    /// Labels of context c are `labels[offsets[c]..offsets[c + 1]]`.
+    pub offsets: &'a [u32],
+    /// Concatenated labels.
+    pub labels: &'a [u8],
+    /// Context × symbol → context; `u32::MAX` for a transition never met from the axiom.
+    pub next: &'a [u32],
+}
+
+impl CurveContexts<'_> {
+    /// No context (the table-driven path).
+    pub const NONE: CurveContexts<'static> = CurveContexts {
+        offsets: &[0],
+        labels: &[],
+        next: &[],
+    };
+
+    /// Number of contexts.
+    pub fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// No context at all.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Σ weight · p[k − back] over `terms`, in their order, from 0.0 (as the scatter form began).
+#[inline(always)]
+pub fn lin<const D: usize>(terms: &[(f64, u32)], p: &[[f64; D]], k: usize) -> [f64; D] {
+    let mut acc = [0.0; D];
+    for &(w, back) in terms {
+        let q = &p[k - back as usize];
+        for c in 0..D {
+            acc[c] += w * q[c];
+        }
+    }
+    acc
+}
 
 /// Marks a transition not yet taken.
 const UNKNOWN: u32 = u32::MAX;
 
 /// The stencils of the contexts met so far, built on demand from a scheme's tables.
 #[derive(Debug)]
-pub(crate) struct Stencils<'t> {
+pub struct Stencils<'t> {
     t: CurveTables<'t>,
     /// The longest mask: a context reaches back while Σ|π| stays below it.
     pub reach: usize,
@@ -40,8 +88,65 @@ pub(crate) struct Stencils<'t> {
 }
 
 impl<'t> Stencils<'t> {
+    /// The stencils of `known` (numbered as there), more to come on demand. Returns the number
+    /// of contexts numbered as in `known`: all of them, or 0 if they do not match the tables
+    /// (then nothing is seeded and no specialised stencil may be used).
+    pub fn new(
+        t: CurveTables<'t>,
+        known: CurveContexts<'_>,
+    ) -> Result<(Stencils<'t>, u32), CurveError> {
+        let mut s = Stencils::empty(t);
+        for c in 0..known.len() {
+            let key = &known.labels[known.offsets[c] as usize..known.offsets[c + 1] as usize];
+            if s.context_of(key)? as usize != c {
+                return Ok((Stencils::empty(t), 0));
+            }
+        }
+        let symbols = t.symbol_count();
+        if known.next.len() != known.len() * symbols
+            || known
+                .next
+                .iter()
+                .any(|&n| n != UNKNOWN && n as usize >= known.len())
+        {
+            return Ok((Stencils::empty(t), 0));
+        }
+        s.next.copy_from_slice(known.next);
+        Ok((s, known.len() as u32))
+    }
+
+    /// Every context of the curves labelled by the axiom's iterates (cyclically), and the
+    /// transitions between them, numbered in order of their label windows: windows of
+    /// reach + d + 1 labels of the axiom repeated, closed under π (a window of π(u) lies in
+    /// π of a window of u, every rule being non-empty).
+    pub fn reachable(t: CurveTables<'t>) -> Result<Stencils<'t>, CurveError> {
+        let mut s = Stencils::empty(t);
+        let len = s.reach + t.degree + 1;
+        let cyclic = |i| t.axiom.iter().cycle().skip(i).take(len).copied().collect();
+        let mut seen: BTreeSet<Vec<u8>> = (0..t.axiom.len()).map(cyclic).collect();
+        let mut todo: Vec<Vec<u8>> = seen.iter().cloned().collect();
+        while let Some(w) = todo.pop() {
+            let image: Vec<u8> = w.iter().flat_map(|&a| t.rule(a)).copied().collect();
+            for v in image.windows(len) {
+                if seen.insert(v.to_vec()) {
+                    todo.push(v.to_vec());
+                }
+            }
+        }
+        for w in &seen {
+            let c = s.context_of(&w[..len - 1])?;
+            s.advance(c, w[len - 1])?;
+        }
+        Ok(s)
+    }
+
+    /// The contexts interned so far: (labels of each, the transition table).
+    pub fn contexts(&self) -> (&[Vec<u8>], &[u32]) {
+        (&self.keys, &self.next)
+    }
+
     /// No context yet.
-    pub fn new(t: CurveTables<'t>) -> Stencils<'t> {
+    fn empty(t: CurveTables<'t>) -> Stencils<'t> {
         Stencils {
             reach: (0..t.word_count())
                 .map(|w| t.mask_range(w).len())
@@ -79,19 +184,23 @@ impl<'t> Stencils<'t> {
     }
 
     /// The context of the point after one in context `c`; `a` is the last label of its word.
-    #[inline]
+    #[inline(always)]
     pub fn advance(&mut self, c: u32, a: u8) -> Result<u32, CurveError> {
         let i = c as usize * self.t.symbol_count() + a as usize;
         match self.next[i] {
-            UNKNOWN => {
-                let mut key = self.keys[c as usize].clone();
-                key.push(a);
-                let n = self.context(key)?;
-                self.next[i] = n;
-                Ok(n)
-            }
+            UNKNOWN => self.first_advance(c, a),
             n => Ok(n),
         }
+    }
+
+    /// [`Stencils::advance`] the first time it leaves `c` by `a`.
+    #[cold]
+    fn first_advance(&mut self, c: u32, a: u8) -> Result<u32, CurveError> {
+        let mut key = self.keys[c as usize].clone();
+        key.push(a);
+        let n = self.context(key)?;
+        self.next[c as usize * self.t.symbol_count() + a as usize] = n;
+        Ok(n)
     }
 
     /// The new points of context `c`, each a slice of (weight, back) terms.

@@ -5,7 +5,7 @@
 
 pub mod curve;
 pub mod ev;
-mod gather;
+pub mod gather;
 pub mod generators;
 pub mod mesh;
 pub mod patch;
@@ -14,6 +14,7 @@ pub mod surface;
 pub mod topology;
 
 pub use curve::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
+pub use gather::CurveContexts;
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`.
 ///
