@@ -287,7 +287,7 @@ fn valences_beyond_the_table_use_the_same_solver() {
 
 #[test]
 fn patch_path_matches_the_reference_driver() {
-    use lsubdiv::runtime::patch::subdivide;
+    use lsubdiv::runtime::patch::{subdivide, Refiner};
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
         for (label, mesh) in [
@@ -304,6 +304,15 @@ fn patch_path_matches_the_reference_driver() {
                 assert_eq!(fast.faces.len(), reference.faces.len());
                 let d = same_points(&fast.positions, &reference.positions);
                 assert!(d < 1e-12, "{name} {label}: {d:e}");
+                // Strips one point wide (every edge and corner split across strips) give the
+                // same bits as the default, whole-patch strips of these small patches.
+                let mut r = Refiner::<_, f64>::new(&s, &mesh, steps, threads).unwrap();
+                r.set_strip_bytes(1);
+                let narrow = r.refine(&mesh.positions).unwrap();
+                assert!(
+                    narrow == &fast.positions[..],
+                    "{name} {label}: narrow strips"
+                );
                 Topology::build(&QuadMesh {
                     positions: fast.positions.clone(),
                     faces: fast.faces.clone(),

@@ -13,7 +13,8 @@
 //! written, in its final numbering (`Numbering`: base vertices, edge points, face interiors).
 //! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
 //! and go through all steps at once, in blocks interleaved point by point so that a slab spans
-//! the block; faces around EVs are large patches, refined one at a time (pass, transpose, pass).
+//! the block; faces around EVs are large patches, refined one at a time (pass, transpose, pass;
+//! the last step in strips that stay in cache).
 //!
 //! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
 //! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
@@ -198,20 +199,37 @@ impl Plan {
         self.pass(at, side * 3, grown(dst, side * side * 3));
     }
 
-    /// [`Plan::step_transposing`] handing each new row b' to `each(b', row)` instead of storing
-    /// the new patch (the last step of a large patch: one row of scratch, not a patch).
-    fn step_transposing_rows<T: Real>(
+    /// The last step of a large patch, in strips of new points along a (as wide as
+    /// `strip_bytes` of refined rows allow, at least one): each
+    /// strip is refined along a, transposed and refined along b one row at a time, each new
+    /// row b' of the strip handed to `each(a0, b', row)` (new points a0.., b'). The scratch is
+    /// two strips, which stay in cache, instead of two transposed half-steps.
+    fn step_strips<T: Real>(
         &self,
         src: &[T],
         p: &mut Passes<T>,
-        mut each: impl FnMut(usize, &[T]),
+        strip_bytes: usize,
+        mut each: impl FnMut(usize, usize, &[T]),
     ) {
-        let side = self.new_side();
-        self.along_a_transposed(src, p);
-        let row = grown(&mut p.a, side * 3);
-        for b in 0..side {
-            self.pass_rows(&p.at, side * 3, b, row);
-            each(b, row);
+        const L: usize = 3;
+        let (m, side) = (self.old_side, self.new_side());
+        let strip = (strip_bytes / (m * L * std::mem::size_of::<T>())).max(1);
+        for a0 in (0..side).step_by(strip) {
+            let w = strip.min(side - a0);
+            let a = grown(&mut p.a, w * m * L);
+            self.pass_rows(src, m * L, a0, a);
+            let at = grown(&mut p.at, m * w * L);
+            for (xn, column) in a.chunks_exact(m * L).enumerate() {
+                for (y, q) in column.chunks_exact(L).enumerate() {
+                    let d = (y * w + xn) * L;
+                    at[d..d + L].copy_from_slice(q);
+                }
+            }
+            let row = grown(&mut p.row, w * L);
+            for b in 0..side {
+                self.pass_rows(at, w * L, b, row);
+                each(a0, b, row);
+            }
         }
     }
 
@@ -231,6 +249,10 @@ impl Plan {
         at
     }
 }
+
+/// Default bytes of one strip of [`Plan::step_strips`] refined along a (half the L2 cache of
+/// this machine's cores).
+const STRIP_BYTES: usize = 512 << 10;
 
 /// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
 fn grown<T: Real>(v: &mut Vec<T>, n: usize) -> &mut [T] {
@@ -389,11 +411,12 @@ impl<T> Fans<'_, T> {
     }
 }
 
-/// The buffers between one step's two passes.
+/// The buffers between one step's two passes, and one new row.
 #[derive(Default)]
 struct Passes<T> {
     a: Vec<T>,
     at: Vec<T>,
+    row: Vec<T>,
 }
 
 /// Scratch buffers of one worker: a block's patches at the current and the next level, and
@@ -616,6 +639,8 @@ pub struct Refiner<'s, S, T> {
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
     threads: usize,
+    /// Scratch per strip of a large patch's last step ([`Refiner::set_strip_bytes`]).
+    strip_bytes: usize,
     start: Vec<[T; 3]>,
     output: Vec<[T; 3]>,
     /// The fans' patches at the current and the next level.
@@ -741,6 +766,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             fan_faces,
             fan_slot,
             threads: threads.max(1),
+            strip_bytes: STRIP_BYTES,
             start: Vec::new(),
             output: Vec::new(),
             fans: [Vec::new(), Vec::new()],
@@ -752,6 +778,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// Number of output vertices.
     pub fn output_vertices(&self) -> usize {
         self.out_num.len()
+    }
+
+    /// Scratch per strip of the last step of a large patch (default 512 KiB, half this
+    /// machine's L2): smaller strips use less memory, and 1 makes every strip one point wide.
+    /// The output does not depend on it.
+    pub fn set_strip_bytes(&mut self, bytes: usize) {
+        self.strip_bytes = bytes;
     }
 
     /// Steps run by the reference driver before the depth-first ones (see the module docs).
@@ -851,7 +884,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                 let i = layout.at(j, x, y);
                                 [scratch.ext[i], scratch.ext[i + 1], scratch.ext[i + 2]]
                             };
-                            scatter_rows(out_num, f as usize, 0..=out_num.n, point, out);
+                            scatter_rect(
+                                out_num,
+                                f as usize,
+                                0..=out_num.n,
+                                0..=out_num.n,
+                                point,
+                                out,
+                            );
                         }
                     }
                 });
@@ -891,7 +931,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         for (s, plan) in self.plans.iter().enumerate() {
             let last = s + 1 == self.plans.len();
             let chunk = self.fan_faces.len().div_ceil(self.threads).max(1);
-            let (out, out_num) = (&out, &self.out_num);
+            let (out, out_num, strip_bytes) = (&out, &self.out_num, self.strip_bytes);
             std::thread::scope(|sc| {
                 let work = self
                     .fan_faces
@@ -903,16 +943,17 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     sc.spawn(move || {
                         for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                             if last {
-                                // Rows come out as rows y (the parity chosen above).
-                                let each = |y: usize, row: &[T]| {
+                                // Strips of rows y (the parity chosen above), x from a0.
+                                let each = |a0: usize, y: usize, row: &[T]| {
                                     let point = |x: i64, _| {
-                                        let i = x as usize * 3;
+                                        let i = (x as usize - a0) * 3;
                                         [row[i], row[i + 1], row[i + 2]]
                                     };
-                                    let y = y as i64;
-                                    scatter_rows(out_num, f as usize, y..=y, point, out);
+                                    let (x0, y) = (a0 as i64, y as i64);
+                                    let xs = x0..=x0 + (row.len() / 3) as i64 - 1;
+                                    scatter_rect(out_num, f as usize, xs, y..=y, point, out);
                                 };
-                                plan.step_transposing_rows(src, &mut scratch.p, each);
+                                plan.step_strips(src, &mut scratch.p, strip_bytes, each);
                             } else {
                                 plan.step_transposing(src, &mut scratch.p, dst);
                             }
@@ -990,36 +1031,37 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 }
 
-/// Writes the points of rows `ys` of face f's final patch (`point(x, y)`) that face f owns:
-/// interior points, points of owned edges, owned corners.
-fn scatter_rows<T: Real>(
+/// Writes the points (x, y) ∈ `xs` × `ys` of face f's final patch (`point(x, y)`) that face f
+/// owns: interior points, points of owned edges, owned corners.
+fn scatter_rect<T: Real>(
     num: &Numbering,
     f: usize,
+    xs: std::ops::RangeInclusive<i64>,
     ys: std::ops::RangeInclusive<i64>,
     point: impl Fn(i64, i64) -> [T; 3],
     out: &SharedOut<T>,
 ) {
     let n = num.n;
     let k = (n - 1) as usize;
-    let (lo, hi) = (*ys.start(), *ys.end());
+    let inner = |r: &std::ops::RangeInclusive<i64>| (*r.start()).max(1)..(*r.end()).min(n - 1) + 1;
+    let (ix, iy) = (inner(&xs), inner(&ys));
     let (first, _) = num.index(f, 1, 1);
-    for y in lo.max(1)..=hi.min(n - 1) {
+    for y in iy.clone() {
         let row = first + (y - 1) as usize * k;
-        for x in 1..n {
+        for x in ix.clone() {
             // SAFETY: interior points of face f are written by face f only.
             unsafe { out.write(row + (x - 1) as usize, &point(x, y)) };
         }
     }
-    let inner = lo.max(1)..hi.min(n - 1) + 1;
     for l in 0..4 {
         let (e, forward, owner) = num.edges[f][l];
         if owner {
-            // Points t = 1..N−1 of edge l (from corner l) on these rows.
+            // Points t = 1..N−1 of edge l (from corner l) inside the rectangle.
             let ts = match l {
-                0 if lo == 0 => 1..n,
-                2 if hi == n => 1..n,
-                1 => inner.clone(),
-                3 => n - inner.end + 1..n - inner.start + 1,
+                0 if ys.contains(&0) => ix.clone(),
+                2 if ys.contains(&n) => n - ix.end + 1..n - ix.start + 1,
+                1 if xs.contains(&n) => iy.clone(),
+                3 if xs.contains(&0) => n - iy.end + 1..n - iy.start + 1,
                 _ => 0..0,
             };
             let base = num.nv + e as usize * k;
@@ -1031,7 +1073,7 @@ fn scatter_rows<T: Real>(
             }
         }
         let (cx, cy) = corner_at(l as u8, n);
-        if num.corners[f][l] && ys.contains(&cy) {
+        if num.corners[f][l] && xs.contains(&cx) && ys.contains(&cy) {
             // SAFETY: face f is the only writer of a corner it owns.
             unsafe { out.write(num.vertex[f][l] as usize, &point(cx, cy)) };
         }
