@@ -192,18 +192,35 @@ impl Plan {
     }
 
     /// One step of one large patch: `src` ([a][b], side N+3) is refined along a, transposed,
-    /// and refined along b into `dst` ([b'][a'], side `new_side`): long slabs both times.
-    fn step_transposing<T: Real>(&self, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
+    /// and refined along b into `dst` ([b'][a'], side `new_side`), in strips of new points
+    /// along a ([`Plan::strip_transposed`]).
+    fn step_transposing<T: Real>(
+        &self,
+        src: &[T],
+        p: &mut Passes<T>,
+        strip_bytes: usize,
+        dst: &mut Vec<T>,
+    ) {
         let side = self.new_side();
-        let at = self.along_a_transposed(src, p);
-        self.pass(at, side * 3, grown(dst, side * side * 3));
+        let dst = grown(dst, side * side * 3);
+        let strip = self.strip_width::<T>(strip_bytes);
+        for a0 in (0..side).step_by(strip) {
+            let w = strip.min(side - a0);
+            let at = self.strip_transposed(src, &mut p.a, &mut p.at, a0, w);
+            if w == side {
+                // One strip: the new rows are the whole of `dst`, in one pass.
+                self.pass(at, side * 3, dst);
+                break;
+            }
+            for b in 0..side {
+                self.pass_rows(at, w * 3, b, &mut dst[(b * side + a0) * 3..][..w * 3]);
+            }
+        }
     }
 
-    /// The last step of a large patch, in strips of new points along a (as wide as
-    /// `strip_bytes` of refined rows allow, at least one): each
-    /// strip is refined along a, transposed and refined along b one row at a time, each new
-    /// row b' of the strip handed to `each(a0, b', row)` (new points a0.., b'). The scratch is
-    /// two strips, which stay in cache, instead of two transposed half-steps.
+    /// [`Plan::step_transposing`] handing each new row b' of each strip to
+    /// `each(a0, b', row)` (new points a0.., b') instead of storing the new patch: the last
+    /// step of a large patch, whose scratch is then two strips and a row.
     fn step_strips<T: Real>(
         &self,
         src: &[T],
@@ -211,38 +228,43 @@ impl Plan {
         strip_bytes: usize,
         mut each: impl FnMut(usize, usize, &[T]),
     ) {
-        const L: usize = 3;
-        let (m, side) = (self.old_side, self.new_side());
-        let strip = (strip_bytes / (m * L * std::mem::size_of::<T>())).max(1);
+        let side = self.new_side();
+        let strip = self.strip_width::<T>(strip_bytes);
         for a0 in (0..side).step_by(strip) {
             let w = strip.min(side - a0);
-            let a = grown(&mut p.a, w * m * L);
-            self.pass_rows(src, m * L, a0, a);
-            let at = grown(&mut p.at, m * w * L);
-            for (xn, column) in a.chunks_exact(m * L).enumerate() {
-                for (y, q) in column.chunks_exact(L).enumerate() {
-                    let d = (y * w + xn) * L;
-                    at[d..d + L].copy_from_slice(q);
-                }
-            }
-            let row = grown(&mut p.row, w * L);
+            let at = self.strip_transposed(src, &mut p.a, &mut p.at, a0, w);
+            let row = grown(&mut p.row, w * 3);
             for b in 0..side {
-                self.pass_rows(at, w * L, b, row);
+                self.pass_rows(at, w * 3, b, row);
                 each(a0, b, row);
             }
         }
     }
 
-    /// The first pass of [`Plan::step_transposing`], left transposed ([b][a'], side N+3 by
-    /// `new_side`) in `p.at`.
-    fn along_a_transposed<'p, T: Real>(&self, src: &[T], p: &'p mut Passes<T>) -> &'p [T] {
+    /// New points along a per strip: as many as `strip_bytes` of rows refined along a hold
+    /// (at least one), so that a strip and its transpose stay in cache.
+    fn strip_width<T>(&self, strip_bytes: usize) -> usize {
+        (strip_bytes / (self.old_side * 3 * std::mem::size_of::<T>())).max(1)
+    }
+
+    /// The new rows a0..a0 + w refined along a (into `a`), transposed into `at` ([b][a'],
+    /// N+3 rows of w points).
+    fn strip_transposed<'p, T: Real>(
+        &self,
+        src: &[T],
+        a: &mut Vec<T>,
+        at: &'p mut Vec<T>,
+        a0: usize,
+        w: usize,
+    ) -> &'p [T] {
         const L: usize = 3;
-        let (m, side) = (self.old_side, self.new_side());
-        self.pass(src, m * L, grown(&mut p.a, side * m * L));
-        let at = grown(&mut p.at, m * side * L);
-        for (xn, column) in p.a.chunks_exact(m * L).take(side).enumerate() {
+        let m = self.old_side;
+        let a = grown(a, w * m * L);
+        self.pass_rows(src, m * L, a0, a);
+        let at = grown(at, m * w * L);
+        for (xn, column) in a.chunks_exact(m * L).enumerate() {
             for (y, q) in column.chunks_exact(L).enumerate() {
-                let d = (y * side + xn) * L;
+                let d = (y * w + xn) * L;
                 at[d..d + L].copy_from_slice(q);
             }
         }
@@ -250,7 +272,7 @@ impl Plan {
     }
 }
 
-/// Default bytes of one strip of [`Plan::step_strips`] refined along a (half the L2 cache of
+/// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]) (half the L2 cache of
 /// this machine's cores).
 const STRIP_BYTES: usize = 512 << 10;
 
@@ -955,7 +977,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                 };
                                 plan.step_strips(src, &mut scratch.p, strip_bytes, each);
                             } else {
-                                plan.step_transposing(src, &mut scratch.p, dst);
+                                plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                             }
                         }
                     });
