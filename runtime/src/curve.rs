@@ -306,7 +306,9 @@ fn step<S: CurveScheme, const D: usize>(
     };
     next.closed = cur.closed;
     next.points.clear();
-    next.points.reserve(total - lo);
+    // Room for every new point, even those below `lo` dropped at the end: `body_points`
+    // writes into the spare capacity.
+    next.points.reserve(total);
     let head = stencils.reach.min(m);
     let base = head_points(stencils, cur, total, head, lo, &mut next.points)?;
     if head < m {
