@@ -249,7 +249,7 @@ impl<const D: usize> CurveRefiner<D> {
     ) -> Result<&Curve<D>, CurveError> {
         let t = scheme.tables();
         curve.check(&t)?;
-        let (mut stencils, specialised) = Stencils::new(t, scheme.contexts())?;
+        let (mut stencils, specialised) = Stencils::new(t, scheme.contexts());
         if steps == 0 {
             // Nothing to refine, but the words must still be known.
             let d = t.degree;

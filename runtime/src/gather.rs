@@ -91,28 +91,20 @@ impl<'t> Stencils<'t> {
     /// The stencils of `known` (numbered as there), more to come on demand. Returns the number
     /// of contexts numbered as in `known`: all of them, or 0 if they do not match the tables
     /// (then nothing is seeded and no specialised stencil may be used).
-    pub fn new(
-        t: CurveTables<'t>,
-        known: CurveContexts<'_>,
-    ) -> Result<(Stencils<'t>, u32), CurveError> {
+    pub fn new(t: CurveTables<'t>, known: CurveContexts<'_>) -> (Stencils<'t>, u32) {
         let mut s = Stencils::empty(t);
-        for c in 0..known.len() {
+        let n = known.len();
+        let numbered = (0..n).all(|c| {
             let key = &known.labels[known.offsets[c] as usize..known.offsets[c + 1] as usize];
-            if s.context_of(key)? as usize != c {
-                return Ok((Stencils::empty(t), 0));
-            }
-        }
-        let symbols = t.symbol_count();
-        if known.next.len() != known.len() * symbols
-            || known
-                .next
-                .iter()
-                .any(|&n| n != UNKNOWN && n as usize >= known.len())
-        {
-            return Ok((Stencils::empty(t), 0));
+            s.context_of(key).ok() == Some(c as u32)
+        });
+        let next_ok = known.next.len() == n * t.symbol_count()
+            && known.next.iter().all(|&c| c == UNKNOWN || (c as usize) < n);
+        if !(numbered && next_ok) {
+            return (Stencils::empty(t), 0);
         }
         s.next.copy_from_slice(known.next);
-        Ok((s, known.len() as u32))
+        (s, n as u32)
     }
 
     /// Every context of the curves labelled by the axiom's iterates (cyclically), and the
@@ -217,7 +209,14 @@ impl<'t> Stencils<'t> {
         let d = self.t.degree;
         let len = |s: u8| self.t.rule(s).len();
         // Points k' = k − b, b < count; label index of point k − b is count − 1 − b.
-        let count = key.len() - d;
+        if let Some(&s) = key.iter().find(|&&s| s as usize >= self.t.symbol_count()) {
+            return Err(CurveError::UnknownSymbol(s));
+        }
+        let count = match key.len().checked_sub(d) {
+            Some(c) if c > 0 => c,
+            // Fewer labels than one word: no such context.
+            _ => return Err(CurveError::UnknownWord(self.t.word_str(&key))),
+        };
         let mut span = 0;
         let mut keep = 1;
         while keep < count {
