@@ -1077,6 +1077,7 @@ fn scatter_rect<T: Real>(
     }
     for l in 0..4 {
         let (e, forward, owner) = num.edges[f][l];
+        let (cx, cy) = corner_at(l as u8, n);
         if owner {
             // Points t = 1..N−1 of edge l (from corner l) inside the rectangle.
             let ts = match l {
@@ -1087,14 +1088,14 @@ fn scatter_rect<T: Real>(
                 _ => 0..0,
             };
             let base = num.nv + e as usize * k;
+            let (dx, dy) = TOWARD_NEXT[l];
             for t in ts {
-                let (x, y) = [(t, 0), (n, t), (n - t, n), (0, n - t)][l];
+                let (x, y) = (cx + t * dx, cy + t * dy);
                 let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
                 // SAFETY: face f is the only writer of the points of an edge it owns.
                 unsafe { out.write(i, &point(x, y)) };
             }
         }
-        let (cx, cy) = corner_at(l as u8, n);
         if num.corners[f][l] && xs.contains(&cx) && ys.contains(&cy) {
             // SAFETY: face f is the only writer of a corner it owns.
             unsafe { out.write(num.vertex[f][l] as usize, &point(cx, cy)) };
