@@ -1075,7 +1075,7 @@ fn scatter_rect<T: Real>(
             unsafe { out.write(row + (x - 1) as usize, &point(x, y)) };
         }
     }
-    for l in 0..4 {
+    for (l, &(dx, dy)) in TOWARD_NEXT.iter().enumerate() {
         let (e, forward, owner) = num.edges[f][l];
         let (cx, cy) = corner_at(l as u8, n);
         if owner {
@@ -1088,7 +1088,6 @@ fn scatter_rect<T: Real>(
                 _ => 0..0,
             };
             let base = num.nv + e as usize * k;
-            let (dx, dy) = TOWARD_NEXT[l];
             for t in ts {
                 let (x, y) = (cx + t * dx, cy + t * dy);
                 let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
