@@ -2,7 +2,8 @@
 //! separate `lsubdiv bench` processes (so each peak RSS is its own), interleaved over repetitions,
 //! printed as a markdown table with ratios measured in the same run:
 //! generated/generic, 2 threads/1 thread, f32/f64, and peak RSS / essential memory
-//! (input + output + one intermediate level).
+//! (input + output + one intermediate level); the time of each phase and of each depth-first
+//! level (summed over the workers).
 //!
 //! `cargo bench --bench surfaces` (set LSUBDIV_BENCH_QUICK=1 for one repetition).
 
@@ -148,8 +149,8 @@ fn main() {
             results.entry(i).or_default().push(run(c));
         }
     }
-    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | peak RSS MB | RSS / essential | vs generated 1-thread f64 |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | ms per depth-first level (worker time) | peak RSS MB | RSS / essential | vs generated 1-thread f64 |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baseline: BTreeMap<(String, String), f64> = BTreeMap::new();
     for (i, runs) in &results {
         let first = &runs[0];
@@ -167,7 +168,7 @@ fn main() {
         if is_base {
             baseline.insert(key.clone(), mvps);
         }
-        let levels: Vec<String> = ["start", "ordinary", "fans"]
+        let phases: Vec<String> = ["start", "ordinary", "fans"]
             .iter()
             .map(|k| {
                 format!(
@@ -176,6 +177,14 @@ fn main() {
                 )
             })
             .collect();
+        let levels: Vec<String> = first["level_seconds"]
+            .as_array()
+            .map(|a| {
+                a.iter()
+                    .map(|x| format!("{:.1}", x.as_f64().unwrap_or(0.0) * 1e3))
+                    .collect()
+            })
+            .unwrap_or_default();
         let rss = first["peak_rss_bytes"].as_f64().unwrap_or(0.0);
         let essential = first["essential_bytes"].as_f64().unwrap_or(1.0);
         let ratio = baseline
@@ -183,7 +192,7 @@ fn main() {
             .map_or("—".to_string(), |b| format!("{:.2}×", mvps / b));
         let _ = i;
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {:.0} | {:.2} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {:.0} | {:.2} | {} |",
             key.0,
             key.1,
             first["path"].as_str().unwrap_or(""),
@@ -192,6 +201,7 @@ fn main() {
             first["steps"],
             first["output_vertices"],
             mvps,
+            phases.join(" / "),
             levels.join(" / "),
             rss / 1e6,
             rss / essential,

@@ -56,6 +56,9 @@ pub struct Measurement {
     pub median_seconds: f64,
     /// Median wall time of each phase (start level, ordinary faces, fans of the EVs).
     pub phase_seconds: [f64; 3],
+    /// Median time of each depth-first step, summed over the workers
+    /// (`Refiner::level_seconds`).
+    pub level_seconds: Vec<f64>,
     /// Bytes of the input positions (f64), the output, and the largest intermediate level as
     /// unique vertices: the memory a level-by-level refinement cannot do without.
     pub essential_bytes: usize,
@@ -86,12 +89,14 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
         let mut phases: Vec<[f64; 3]> = Vec::new();
+        let mut levels: Vec<Vec<f64>> = Vec::new();
         for _ in 0..self.runs.max(1) {
             let t = Instant::now();
             std::hint::black_box(r.refine(&self.mesh.positions).map_err(|e| e.to_string())?);
             times.push(t.elapsed().as_secs_f64());
             let p = r.phase_seconds();
             phases.push([p.start, p.ordinary, p.fans]);
+            levels.push(r.level_seconds().to_vec());
         }
         times.sort_by(f64::total_cmp);
         let median = |mut v: Vec<f64>| {
@@ -99,10 +104,14 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             v[v.len() / 2]
         };
         let phase_seconds = [0, 1, 2].map(|i| median(phases.iter().map(|l| l[i]).collect()));
+        let level_seconds = (0..levels[0].len())
+            .map(|s| median(levels.iter().map(|l| l[s]).collect()))
+            .collect();
         Ok(Measurement {
             output_vertices: r.output_vertices(),
             median_seconds: times[times.len() / 2],
             phase_seconds,
+            level_seconds,
             essential_bytes: 0,
         })
     }

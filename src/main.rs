@@ -697,7 +697,7 @@ fn bench(
             "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
                         "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
             "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
-            "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]}, "essential_bytes": r.essential_bytes,
+            "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]}, "level_seconds": r.level_seconds, "essential_bytes": r.essential_bytes,
         })
     );
     Ok(())

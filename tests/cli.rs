@@ -429,3 +429,45 @@ fn search_emits_scheme_files_the_toolkit_accepts() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--rho-min 1.x"), "{}", stderr(&o));
 }
+
+#[test]
+fn bench_json_has_the_documented_fields() {
+    // A 16×16 torus, 2 steps of uniform binary: every face becomes 4 × 4, so V + E·3 + F·9
+    // = 256 + 512·3 + 256·9 = 4096 output vertices; both steps run depth first.
+    let o = lsubdiv(&[
+        "bench",
+        "--mesh",
+        "torus:16:16",
+        "--scheme",
+        "uniform-binary",
+        "--steps",
+        "2",
+        "--threads",
+        "2",
+        "--runs",
+        "1",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for key in [
+        "mesh",
+        "scheme",
+        "path",
+        "threads",
+        "steps",
+        "median_seconds",
+        "mvps",
+    ] {
+        assert!(!v[key].is_null(), "{key} missing");
+    }
+    assert_eq!(v["output_vertices"], 4096);
+    assert_eq!(v["threads"], 2);
+    assert!(v["peak_rss_bytes"].as_u64().unwrap() > 0);
+    let levels = v["level_seconds"].as_array().unwrap();
+    assert_eq!(levels.len(), 2);
+    assert!(levels.iter().all(|t| t.as_f64().unwrap() >= 0.0));
+    for phase in ["start", "ordinary", "fans"] {
+        assert!(v["phase_seconds"][phase].as_f64().unwrap() >= 0.0);
+    }
+}

@@ -32,6 +32,7 @@ use crate::real::{axpy_slab, Real};
 use crate::surface::{refine_surface, LabelledMesh, SurfaceError, SurfaceScheme};
 use crate::topology::Topology;
 use std::collections::HashMap;
+use std::time::Instant;
 
 /// A refined mesh with positions of scalar type T.
 #[derive(Clone, Debug, PartialEq)]
@@ -671,6 +672,8 @@ pub struct Refiner<'s, S, T> {
     phase_seconds: Phases,
     /// One scratch per worker, kept across steps and calls (no fresh pages per step).
     scratch: Vec<Scratch<T>>,
+    /// Worker time per depth-first step of the last `refine`.
+    level_seconds: Vec<f64>,
 }
 
 /// Wall time of the phases of one refinement, in seconds.
@@ -794,6 +797,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             fans: [Vec::new(), Vec::new()],
             phase_seconds: Phases::default(),
             scratch: Vec::new(),
+            level_seconds: Vec::new(),
         })
     }
 
@@ -819,10 +823,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.phase_seconds
     }
 
+    /// Time of each depth-first step of the last `refine` (after [`Refiner::reference_steps`]),
+    /// summed over the workers, so with several threads it exceeds the wall time: reading the
+    /// start patches counts in the first step, writing the output in the last, the EV fix-up
+    /// after a fan step in that step.
+    pub fn level_seconds(&self) -> &[f64] {
+        &self.level_seconds
+    }
+
     /// Refines new positions of the base vertices; returns the output positions.
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
         let t = self.scheme.tables();
-        let clock = std::time::Instant::now();
+        let clock = Instant::now();
         if self.first == 0 {
             lift(
                 &t,
@@ -858,10 +870,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.output.clear();
         self.output.resize(self.out_num.len(), [T::default(); 3]);
         self.scratch.resize_with(self.threads, Scratch::default);
-        let clock = std::time::Instant::now();
+        self.level_seconds.clear();
+        self.level_seconds.resize(self.plans.len(), 0.0);
+        let clock = Instant::now();
         self.ordinary_faces();
         self.phase_seconds.ordinary = clock.elapsed().as_secs_f64();
-        let clock = std::time::Instant::now();
+        let clock = Instant::now();
         self.fan_faces();
         self.phase_seconds.fans = clock.elapsed().as_secs_f64();
         Ok(&self.output)
@@ -878,47 +892,56 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let m = (n0 + 3) as usize;
         let table = &self.start_gather;
         let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
-        std::thread::scope(|sc| {
-            for (faces, scratch) in self.ordinary.chunks(chunk).zip(&mut self.scratch) {
-                sc.spawn(move || {
-                    for block in faces.chunks(bs) {
-                        let k = block.len();
-                        if scratch.ext.len() < m * k * m * 3 {
-                            scratch.ext.resize(m * k * m * 3, T::default());
-                        }
-                        for (fi, &f) in block.iter().enumerate() {
-                            let t = &table[f as usize * m * m..][..m * m];
-                            load(t, start, ring_layout(n0, k, true), fi, &mut scratch.ext);
-                        }
-                        for plan in plans {
-                            let (ext, next) = (&scratch.ext, &mut scratch.next);
-                            plan.step_interleaved(k, ext, &mut scratch.p, next);
-                            std::mem::swap(&mut scratch.ext, &mut scratch.next);
-                        }
-                        let layout = Layout {
-                            side: out_num.n as usize + 1,
-                            k,
-                            ring: 0,
-                            a_is_x: true,
-                        };
-                        for (j, &f) in block.iter().enumerate() {
-                            let point = |x, y| {
-                                let i = layout.at(j, x, y);
-                                [scratch.ext[i], scratch.ext[i + 1], scratch.ext[i + 2]]
-                            };
-                            scatter_rect(
-                                out_num,
-                                f as usize,
-                                0..=out_num.n,
-                                0..=out_num.n,
-                                point,
-                                out,
-                            );
-                        }
-                    }
-                });
+        let work = self.ordinary.chunks(chunk).zip(&mut self.scratch);
+        let times = in_threads(work, |(faces, scratch)| {
+            let mut times = vec![0.0; plans.len()];
+            for block in faces.chunks(bs) {
+                let mut clock = Instant::now();
+                let k = block.len();
+                if scratch.ext.len() < m * k * m * 3 {
+                    scratch.ext.resize(m * k * m * 3, T::default());
+                }
+                for (fi, &f) in block.iter().enumerate() {
+                    let t = &table[f as usize * m * m..][..m * m];
+                    load(t, start, ring_layout(n0, k, true), fi, &mut scratch.ext);
+                }
+                for (plan, time) in plans.iter().zip(&mut times) {
+                    let (ext, next) = (&scratch.ext, &mut scratch.next);
+                    plan.step_interleaved(k, ext, &mut scratch.p, next);
+                    std::mem::swap(&mut scratch.ext, &mut scratch.next);
+                    *time += lap(&mut clock);
+                }
+                let layout = Layout {
+                    side: out_num.n as usize + 1,
+                    k,
+                    ring: 0,
+                    a_is_x: true,
+                };
+                for (j, &f) in block.iter().enumerate() {
+                    let point = |x, y| {
+                        let i = layout.at(j, x, y);
+                        [scratch.ext[i], scratch.ext[i + 1], scratch.ext[i + 2]]
+                    };
+                    scatter_rect(
+                        out_num,
+                        f as usize,
+                        0..=out_num.n,
+                        0..=out_num.n,
+                        point,
+                        out,
+                    );
+                }
+                if let Some(last) = times.last_mut() {
+                    *last += lap(&mut clock);
+                }
             }
+            times
         });
+        for t in times {
+            for (level, x) in self.level_seconds.iter_mut().zip(t) {
+                *level += x;
+            }
+        }
     }
 
     /// Every step of the faces around EVs, in lock-step: each step refines every fan patch,
@@ -954,35 +977,34 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let last = s + 1 == self.plans.len();
             let chunk = self.fan_faces.len().div_ceil(self.threads).max(1);
             let (out, out_num, strip_bytes) = (&out, &self.out_num, self.strip_bytes);
-            std::thread::scope(|sc| {
-                let work = self
-                    .fan_faces
-                    .chunks(chunk)
-                    .zip(old.chunks(chunk))
-                    .zip(new.chunks_mut(chunk))
-                    .zip(&mut self.scratch);
-                for (((faces, old), new), scratch) in work {
-                    sc.spawn(move || {
-                        for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
-                            if last {
-                                // Strips of rows y (the parity chosen above), x from a0.
-                                let each = |a0: usize, y: usize, row: &[T]| {
-                                    let point = |x: i64, _| {
-                                        let i = (x as usize - a0) * 3;
-                                        [row[i], row[i + 1], row[i + 2]]
-                                    };
-                                    let (x0, y) = (a0 as i64, y as i64);
-                                    let xs = x0..=x0 + (row.len() / 3) as i64 - 1;
-                                    scatter_rect(out_num, f as usize, xs, y..=y, point, out);
-                                };
-                                plan.step_strips(src, &mut scratch.p, strip_bytes, each);
-                            } else {
-                                plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
-                            }
-                        }
-                    });
+            let work = self
+                .fan_faces
+                .chunks(chunk)
+                .zip(old.chunks(chunk))
+                .zip(new.chunks_mut(chunk))
+                .zip(&mut self.scratch);
+            let times = in_threads(work, |(((faces, old), new), scratch)| {
+                let mut clock = Instant::now();
+                for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
+                    if last {
+                        // Strips of rows y (the parity chosen above), x from a0.
+                        let each = |a0: usize, y: usize, row: &[T]| {
+                            let point = |x: i64, _| {
+                                let i = (x as usize - a0) * 3;
+                                [row[i], row[i + 1], row[i + 2]]
+                            };
+                            let (x0, y) = (a0 as i64, y as i64);
+                            let xs = x0..=x0 + (row.len() / 3) as i64 - 1;
+                            scatter_rect(out_num, f as usize, xs, y..=y, point, out);
+                        };
+                        plan.step_strips(src, &mut scratch.p, strip_bytes, each);
+                    } else {
+                        plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
+                    }
                 }
+                lap(&mut clock)
             });
+            let mut clock = Instant::now();
             let ring = st.rings[(self.first + s).min(st.rings.len() - 1)];
             let fans = Fans {
                 slot: &self.fan_slot,
@@ -1031,6 +1053,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
             }
             std::mem::swap(old, new);
+            self.level_seconds[s] += times.iter().sum::<f64>() + lap(&mut clock);
             n = n_new;
             a_is_x = new_a_is_x;
         }
@@ -1100,6 +1123,30 @@ fn scatter_rect<T: Real>(
             unsafe { out.write(num.vertex[f][l] as usize, &point(cx, cy)) };
         }
     }
+}
+
+/// Runs `work` on every item, each in its own scoped thread, and returns the results in order
+/// (a worker's panic is raised again here).
+fn in_threads<I: Send, R: Send>(
+    items: impl Iterator<Item = I>,
+    work: impl Fn(I) -> R + Sync,
+) -> Vec<R> {
+    let work = &work;
+    std::thread::scope(|sc| {
+        let handles: Vec<_> = items.map(|item| sc.spawn(move || work(item))).collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    })
+}
+
+/// Seconds since `clock`, which is reset to now.
+fn lap(clock: &mut Instant) -> f64 {
+    let now = Instant::now();
+    let t = (now - *clock).as_secs_f64();
+    *clock = now;
+    t
 }
 
 /// Refines a closed quad mesh once: `Refiner::new`, `refine`, `faces`.
