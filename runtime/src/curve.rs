@@ -288,21 +288,18 @@ fn step<S: CurveScheme, const D: usize>(
     let d = t.degree;
     rewrite(&t, &cur.labels, &mut next.labels);
     let m = cur.points.len();
+    let image_len = |labels: &[u8]| labels.iter().map(|&s| t.rule(s).len()).sum::<usize>();
     let total = if cur.closed {
         next.labels.len()
     } else {
-        cur.labels[..m].iter().map(|&s| t.rule(s).len()).sum()
+        image_len(&cur.labels[..m])
     };
     // An open curve keeps the new points all of whose parents exist:
     // l ∈ [Σ_{i<d}|π(label_i)| − d, total).
     let lo = if cur.closed {
         0
     } else {
-        cur.labels[..d]
-            .iter()
-            .map(|&s| t.rule(s).len())
-            .sum::<usize>()
-            - d
+        image_len(&cur.labels[..d]) - d
     };
     next.closed = cur.closed;
     next.points.clear();
@@ -417,28 +414,24 @@ fn head_points<const D: usize>(
     let len = |k: usize| t.rule(cur.labels[k]).len();
     // Candidate parents (index, word, base): the head, and for a closed curve the tail, whose
     // bases are counted back from `total`.
+    let word = |k: usize| stencils.word(&cur.word(k, t.degree));
     let all = cur.closed && m <= 2 * reach;
-    let mut indices: Vec<usize> = (0..if all { m } else { head }).collect();
-    if cur.closed && !all {
-        indices.extend(m - reach..m);
-    }
-    let mut parents = Vec::with_capacity(indices.len());
+    let mut parents = Vec::new();
     let mut base = 0;
-    for &k in &indices {
-        if k >= head && !all {
-            break;
-        }
-        parents.push((k, stencils.word(&cur.word(k, t.degree))?, base));
+    for k in 0..if all { m } else { head } {
+        parents.push((k, word(k)?, base));
         base += len(k);
     }
     let end = parents[head - 1].2 + len(head - 1);
-    let mut base = total;
-    let mut tail = Vec::new();
-    for &k in indices[parents.len()..].iter().rev() {
-        base -= len(k);
-        tail.push((k, stencils.word(&cur.word(k, t.degree))?, base));
+    if cur.closed && !all {
+        let mut base = total;
+        let mut tail = Vec::new();
+        for k in (m - reach..m).rev() {
+            base -= len(k);
+            tail.push((k, word(k)?, base));
+        }
+        parents.extend(tail.into_iter().rev());
     }
-    parents.extend(tail.into_iter().rev());
     let wraps = if cur.closed { reach / total + 1 } else { 0 };
     for l in lo..end {
         let mut point = [0.0; D];

@@ -13,8 +13,8 @@
 //! written, in its final numbering (`Numbering`: base vertices, edge points, face interiors).
 //! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
 //! and go through all steps at once, in blocks interleaved point by point so that a slab spans
-//! the block; faces around EVs are large patches, refined one at a time (pass, transpose, pass;
-//! the last step in strips that stay in cache).
+//! the block; faces around EVs are large patches, refined one at a time (pass, transpose, pass,
+//! in strips that stay in cache; the last step hands its rows straight to the output).
 //!
 //! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
 //! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
@@ -193,8 +193,8 @@ impl Plan {
     }
 
     /// One step of one large patch: `src` ([a][b], side N+3) is refined along a, transposed,
-    /// and refined along b into `dst` ([b'][a'], side `new_side`), in strips of new points
-    /// along a ([`Plan::strip_transposed`]).
+    /// and refined along b into `dst` ([b'][a'], side `new_side`), strip by strip
+    /// ([`Plan::strips`]).
     fn step_transposing<T: Real>(
         &self,
         src: &[T],
@@ -204,19 +204,16 @@ impl Plan {
     ) {
         let side = self.new_side();
         let dst = grown(dst, side * side * 3);
-        let strip = self.strip_width::<T>(strip_bytes);
-        for a0 in (0..side).step_by(strip) {
-            let w = strip.min(side - a0);
-            let at = self.strip_transposed(src, &mut p.a, &mut p.at, a0, w);
+        self.strips(src, p, strip_bytes, |a0, w, at, _| {
             if w == side {
                 // One strip: the new rows are the whole of `dst`, in one pass.
                 self.pass(at, side * 3, dst);
-                break;
+                return;
             }
             for b in 0..side {
                 self.pass_rows(at, w * 3, b, &mut dst[(b * side + a0) * 3..][..w * 3]);
             }
-        }
+        });
     }
 
     /// [`Plan::step_transposing`] handing each new row b' of each strip to
@@ -230,15 +227,30 @@ impl Plan {
         mut each: impl FnMut(usize, usize, &[T]),
     ) {
         let side = self.new_side();
-        let strip = self.strip_width::<T>(strip_bytes);
-        for a0 in (0..side).step_by(strip) {
-            let w = strip.min(side - a0);
-            let at = self.strip_transposed(src, &mut p.a, &mut p.at, a0, w);
-            let row = grown(&mut p.row, w * 3);
+        self.strips(src, p, strip_bytes, |a0, w, at, row| {
+            let row = grown(row, w * 3);
             for b in 0..side {
                 self.pass_rows(at, w * 3, b, row);
                 each(a0, b, row);
             }
+        });
+    }
+
+    /// For each strip of new points a0..a0 + w along a: `f(a0, w, at, row)` with the strip
+    /// refined along a and transposed ([`Plan::strip_transposed`]) and the row buffer.
+    fn strips<T: Real>(
+        &self,
+        src: &[T],
+        p: &mut Passes<T>,
+        strip_bytes: usize,
+        mut f: impl FnMut(usize, usize, &[T], &mut Vec<T>),
+    ) {
+        let side = self.new_side();
+        let strip = self.strip_width::<T>(strip_bytes);
+        for a0 in (0..side).step_by(strip) {
+            let w = strip.min(side - a0);
+            let at = self.strip_transposed(src, &mut p.a, &mut p.at, a0, w);
+            f(a0, w, at, &mut p.row);
         }
     }
 
@@ -273,8 +285,8 @@ impl Plan {
     }
 }
 
-/// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]) (half the L2 cache of
-/// this machine's cores).
+/// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]): half
+/// the L2 cache of this machine's cores.
 const STRIP_BYTES: usize = 512 << 10;
 
 /// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
@@ -662,7 +674,7 @@ pub struct Refiner<'s, S, T> {
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
     threads: usize,
-    /// Scratch per strip of a large patch's last step ([`Refiner::set_strip_bytes`]).
+    /// Scratch per strip of a large patch's step ([`Refiner::set_strip_bytes`]).
     strip_bytes: usize,
     start: Vec<[T; 3]>,
     output: Vec<[T; 3]>,
@@ -806,8 +818,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.out_num.len()
     }
 
-    /// Scratch per strip of the last step of a large patch (default 512 KiB, half this
-    /// machine's L2): smaller strips use less memory, and 1 makes every strip one point wide.
+    /// Scratch per strip of a step of a large patch (default 512 KiB, half this machine's
+    /// L2): smaller strips use less memory, and 1 makes every strip one point wide.
     /// The output does not depend on it.
     pub fn set_strip_bytes(&mut self, bytes: usize) {
         self.strip_bytes = bytes;
