@@ -50,6 +50,25 @@ impl Args {
             Some(v) => v.parse().map_err(|_| format!("--{key}: `{v}` is not a number")),
         }
     }
+    /// The options of every harness's timed run.
+    pub fn run(&self) -> Result<Run<'_>, String> {
+        let obj = self.req("obj")?;
+        Ok(Run {
+            obj,
+            name: self.get("name").unwrap_or(obj),
+            levels: self.usize("levels", 3)?,
+            runs: self.usize("runs", 7)?,
+        })
+    }
+}
+
+/// `--obj M.obj --name N --levels L --runs R` (name defaults to the OBJ path, levels to 3,
+/// runs to 7).
+pub struct Run<'a> {
+    pub obj: &'a str,
+    pub name: &'a str,
+    pub levels: usize,
+    pub runs: usize,
 }
 
 /// A quad mesh read from OBJ (`v x y z`, `f a b c d` with 1-based indices, `a/t/n` allowed).

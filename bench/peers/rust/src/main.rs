@@ -87,10 +87,12 @@ impl SurfaceVisitor for Dump<'_> {
 }
 
 fn bench_cmd(a: &Args) -> Result<(), String> {
-    let obj = a.req("obj")?;
-    let name = a.get("name").unwrap_or(obj);
-    let levels = a.usize("levels", 3)?;
-    let runs = a.usize("runs", 7)?;
+    let common::Run {
+        obj,
+        name,
+        levels,
+        runs,
+    } = a.run()?;
     let mesh = bench::mesh(obj)?;
     let surface = bench::surface(SCHEME)?;
     if a.get("dump").is_none() || runs > 0 {

@@ -11,7 +11,7 @@
 #[path = "../../../src/common.rs"]
 mod common;
 
-use common::{read_obj, report, write_dump, Args};
+use common::{read_obj, report, write_dump, Args, Run};
 use opensubdiv_rs::far::{PrimvarRefiner, TopologyDescriptor, TopologyRefinerFactory, UniformOptions};
 use opensubdiv_rs::sdc;
 
@@ -21,10 +21,12 @@ fn main() {
 
 fn main_inner(args: &[String]) -> Result<(), String> {
     let a = Args::parse(args)?;
-    let obj_path = a.req("obj")?;
-    let name = a.get("name").unwrap_or(obj_path);
-    let levels = a.usize("levels", 3)?;
-    let runs = a.usize("runs", 7)?;
+    let Run {
+        obj: obj_path,
+        name,
+        levels,
+        runs,
+    } = a.run()?;
     let obj = read_obj(obj_path)?;
 
     let setup = std::time::Instant::now();
