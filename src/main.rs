@@ -211,7 +211,7 @@ struct Failure {
 impl From<Error> for Failure {
     fn from(e: Error) -> Self {
         Failure {
-            code: 2,
+            code: if e.is_internal() { 1 } else { 2 },
             message: e.to_string(),
         }
     }
@@ -444,12 +444,8 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             } else {
                 print!("{}", report::text(&r.ls, &a, compiled.as_ref()));
             }
-            match &a.reason {
-                Some(reason) => Err(bad(format!(
-                    "{}: error: L-system `{}` is not valid ([N] Definition 3.1): {reason}",
-                    r.ls.locate(lsubdiv_compiler::lsystem::Part::Rules),
-                    r.ls.name
-                ))),
+            match a.invalid_error(&r.ls) {
+                Some(e) => Err(e.into()),
                 None => Ok(()),
             }
         }

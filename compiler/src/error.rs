@@ -65,9 +65,16 @@ pub enum Error {
     },
     /// Input other than a scheme file (labels, polygons) is unusable.
     Input(String),
+    /// An identity that must hold exactly does not: a bug in the compiler, not in the input.
+    Internal(String),
 }
 
 impl Error {
+    /// Whether the error is in the input (exit status 2) rather than in lsubdiv (1).
+    pub fn is_internal(&self) -> bool {
+        matches!(self, Error::Internal(_))
+    }
+
     /// A scheme-level error located at the start of the file.
     pub fn scheme(file: &str, message: String, hint: Option<String>) -> Error {
         Error::Scheme {
@@ -83,7 +90,7 @@ impl Error {
     pub fn message(&self) -> String {
         match self {
             Error::Io { message, .. } | Error::Scheme { message, .. } => message.clone(),
-            Error::Input(m) => m.clone(),
+            Error::Input(m) | Error::Internal(m) => m.clone(),
         }
     }
 }
@@ -100,6 +107,7 @@ impl fmt::Display for Error {
                 Ok(())
             }
             Error::Input(m) => write!(f, "error: {m}"),
+            Error::Internal(m) => write!(f, "internal error: {m}"),
         }
     }
 }

@@ -115,30 +115,39 @@ fn contained(ls: &LSystem, ray: &[Sym]) -> bool {
 /// Analyses a compiled scheme for surfaces; refuses with the failing condition named.
 pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
     let ls = &s.ls;
-    let refuse = |part: Part, message: String| Err(ls.error(part, message, None));
+    let refuse =
+        |part: Part, message: String, hint: &str| Err(ls.error(part, message, Some(hint.into())));
     if ls.degree != 3 {
         return refuse(
-            Part::Rules,
+            Part::Degree,
             format!(
                 "surfaces need degree 3 (bicubic, [G] §2.2); this scheme has degree {}",
                 ls.degree
             ),
+            "set `degree = 3` for surfaces (curves take any degree)",
         );
     }
     if ls.axiom.len() != 1 {
         return refuse(
-            Part::Rules,
+            Part::Axiom,
             format!(
                 "surfaces label every initial edge with the axiom, which must be one symbol; it is {}",
                 ls.word_str(&ls.axiom)
             ),
+            "use a one-symbol axiom that is its own twin, e.g. `axiom = \"C\"`",
         );
     }
     let all = involutions(ls);
     // With several involutions and none declared (Remark 4.5), the first is used and all reported.
     let (sigma, declared) = match &ls.symmetry {
         Some(sig) if is_symmetry(ls, sig) => (sig.clone(), true),
-        Some(_) => return refuse(Part::Symmetry, "the declared σ does not make the L-system symmetric ([G] Proposition 4.2)".into()),
+        Some(_) => {
+            return refuse(
+                Part::Symmetry,
+                "the declared σ does not make the L-system symmetric ([G] Proposition 4.2)".into(),
+                "pair twin symbols so that each rule read backwards is its twin's rule",
+            )
+        }
         None => match all.first() {
             Some(sig) => (sig.clone(), false),
             None => {
@@ -148,6 +157,7 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
                         "not symmetric: no involution σ gives π(σ(A)) = σ̄(π(A)) for all A with σ({0}) = {0} ([G] Proposition 4.2)",
                         ls.word_str(&ls.axiom)
                     ),
+                    "surfaces need a symmetric L-system ([G] §4.1): twin symbols whose rules are each other's read backwards, e.g. `L = \"LC\"`, `R = \"CR\"`",
                 )
             }
         },
@@ -170,6 +180,7 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
                     "the labels around an EV never become stationary: the ray prefix cycles with period {} ([G] Lemma 4.6 / Proposition 4.7 fail)",
                     rays.len() - p
                 ),
+                "the first labels out of an EV must settle: choose rules so that π of the label next to the EV starts with that label",
             );
         }
         rays.push(next);
@@ -185,6 +196,10 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
                 ls.symbols[first as usize],
                 ls.symbols[first as usize],
                 ls.word_str(pi_first)
+            ),
+            &format!(
+                "make the rule of `{0}` two symbols starting with `{0}`, e.g. `{0} = \"{0}C\"`",
+                ls.symbols[first as usize]
             ),
         );
     }
@@ -216,6 +231,7 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
                     "at step {step} the EV child has parents beyond its 1-ring (1-ring weights {} + {} ≠ {ring_weight})",
                     ring.0, ring.1
                 ),
+                "the masks near an EV must stay within its 1-ring ([G] Proposition 4.8): split the labels next to the EV less",
             );
         }
         steps.push(StepInfo {
@@ -231,6 +247,7 @@ pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
         return refuse(
             Part::Rules,
             "masks are not contained near EVs in the stationary configuration ([G] Proposition 4.8)".into(),
+            "among the first (d+1)/2 − 1 labels out of an EV at most one may split, and into at most two",
         );
     }
     let contained_from = (0..=stationary_from)

@@ -442,11 +442,27 @@ pub fn parse_expr(field: &FieldRef, text: &str) -> Result<Elem, String> {
         field,
         tokens,
         at: 0,
+        depth: 0,
     };
     let v = p.sum()?;
     match p.tokens.get(p.at) {
         None => Ok(v),
-        Some(t) => Err(format!("unexpected `{t:?}` in `{text}`")),
+        Some(t) => Err(format!("unexpected {t} in `{text}`")),
+    }
+}
+
+/// Largest |exponent| after `^` (ρ^e costs |e| products).
+const MAX_EXPONENT: i64 = 64;
+/// Deepest nesting of parentheses and unary minus.
+const MAX_DEPTH: usize = 64;
+
+impl fmt::Display for Tok {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Tok::Num(n) => write!(f, "number `{n}`"),
+            Tok::Rho => write!(f, "`rho`"),
+            Tok::Op(c) => write!(f, "`{c}`"),
+        }
     }
 }
 
@@ -500,6 +516,8 @@ struct ExprParser<'a> {
     field: &'a FieldRef,
     tokens: Vec<Tok>,
     at: usize,
+    /// Current nesting (parentheses and unary minus).
+    depth: usize,
 }
 
 impl ExprParser<'_> {
@@ -547,7 +565,11 @@ impl ExprParser<'_> {
         match self.tokens.get(self.at) {
             Some(Tok::Num(n)) if n.is_integer() => {
                 self.at += 1;
-                let e = n.to_integer().to_i64().ok_or("exponent too large")?;
+                let e = n
+                    .to_integer()
+                    .to_i64()
+                    .filter(|e| *e <= MAX_EXPONENT)
+                    .ok_or_else(|| format!("exponent {n} is larger than {MAX_EXPONENT}"))?;
                 base.pow(if neg { -e } else { e })
                     .ok_or_else(|| "zero to a negative power".to_string())
             }
@@ -556,11 +578,19 @@ impl ExprParser<'_> {
     }
 
     fn atom(&mut self) -> Result<Elem, String> {
+        if self.depth >= MAX_DEPTH {
+            return Err(format!("nested more than {MAX_DEPTH} deep"));
+        }
         if self.eat('-') {
-            return Ok(self.atom()?.neg());
+            self.depth += 1;
+            let v = self.atom()?.neg();
+            self.depth -= 1;
+            return Ok(v);
         }
         if self.eat('(') {
+            self.depth += 1;
             let v = self.sum()?;
+            self.depth -= 1;
             return if self.eat(')') {
                 Ok(v)
             } else {
@@ -576,7 +606,8 @@ impl ExprParser<'_> {
                 self.at += 1;
                 Ok(self.field.rho())
             }
-            other => Err(format!("expected a number, `rho` or `(`, found {other:?}")),
+            Some(t) => Err(format!("expected a number, `rho` or `(`, found {t}")),
+            None => Err("expected a number, `rho` or `(` at the end".into()),
         }
     }
 }

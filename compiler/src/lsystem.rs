@@ -37,6 +37,10 @@ pub struct LSystem {
 pub struct Source {
     /// File name.
     pub file: String,
+    /// The `degree` value.
+    pub degree: Option<Location>,
+    /// The `axiom` value.
+    pub axiom: Option<Location>,
     /// The `[rules]` table.
     pub rules: Option<Location>,
     /// Each symbol's rule.
@@ -50,6 +54,10 @@ pub struct Source {
 /// A part of a scheme file that an error can point at.
 #[derive(Clone, Copy, Debug)]
 pub enum Part {
+    /// The `degree` value.
+    Degree,
+    /// The `axiom` value.
+    Axiom,
     /// The `[rules]` table (the L-system as a whole).
     Rules,
     /// The rule of one symbol.
@@ -65,6 +73,8 @@ impl LSystem {
     pub fn locate(&self, part: Part) -> Location {
         let s = &self.source;
         let found = match part {
+            Part::Degree => s.degree.clone(),
+            Part::Axiom => s.axiom.clone(),
             Part::Rules => s.rules.clone(),
             Part::Rule(i) => s.rule.get(i).cloned(),
             Part::Symmetry => s.symmetry.clone(),
@@ -140,34 +150,82 @@ impl LSystem {
 
     /// Parses a word written as in scheme files: symbols separated by white space, or, when
     /// there is no white space, one symbol per character (or the whole text naming one symbol).
-    pub fn parse_word(&self, text: &str) -> Result<Word, String> {
+    pub fn parse_word(&self, text: &str) -> Result<Word, WordError> {
         parse_word(&self.symbols, text)
     }
 }
 
+/// Why a written word is not a word over the alphabet.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum WordError {
+    /// No symbol at all.
+    Empty,
+    /// A symbol that is not in the alphabet (in a scheme file: that has no rule).
+    Unknown {
+        /// The symbol as written.
+        symbol: String,
+        /// Its byte offset in the text.
+        offset: usize,
+        /// The alphabet, comma-separated.
+        alphabet: String,
+        /// The text had no white space and some symbol names are longer than one character,
+        /// so it was read one character per symbol.
+        split_by_character: bool,
+    },
+}
+
+impl std::fmt::Display for WordError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WordError::Empty => write!(f, "empty word: every word needs at least one symbol"),
+            WordError::Unknown {
+                symbol, alphabet, ..
+            } => write!(f, "unknown symbol `{symbol}` (the alphabet is {alphabet})"),
+        }
+    }
+}
+
 /// Word parser shared by scheme files and the CLI (see [`LSystem::parse_word`]).
-pub fn parse_word(symbols: &[String], text: &str) -> Result<Word, String> {
-    let lookup = |name: &str| -> Result<Sym, String> {
+pub fn parse_word(symbols: &[String], text: &str) -> Result<Word, WordError> {
+    let split_by_character =
+        !text.trim().contains(char::is_whitespace) && symbols.iter().any(|s| s.chars().count() > 1);
+    let lookup = |(offset, name): (usize, &str)| -> Result<Sym, WordError> {
         symbols
             .iter()
             .position(|s| s == name)
             .map(|i| i as Sym)
-            .ok_or_else(|| {
-                format!(
-                    "unknown symbol `{name}` (the alphabet is {})",
-                    symbols.join(", ")
-                )
+            .ok_or_else(|| WordError::Unknown {
+                symbol: name.to_string(),
+                offset,
+                alphabet: symbols.join(", "),
+                split_by_character,
             })
     };
-    let text = text.trim();
-    if text.is_empty() {
-        return Err("empty word: every word needs at least one symbol".into());
+    // Tokens with their byte offsets in `text`.
+    let mut tokens: Vec<(usize, &str)> = Vec::new();
+    let mut start = None;
+    for (i, c) in text
+        .char_indices()
+        .chain(std::iter::once((text.len(), ' ')))
+    {
+        match (c.is_whitespace(), start) {
+            (true, Some(s)) => {
+                tokens.push((s, &text[s..i]));
+                start = None;
+            }
+            (false, None) => start = Some(i),
+            _ => {}
+        }
     }
-    if text.contains(char::is_whitespace) {
-        return text.split_whitespace().map(lookup).collect();
+    match tokens.as_slice() {
+        [] => Err(WordError::Empty),
+        [(at, whole)] => match lookup((*at, whole)) {
+            Ok(s) => Ok(vec![s]),
+            Err(_) => whole
+                .char_indices()
+                .map(|(i, c)| lookup((at + i, &whole[i..i + c.len_utf8()])))
+                .collect(),
+        },
+        _ => tokens.iter().copied().map(lookup).collect(),
     }
-    if let Ok(s) = lookup(text) {
-        return Ok(vec![s]);
-    }
-    text.chars().map(|c| lookup(&c.to_string())).collect()
 }

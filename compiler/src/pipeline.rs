@@ -58,6 +58,11 @@ impl Scheme {
         }
     }
 
+    /// A failed certificate: a bug in the compiler, reported with the scheme it concerns.
+    fn internal(&self, message: String) -> Error {
+        Error::Internal(format!("{}: {message}", self.ls.locate(Part::Rules)))
+    }
+
     /// Every new point's incoming weights sum to exactly 1, for every reachable neighbourhood.
     ///
     /// A new point starting in π(u_d) of a (2d+1)-window u has all its parents among the d+1
@@ -81,15 +86,11 @@ impl Scheme {
                     }
                 }
                 if sum != Elem::one(&self.analysis.field) {
-                    return Err(self.ls.error(
-                        Part::Rules,
-                        format!(
-                            "certificate failed: the weights of new point {} of π({}) sum to {sum}, not 1",
-                            l - offsets[d],
-                            self.ls.word_str(u)
-                        ),
-                        None,
-                    ));
+                    return Err(self.internal(format!(
+                        "certificate failed: the weights of new point {} of π({}) sum to {sum}, not 1",
+                        l - offsets[d],
+                        self.ls.word_str(u)
+                    )));
                 }
             }
         }
@@ -119,15 +120,11 @@ impl Scheme {
                 (a, b) => a == b,
             };
             if got != expect || !child_ok {
-                return Err(self.ls.error(
-                    Part::Rules,
-                    format!(
-                        "certificate failed: the mask of {} is not the mirror of the mask of {}",
-                        self.ls.word_str(&mirrored.word),
-                        self.ls.word_str(&m.word)
-                    ),
-                    None,
-                ));
+                return Err(self.internal(format!(
+                    "certificate failed: the mask of {} is not the mirror of the mask of {}",
+                    self.ls.word_str(&mirrored.word),
+                    self.ls.word_str(&m.word)
+                )));
             }
         }
         Ok(())

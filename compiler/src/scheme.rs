@@ -2,7 +2,7 @@
 //! `[lengths]`. Parsing keeps byte spans so that every error names file, line and column.
 
 use crate::error::{Error, Location};
-use crate::lsystem::{parse_word, LSystem, Source, Sym};
+use crate::lsystem::{parse_word, LSystem, Source, Sym, Word, WordError};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml_edit::{ImDocument, Item, TableLike};
@@ -36,12 +36,21 @@ pub fn load(path: &Path) -> Result<LSystem, Error> {
     parse(&path.display().to_string(), &text)
 }
 
+/// How a scheme file looks, for hints on syntax errors.
+const SHAPE: &str = "scheme files are TOML: `name = \"...\"`, `degree = 3` and `axiom = \"...\"`, then `[rules]` with one `SYMBOL = \"WORD\"` line per symbol";
+
 /// Parses scheme text; `file` is used in error locations.
 pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     let cx = Cx { file, text };
     let doc = ImDocument::parse(text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
-        cx.err(span, e.message().trim().to_string(), None)
+        let message = e.message().trim().to_string();
+        let hint = if message.starts_with("duplicate key") {
+            "each key appears once per table (one rule per symbol): delete or merge the repeated line"
+        } else {
+            SHAPE
+        };
+        cx.err(span, message, Some(hint.into()))
     })?;
     let root = doc.as_table();
     let known = [
@@ -55,16 +64,15 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     ];
     for (key, _) in root.iter() {
         if !known.contains(&key) {
-            let span = root.key(key).and_then(|k| k.span()).unwrap_or(0..0);
             return Err(cx.err(
-                span,
+                cx.span_of_key(root, key),
                 format!("unknown key `{key}`"),
                 Some(format!("known keys: {}", known.join(", "))),
             ));
         }
     }
 
-    let name = cx.string(root, "name")?;
+    let name = cx.string(root, "name", "name = \"my-scheme\"")?;
     if name.1.is_empty()
         || !name
             .1
@@ -80,28 +88,32 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     let degree = cx.degree(root)?;
     let rules_item = cx.table(root, "rules")?.ok_or_else(|| {
         cx.err(
-            0..0,
+            text.len()..text.len(),
             "missing `[rules]` table".into(),
-            Some("add `[rules]` with one `SYMBOL = \"WORD\"` line per symbol".into()),
+            Some("add `[rules]` at the end of the file, then one `SYMBOL = \"WORD\"` line per symbol, e.g. `L = \"LC\"`".into()),
         )
     })?;
+    let rules_span = cx.span_of_key(root, "rules");
     let symbols: Vec<String> = rules_item.iter().map(|(k, _)| k.to_string()).collect();
     if symbols.is_empty() {
         return Err(cx.err(
-            cx.span_of_key(root, "rules"),
+            rules_span,
             "`[rules]` is empty".into(),
-            None,
+            Some(
+                "add one `SYMBOL = \"WORD\"` line per symbol under `[rules]`, e.g. `L = \"LC\"`"
+                    .into(),
+            ),
         ));
     }
     if symbols.len() > Sym::MAX as usize {
         return Err(cx.err(
-            cx.span_of_key(root, "rules"),
+            rules_span,
             format!(
                 "{} symbols: at most {} are supported",
                 symbols.len(),
                 Sym::MAX
             ),
-            None,
+            Some(format!("use at most {} symbols", Sym::MAX)),
         ));
     }
     for s in &symbols {
@@ -109,31 +121,26 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
             return Err(cx.err(
                 cx.span_of_key(rules_item, s),
                 format!("symbol name `{s}` must be non-empty without white space"),
-                None,
+                Some("name symbols with letters and digits, e.g. `A1`".into()),
             ));
         }
     }
     let mut rules = Vec::with_capacity(symbols.len());
     let mut source = Source {
         file: file.to_string(),
-        rules: Some(cx.loc(cx.span_of_key(root, "rules"))),
+        rules: Some(cx.loc(rules_span)),
+        degree: Some(cx.loc(degree.0)),
         ..Source::default()
     };
     for s in &symbols {
-        let (span, text) = cx.value_str(rules_item, s)?;
+        let (span, text) = cx.value_str(rules_item, s, "L = \"LC\"")?;
         source.rule.push(cx.loc(span.clone()));
-        let word = parse_word(&symbols, &text).map_err(|m| {
-            cx.err(
-                span,
-                format!("rule for `{s}`: {m}"),
-                Some("each symbol of the right-hand side must have its own rule".into()),
-            )
-        })?;
+        let word = cx.word(&symbols, span, &text, &format!("rule for `{s}`"))?;
         rules.push(word);
     }
-    let axiom_raw = cx.string(root, "axiom")?;
-    let axiom = parse_word(&symbols, &axiom_raw.1)
-        .map_err(|m| cx.err(axiom_raw.0.clone(), format!("axiom: {m}"), None))?;
+    let axiom_raw = cx.string(root, "axiom", "axiom = \"C\"")?;
+    source.axiom = Some(cx.loc(axiom_raw.0.clone()));
+    let axiom = cx.word(&symbols, axiom_raw.0, &axiom_raw.1, "axiom")?;
 
     let symmetry = match cx.table(root, "symmetry")? {
         None => None,
@@ -150,8 +157,11 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
                 if !symbols.iter().any(|s| s == k) {
                     return Err(cx.err(
                         cx.span_of_key(t, k),
-                        format!("`[lengths]` names unknown symbol `{k}`"),
-                        None,
+                        format!("`[lengths]` names `{k}`, which has no rule"),
+                        Some(format!(
+                            "`[lengths]` has one entry per symbol of `[rules]`: {}",
+                            symbols.join(", ")
+                        )),
                     ));
                 }
             }
@@ -166,7 +176,7 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
                         ),
                     ));
                 }
-                let (span, text) = cx.value_str(t, s)?;
+                let (span, text) = cx.value_str(t, s, "L = \"rho - 1\"")?;
                 source.lengths.push(cx.loc(span));
                 out.push(text);
             }
@@ -175,7 +185,7 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     };
     Ok(LSystem {
         name: name.1,
-        degree,
+        degree: degree.1,
         symbols,
         rules,
         axiom,
@@ -214,51 +224,82 @@ impl Cx<'_> {
         Some((v.span().or_else(|| k.span()).unwrap_or(0..0), v))
     }
 
-    fn string(&self, t: &dyn TableLike, key: &str) -> Result<(Range<usize>, String), Error> {
-        let (span, v) = self.item(t, key).ok_or_else(|| {
+    /// A top-level key; when it is missing the error points at the start of the file, where
+    /// top-level keys belong (before the first table).
+    fn required<'t>(
+        &self,
+        t: &'t dyn TableLike,
+        key: &str,
+        example: &str,
+    ) -> Result<(Range<usize>, &'t Item), Error> {
+        self.item(t, key).ok_or_else(|| {
             self.err(
                 0..0,
                 format!("missing key `{key}`"),
-                Some(format!("add `{key} = \"...\"` at the top of the file")),
+                Some(format!(
+                    "add `{example}` at the top of the file, before `[rules]`"
+                )),
             )
-        })?;
-        let s = v
-            .as_str()
-            .ok_or_else(|| self.err(span.clone(), format!("`{key}` must be a string"), None))?;
-        Ok((span, s.to_string()))
+        })
     }
 
-    fn value_str(&self, t: &dyn TableLike, key: &str) -> Result<(Range<usize>, String), Error> {
-        let (span, v) = self.item(t, key).expect("key listed by the table");
+    fn string(
+        &self,
+        t: &dyn TableLike,
+        key: &str,
+        example: &str,
+    ) -> Result<(Range<usize>, String), Error> {
+        let (span, v) = self.required(t, key, example)?;
+        self.as_string(span, v, key, example)
+    }
+
+    fn as_string(
+        &self,
+        span: Range<usize>,
+        v: &Item,
+        key: &str,
+        example: &str,
+    ) -> Result<(Range<usize>, String), Error> {
         let s = v.as_str().ok_or_else(|| {
             self.err(
                 span.clone(),
-                format!("value of `{key}` must be a string"),
-                None,
+                format!("the value of `{key}` must be a string"),
+                Some(format!("write it in double quotes, e.g. `{example}`")),
             )
         })?;
         Ok((span, s.to_string()))
     }
 
-    fn degree(&self, t: &dyn TableLike) -> Result<usize, Error> {
-        let (span, v) = self.item(t, "degree").ok_or_else(|| {
+    /// The value of a key the table is known to hold.
+    fn value_str(
+        &self,
+        t: &dyn TableLike,
+        key: &str,
+        example: &str,
+    ) -> Result<(Range<usize>, String), Error> {
+        let (span, v) = self.item(t, key).expect("key listed by the table");
+        self.as_string(span, v, key, example)
+    }
+
+    fn degree(&self, t: &dyn TableLike) -> Result<(Range<usize>, usize), Error> {
+        let (span, v) = self.required(t, "degree", "degree = 3")?;
+        let d = v.as_integer().ok_or_else(|| {
             self.err(
-                0..0,
-                "missing key `degree`".into(),
-                Some("add `degree = 3` (cubic B-splines)".into()),
+                span.clone(),
+                "the value of `degree` must be an integer".into(),
+                Some("write a whole number without quotes, e.g. `degree = 3`".into()),
             )
         })?;
-        let d = v
-            .as_integer()
-            .ok_or_else(|| self.err(span.clone(), "`degree` must be an integer".into(), None))?;
-        if d < 1 || d as usize > MAX_DEGREE {
+        if d < 1 || d > MAX_DEGREE as i64 {
             return Err(self.err(
                 span,
                 format!("degree {d} is out of range"),
-                Some(format!("use a degree from 1 to {MAX_DEGREE}")),
+                Some(format!(
+                    "use a degree from 1 to {MAX_DEGREE} (3: cubic B-splines)"
+                )),
             ));
         }
-        Ok(d as usize)
+        Ok((span, d as usize))
     }
 
     fn table<'t>(
@@ -268,31 +309,85 @@ impl Cx<'_> {
     ) -> Result<Option<&'t dyn TableLike>, Error> {
         match self.item(t, key) {
             None => Ok(None),
-            Some((span, item)) => item
-                .as_table_like()
-                .map(Some)
-                .ok_or_else(|| self.err(span, format!("`{key}` must be a table"), None)),
+            Some((span, item)) => item.as_table_like().map(Some).ok_or_else(|| {
+                self.err(
+                    span,
+                    format!("`{key}` must be a table"),
+                    Some(format!(
+                        "write `[{key}]` on a line of its own, followed by `KEY = \"VALUE\"` lines"
+                    )),
+                )
+            }),
         }
+    }
+
+    /// Parses the word of a string value at `span`; an unknown symbol is located exactly when
+    /// the string is written without escapes.
+    fn word(
+        &self,
+        symbols: &[String],
+        span: Range<usize>,
+        text: &str,
+        what: &str,
+    ) -> Result<Word, Error> {
+        parse_word(symbols, text).map_err(|e| match e {
+            WordError::Empty => self.err(
+                span,
+                format!("{what}: empty word"),
+                Some(
+                    "every interval splits into at least one interval ([N] eq. (1)): write one or more symbols, e.g. `\"LC\"`"
+                        .into(),
+                ),
+            ),
+            WordError::Unknown {
+                symbol,
+                offset,
+                alphabet,
+                split_by_character,
+            } => {
+                // The raw text is the value in quotes when it has no escapes.
+                let raw = self.text.get(span.clone()).unwrap_or("");
+                let plain = raw.len() == text.len() + 2 && raw.get(1..raw.len() - 1) == Some(text);
+                let at = if plain { span.start + 1 + offset } else { span.start };
+                let mut hint = format!(
+                    "add a rule `{symbol} = \"...\"` under `[rules]`, or use a symbol that has one: {alphabet}"
+                );
+                if split_by_character {
+                    hint += "; separate symbols longer than one character with spaces, e.g. `\"A1 A2\"`";
+                }
+                self.err(
+                    at..at,
+                    format!("{what}: symbol `{symbol}` has no rule"),
+                    Some(hint),
+                )
+            }
+        })
     }
 
     /// `[symmetry]`: pairs `L = "R"`; unlisted symbols are fixed by σ; must be an involution.
     fn symmetry(&self, t: &dyn TableLike, symbols: &[String]) -> Result<Vec<Sym>, Error> {
+        let hint = || {
+            Some(format!(
+                "`[symmetry]` pairs twin symbols of `[rules]` ({}), e.g. `L = \"R\"`",
+                symbols.join(", ")
+            ))
+        };
         let mut sigma: Vec<Option<Sym>> = vec![None; symbols.len()];
         for (k, _) in t.iter() {
             let span = self.span_of_key(t, k);
             let a = symbols.iter().position(|s| s == k).ok_or_else(|| {
                 self.err(
                     span.clone(),
-                    format!("`[symmetry]` names unknown symbol `{k}`"),
-                    None,
+                    format!("`[symmetry]` names `{k}`, which has no rule"),
+                    hint(),
                 )
             })?;
-            let (vspan, v) = self.value_str(t, k)?;
+            let (vspan, v) = self.value_str(t, k, "L = \"R\"")?;
             let b = symbols.iter().position(|s| *s == v).ok_or_else(|| {
                 self.err(
                     vspan.clone(),
-                    format!("`[symmetry]` maps `{k}` to unknown symbol `{v}`"),
-                    None,
+                    format!("`[symmetry]` maps `{k}` to `{v}`, which has no rule"),
+                    hint(),
                 )
             })?;
             for (x, y) in [(a, b), (b, a)] {

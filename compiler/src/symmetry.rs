@@ -19,7 +19,7 @@ pub fn check_symmetry(ls: &LSystem, sigma: &[Sym]) -> Result<(), Error> {
                 ls.word_str(&ls.axiom),
                 ls.word_str(&ls.mirror(sigma, &ls.axiom))
             ),
-            None,
+            Some("the axiom must read the same backwards with every symbol replaced by its twin, e.g. a symbol that `[symmetry]` leaves fixed".into()),
         ));
     }
     for a in 0..ls.n() {
@@ -35,7 +35,10 @@ pub fn check_symmetry(ls: &LSystem, sigma: &[Sym]) -> Result<(), Error> {
                     ls.symbols[a],
                     ls.word_str(&rhs)
                 ),
-                None,
+                Some(format!(
+                    "the rule of `{}` must be the rule of `{}` read backwards with twins swapped: fix one of the two rules or the pairs in `[symmetry]`",
+                    ls.symbols[sigma[a] as usize], ls.symbols[a]
+                )),
             ));
         }
     }

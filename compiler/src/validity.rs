@@ -68,18 +68,25 @@ pub struct Analysis {
 }
 
 impl Analysis {
+    /// The error for an L-system that fails \[N\] Definition 3.1, naming the condition.
+    pub fn invalid_error(&self, ls: &LSystem) -> Option<Error> {
+        let reason = self.reason.as_ref()?;
+        let hint = if self.rho.cmp_exact(&Elem::one(&self.field)).is_le() {
+            "some symbol must rewrite, step after step, into several intervals that lead back to it, e.g. `A = \"AB\"`, `B = \"A\"`"
+        } else {
+            "a sufficient condition ([N] Theorem 3.7): every symbol's rewriting eventually produces every symbol, and some rule has two or more symbols"
+        };
+        Some(ls.error(
+            Part::Rules,
+            format!("L-system `{}` is not valid: {reason}", ls.name),
+            Some(hint.into()),
+        ))
+    }
+
     /// The lengths, or an error explaining why there are none (for stages that need them).
     pub fn require_lengths(&self, ls: &LSystem) -> Result<&[Elem], Error> {
-        if !self.valid {
-            return Err(ls.error(
-                Part::Rules,
-                format!(
-                    "L-system `{}` is not valid ([N] Definition 3.1): {}",
-                    ls.name,
-                    self.reason.as_deref().unwrap_or("unknown reason")
-                ),
-                None,
-            ));
+        if let Some(e) = self.invalid_error(ls) {
+            return Err(e);
         }
         match (&self.lengths, &self.lengths_problem) {
             (Some((l, _)), _) => Ok(l),
@@ -113,7 +120,12 @@ pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
     let m = ls.matrix();
     let n = ls.n();
     let cp = char_poly(&m);
-    let field = perron_field(&cp).map_err(|e| ls.error(Part::Rules, e, None))?;
+    let field = perron_field(&cp).map_err(|e| {
+        Error::Internal(format!(
+            "{}: the Perron root of M: {e}",
+            ls.locate(Part::Rules)
+        ))
+    })?;
     let rho = field.rho();
     let one = Elem::one(&field);
 
@@ -124,9 +136,11 @@ pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
     let eigen = null_space(&field, &shifted(&field, &m, &rho), n);
     let eigenspace_dim = eigen.len();
 
+    // A positive eigenvector of a non-negative matrix belongs to its spectral radius, so the
+    // two conditions of Definition 3.1 are decided on ρ(M) alone.
     let reason = if rho.cmp_exact(&one).is_le() {
         Some(format!(
-            "ρ(M) = {rho} is not greater than 1, so intervals never shrink"
+            "[N] Definition 3.1 asks for a real eigenvalue ρ > 1 of M, but the spectral radius ρ(M) = {rho} is not greater than 1, so intervals never shrink"
         ))
     } else if classes.iter().any(|c| c.basic != c.is_final) {
         let names = |pick: fn(&Class) -> bool| -> String {
@@ -141,7 +155,7 @@ pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
                 .join(" ")
         };
         Some(format!(
-            "no positive eigenvector for ρ(M) = {rho}: the classes with spectral radius ρ ({}) are not exactly the classes no rule leaves ({})",
+            "[N] Definition 3.1 asks for a positive eigenvector of M for ρ > 1, but there is no positive eigenvector for ρ(M) = {rho}: the classes of G(M) with spectral radius ρ ({}) are not exactly the classes no rule leaves ({})",
             names(|c| c.basic),
             names(|c| c.is_final)
         ))
@@ -253,14 +267,14 @@ fn lengths_for(
                 ls.error(
                     Part::Length(i),
                     format!("`[lengths]` entry for `{s}`: {e}"),
-                    None,
+                    Some("lengths are expressions in `rho`: numbers, `rho`, `+ - * / ^` and parentheses, e.g. `(1 + rho)/2`".into()),
                 )
             })?;
             if v.signum() <= 0 {
                 return Err(ls.error(
                     Part::Length(i),
                     format!("`[lengths]` entry for `{s}` is {v}, not positive"),
-                    None,
+                    Some("[N] Definition 3.1 asks for positive lengths: every entry must be greater than 0".into()),
                 ));
             }
             a.push(v);
@@ -279,7 +293,7 @@ fn lengths_for(
                         ls.symbols[i],
                         ma
                     ),
-                    None,
+                    Some("ρ·a must equal the sum of the lengths of π(A) for every symbol A: take an eigenvector of M for ρ (`lsubdiv inspect` prints M and ρ)".into()),
                 ));
             }
         }

@@ -1,0 +1,354 @@
+//! Bad input as a user meets it on the command line: every diagnostic names its place, says
+//! what is wrong and how to fix it, and exits with status 2; nothing panics.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn lsubdiv(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+/// Which command reads the scheme file: `inspect` (curve conditions) or `subdivide` (also the
+/// surface conditions of [G] §4.2).
+#[derive(Clone, Copy)]
+enum Run {
+    Inspect,
+    Subdivide,
+}
+
+/// One row per scheme diagnostic: the file, the command, `line:column`, a fragment of the
+/// message and one of the hint.
+const SCHEMES: &[(&str, Run, &str, &str, &str)] = &[
+    // TOML syntax.
+    (
+        "name = \"x\ndegree = 3\n",
+        Run::Inspect,
+        "1:10",
+        "invalid basic string",
+        "scheme files are TOML",
+    ),
+    // A key twice, a rule twice.
+    (
+        "name = \"x\"\nname = \"y\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "2:1",
+        "duplicate key `name`",
+        "delete or merge the repeated line",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\nL = \"L\"\n",
+        Run::Inspect,
+        "6:1",
+        "duplicate key `L` in table `rules`",
+        "one rule per symbol",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\nfoo = 1\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "4:1",
+        "unknown key `foo`",
+        "known keys: name, degree, axiom",
+    ),
+    // Missing keys: top-level keys belong at the top of the file.
+    (
+        "degree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "1:1",
+        "missing key `name`",
+        "add `name = \"my-scheme\"` at the top of the file",
+    ),
+    (
+        "name = \"x\"\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "1:1",
+        "missing key `degree`",
+        "add `degree = 3`",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "1:1",
+        "missing key `axiom`",
+        "add `axiom = \"C\"`",
+    ),
+    // A missing `[rules]` table goes at the end of the file.
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n",
+        Run::Inspect,
+        "4:1",
+        "missing `[rules]` table",
+        "add `[rules]` at the end of the file",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\n",
+        Run::Inspect,
+        "4:2",
+        "`[rules]` is empty",
+        "one `SYMBOL = \"WORD\"` line per symbol",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\nrules = 4\n",
+        Run::Inspect,
+        "4:9",
+        "`rules` must be a table",
+        "write `[rules]` on a line of its own",
+    ),
+    (
+        "name = \"x y\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "1:8",
+        "scheme name `x y` is not a slug",
+        "letters, digits",
+    ),
+    // Degree 0, absurd, not an integer.
+    (
+        "name = \"x\"\ndegree = 0\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "2:10",
+        "degree 0 is out of range",
+        "use a degree from 1 to 15",
+    ),
+    (
+        "name = \"x\"\ndegree = 16\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "2:10",
+        "degree 16 is out of range",
+        "use a degree from 1 to 15",
+    ),
+    (
+        "name = \"x\"\ndegree = \"3\"\naxiom = \"L\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "2:10",
+        "the value of `degree` must be an integer",
+        "without quotes",
+    ),
+    // Words: a rule that is not a string, empty words, symbols without a rule (pointing at
+    // the symbol itself).
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = 3\n",
+        Run::Inspect,
+        "5:5",
+        "the value of `L` must be a string",
+        "write it in double quotes",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"\"\n",
+        Run::Inspect,
+        "5:5",
+        "rule for `L`: empty word",
+        "at least one interval",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"  \"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "3:9",
+        "axiom: empty word",
+        "write one or more symbols",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LCX\"\nC = \"L\"\n",
+        Run::Inspect,
+        "5:8",
+        "rule for `L`: symbol `X` has no rule",
+        "add a rule `X = \"...\"` under `[rules]`, or use a symbol that has one: L, C",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"A1\"\n[rules]\nA1 = \"A1 A2\"\nA2 = \"A1\"\nB = \"A1A2\"\n",
+        Run::Inspect,
+        "7:6",
+        "rule for `B`: symbol `A` has no rule",
+        "separate symbols longer than one character with spaces",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L Q\"\n[rules]\nL = \"LL\"\n",
+        Run::Inspect,
+        "3:12",
+        "axiom: symbol `Q` has no rule",
+        "add a rule `Q = \"...\"`",
+    ),
+    // [symmetry].
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n[symmetry]\nQ = \"L\"\n",
+        Run::Inspect,
+        "7:1",
+        "`[symmetry]` names `Q`, which has no rule",
+        "pairs twin symbols",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n[symmetry]\nL = \"Q\"\n",
+        Run::Inspect,
+        "7:5",
+        "`[symmetry]` maps `L` to `Q`, which has no rule",
+        "pairs twin symbols",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nC = \"LCR\"\nR = \"CR\"\n[symmetry]\nL = \"R\"\nR = \"C\"\n",
+        Run::Inspect,
+        "10:5",
+        "`[symmetry]` is not an involution: `R` is paired with both `L` and `C`",
+        "list each twin pair once",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nR = \"RC\"\nC = \"LCR\"\n[symmetry]\nL = \"R\"\n",
+        Run::Inspect,
+        "8:2",
+        "the declared σ is not a symmetry ([G] eq. (14)): π(σ(L)) = RC but σ̄(π(L)) = CR",
+        "the rule of `R` must be the rule of `L` read backwards",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LR\"\nR = \"LR\"\n[symmetry]\nL = \"R\"\n",
+        Run::Inspect,
+        "7:2",
+        "the axiom L is not symmetric",
+        "read the same backwards",
+    ),
+    // Validity: which condition of [N] Definition 3.1 fails.
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"A\"\n[rules]\nA = \"B\"\nB = \"A\"\n",
+        Run::Inspect,
+        "4:2",
+        "L-system `x` is not valid: [N] Definition 3.1 asks for a real eigenvalue ρ > 1 of M, but the spectral radius ρ(M) = 1 is not greater than 1",
+        "several intervals that lead back to it",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"A\"\n[rules]\nA = \"AAB\"\nB = \"B\"\n",
+        Run::Inspect,
+        "4:2",
+        "[N] Definition 3.1 asks for a positive eigenvector of M for ρ > 1, but there is no positive eigenvector for ρ(M) = 2",
+        "[N] Theorem 3.7",
+    ),
+    // Lengths: not free, not satisfying eq. (3), incomplete, unknown, malformed, not positive,
+    // and missing where they are not unique (`subdivide` needs them; `inspect` reports).
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n[lengths]\nL = \"1\"\n",
+        Run::Inspect,
+        "7:5",
+        "`[lengths]` given, but the eigenvector of ρ is unique: lengths are not free",
+        "remove `[lengths]`",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n[lengths]\nS = \"1\"\nL = \"1\"\nC = \"rho - 1\"\nD = \"rho - 1\"\nR = \"1\"\n",
+        Run::Inspect,
+        "11:5",
+        "`[lengths]` do not satisfy [N] eq. (3) for `S`",
+        "ρ·a must equal the sum of the lengths of π(A)",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n[lengths]\nS = \"1\"\n",
+        Run::Inspect,
+        "10:2",
+        "`[lengths]` has no entry for symbol `L`",
+        "give every symbol a length",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LL\"\n[lengths]\nQ = \"1\"\n",
+        Run::Inspect,
+        "7:1",
+        "`[lengths]` names `Q`, which has no rule",
+        "one entry per symbol of `[rules]`: L",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n[lengths]\nS = \"2\"\nL = \"rho^99999999\"\nC = \"rho - 1\"\nD = \"rho - 1\"\nR = \"1\"\n",
+        Run::Inspect,
+        "12:5",
+        "`[lengths]` entry for `L`: exponent 99999999 is larger than 64",
+        "expressions in `rho`",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n[lengths]\nS = \"-2\"\nL = \"1\"\nC = \"rho - 1\"\nD = \"rho - 1\"\nR = \"1\"\n",
+        Run::Inspect,
+        "11:5",
+        "`[lengths]` entry for `S` is -2, not positive",
+        "greater than 0",
+    ),
+    (
+        "name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n",
+        Run::Subdivide,
+        "4:2",
+        "lengths are not unique: the eigenspace of ρ has dimension 2",
+        "declare `[lengths]`",
+    ),
+    // Surfaces ([G] §4.2): degree, axiom, symmetry, stationarity, containment.
+    (
+        "name = \"t\"\ndegree = 2\naxiom = \"A\"\n[rules]\nA = \"AA\"\n",
+        Run::Subdivide,
+        "2:10",
+        "surfaces need degree 3",
+        "set `degree = 3` for surfaces",
+    ),
+    (
+        "name = \"t\"\ndegree = 3\naxiom = \"CC\"\n[rules]\nL = \"LC\"\nC = \"LCR\"\nR = \"CR\"\n[symmetry]\nL = \"R\"\n",
+        Run::Subdivide,
+        "3:9",
+        "the axiom, which must be one symbol; it is CC",
+        "one-symbol axiom",
+    ),
+    (
+        "name = \"t\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nR = \"RC\"\nC = \"LCR\"\n",
+        Run::Subdivide,
+        "4:2",
+        "not symmetric: no involution σ",
+        "symmetric L-system ([G] §4.1)",
+    ),
+    (
+        "name = \"t\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"RR\"\nR = \"LL\"\n[symmetry]\nL = \"R\"\n",
+        Run::Subdivide,
+        "4:2",
+        "never become stationary: the ray prefix cycles with period 2",
+        "must settle",
+    ),
+    (
+        "name = \"t\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LCC\"\nC = \"LCR\"\nR = \"CCR\"\n[symmetry]\nL = \"R\"\n",
+        Run::Subdivide,
+        "5:5",
+        "the label L of edges leaving an EV must rewrite as L X",
+        "e.g. `L = \"LC\"`",
+    ),
+];
+
+#[test]
+fn every_scheme_diagnostic_names_file_line_column_and_hint() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = write(dir.path(), "cube.obj", CUBE);
+    let out = dir.path().join("out.obj").display().to_string();
+    for (i, &(text, run, at, message, hint)) in SCHEMES.iter().enumerate() {
+        let name = format!("bad{i}.toml");
+        let f = write(dir.path(), &name, text);
+        let o = match run {
+            Run::Inspect => lsubdiv(&["inspect", &f]),
+            Run::Subdivide => lsubdiv(&["subdivide", &f, "--steps", "1", &cube, "-o", &out]),
+        };
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "row {i}: {e}");
+        assert!(
+            e.contains(&format!("{name}:{at}: error: ")),
+            "row {i}: wrong place (expected {at}): {e}"
+        );
+        assert!(e.contains(message), "row {i}: wrong message: {e}");
+        let hint_line = e.lines().find(|l| l.starts_with("  hint: "));
+        assert!(
+            hint_line.is_some_and(|h| h.contains(hint)),
+            "row {i}: wrong or missing hint: {e}"
+        );
+        assert!(!e.contains("panicked"), "row {i}: {e}");
+    }
+    assert!(
+        !dir.path().join("out.obj").exists(),
+        "no output from a refused scheme"
+    );
+}
