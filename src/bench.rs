@@ -6,6 +6,7 @@ use crate::runtime::mesh::{parse_obj, QuadMesh};
 use crate::runtime::patch::Refiner;
 use crate::runtime::real::Real;
 use crate::runtime::surface::{SurfaceScheme, SurfaceVisitor};
+use crate::runtime::topology::Topology;
 use lsubdiv_compiler::generic::GenericSurface;
 use lsubdiv_compiler::Scheme;
 use std::time::Instant;
@@ -23,17 +24,17 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
             match (p(r), p(c)) {
                 (Some(r), Some(c)) => Ok(torus(r, c)),
                 _ => Err(format!(
-                    "`{spec}`: torus sizes are integers from 3 to 100000"
+                    "error: `{spec}`: torus sizes are integers from 3 to 100000"
                 )),
             }
         }
         ["cube"] => Ok(cube()),
         ["star"] => Ok(star()),
         _ => {
-            let text = std::fs::read_to_string(spec).map_err(|e| format!("{spec}: {e}"))?;
-            parse_obj(&text)
-                .map(|(m, _)| m)
-                .map_err(|e| format!("{spec}: {e}"))
+            let text = std::fs::read_to_string(spec).map_err(|e| format!("{spec}: error: {e}"))?;
+            let (m, _) = parse_obj(&text).map_err(|e| e.in_obj(spec, &text))?;
+            Topology::build(&m).map_err(|e| e.in_obj(spec, &text))?;
+            Ok(m)
         }
     }
 }

@@ -14,6 +14,7 @@ pub use lsubdiv_runtime::{
 };
 
 pub mod bench;
+pub mod limits;
 pub mod points;
 pub mod report;
 pub mod tables;

@@ -76,6 +76,8 @@ enum Command {
         /// table-driven path, or `auto` (generated when available).
         #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
         path: PathChoice,
+        #[command(flatten)]
+        limit: MemoryLimit,
     },
     /// α and the spectrum at extraordinary vertices (\[G\] §4.2.3), per valence.
     Ev {
@@ -104,6 +106,8 @@ enum Command {
         /// Worker threads (the result does not depend on it); default: all cores.
         #[arg(long)]
         threads: Option<usize>,
+        #[command(flatten)]
+        limit: MemoryLimit,
     },
     /// Times surface refinement: one JSON object per line with output vertices/s and peak RSS.
     Bench {
@@ -129,6 +133,8 @@ enum Command {
         /// JSON output (the only format).
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        limit: MemoryLimit,
     },
     /// Lists the shipped schemes.
     Schemes,
@@ -200,6 +206,23 @@ enum PathChoice {
     Auto,
     Generated,
     Generic,
+}
+
+/// `--max-memory`, for the commands that refine.
+#[derive(clap::Args)]
+struct MemoryLimit {
+    /// Refuse, before refining, a run whose predicted peak memory exceeds this: bytes, or a
+    /// number with K, M, G or T (powers of 1024). Default: half of the machine's memory
+    /// (`MemTotal` of /proc/meminfo; 8 GiB where that cannot be read).
+    #[arg(long, value_parser = lsubdiv::limits::parse_size)]
+    max_memory: Option<u64>,
+}
+
+impl MemoryLimit {
+    fn bytes(&self) -> u64 {
+        self.max_memory
+            .unwrap_or_else(lsubdiv::limits::default_max_memory)
+    }
 }
 
 /// A failure and its exit status.
@@ -461,11 +484,20 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             output,
             path,
             threads,
+            limit,
         }) => {
             let threads = threads.unwrap_or_else(|| {
                 std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
             });
-            subdivide(&scheme, steps, &input, &output, path, threads)
+            subdivide(
+                &scheme,
+                steps,
+                &input,
+                &output,
+                path,
+                threads,
+                limit.bytes(),
+            )
         }
         Some(Command::Bench {
             mesh,
@@ -475,8 +507,18 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             path,
             f32,
             runs,
+            limit,
             ..
-        }) => bench(&mesh, &scheme, steps, threads, path, f32, runs),
+        }) => bench(
+            &mesh,
+            &scheme,
+            steps,
+            threads,
+            path,
+            f32,
+            runs,
+            limit.bytes(),
+        ),
         Some(Command::Graph { scheme, degree, .. }) => {
             let s = build(&load(&scheme, degree)?)?;
             print!("{}", report::dot(&s));
@@ -500,15 +542,25 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             labels,
             degree,
             path,
+            limit,
         }) => {
             let r = load(&scheme, degree)?;
             let in_name = input.display().to_string();
             let text = std::fs::read_to_string(&input)
                 .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
             let pts = points::parse(&in_name, &text).map_err(bad)?;
+            drop(text);
+            let job = CurveJob {
+                what: format!("{steps} steps of {} on {in_name}", r.ls.name),
+                closed,
+                labels,
+                steps,
+                path,
+                max_memory: limit.bytes(),
+            };
             let out = match pts {
-                Points::D2(p) => points::format(&refine_cli(&r, p, closed, labels, steps, path)?),
-                Points::D3(p) => points::format(&refine_cli(&r, p, closed, labels, steps, path)?),
+                Points::D2(p) => points::format(&refine_cli(&r, p, job)?),
+                Points::D3(p) => points::format(&refine_cli(&r, p, job)?),
             };
             write_atomic(&output, out.as_bytes())?;
             Ok(())
@@ -516,25 +568,45 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
     }
 }
 
-/// Refines with the requested path; `auto` uses the generated kernels for shipped schemes and
-/// the generic path otherwise (or when the labels make words the generated tables lack).
-fn refine_cli<const D: usize>(
-    r: &Resolved,
-    points: Vec<[f64; D]>,
+/// What `lsubdiv curve` was asked to do, apart from the points.
+struct CurveJob {
+    /// `N steps of SCHEME on FILE`, for the size guard's message.
+    what: String,
     closed: bool,
     labels: Option<String>,
     steps: usize,
     path: PathChoice,
+    max_memory: u64,
+}
+
+/// Refines with the requested path; `auto` uses the generated kernels for shipped schemes and
+/// the generic path otherwise (or when the labels make words the generated tables lack).
+/// Refuses, before refining, a result predicted to need more than `--max-memory`.
+fn refine_cli<const D: usize>(
+    r: &Resolved,
+    points: Vec<[f64; D]>,
+    job: CurveJob,
 ) -> Result<Vec<[f64; D]>, Failure> {
+    let CurveJob {
+        closed,
+        steps,
+        path,
+        ..
+    } = job;
     let scheme = build(r)?;
     let mut generic = GenericScheme::new(scheme);
     let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), points, closed);
-    if let Some(l) = labels {
+    if let Some(l) = job.labels {
         curve.labels =
             r.ls.parse_word(&l)
                 .map_err(|e| bad(format!("error: --labels: {e}")))?;
     }
     let curve_err = |e: CurveError| bad(format!("error: {e}"));
+    let t = lsubdiv::CurveScheme::tables(&generic);
+    curve.check(&t).map_err(curve_err)?;
+    lsubdiv::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
+        .check(&job.what, job.max_memory)
+        .map_err(bad)?;
     let generated = || -> Option<Result<Curve<D>, CurveError>> {
         r.builtin
             .then(|| lsubdiv::generated::refine_curve(&r.ls.name, &curve, steps))
@@ -617,20 +689,35 @@ fn subdivide(
     output: &std::path::Path,
     path: PathChoice,
     threads: usize,
+    max_memory: u64,
 ) -> Result<(), Failure> {
     use lsubdiv::runtime::mesh::{self, QuadMesh};
     use lsubdiv::runtime::patch;
+    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
-    let (m, warnings) =
-        mesh::parse_obj(&text).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
+    let (m, warnings) = mesh::parse_obj(&text).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
     for w in warnings {
         eprintln!("{in_name}: warning: {w}");
     }
-    lsubdiv::runtime::topology::Topology::build(&m)
-        .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
+    lsubdiv::runtime::topology::Topology::build(&m).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
+    drop(text);
     let surface = lsubdiv_compiler::generic::GenericSurface::new(build(&r)?)?;
+    lsubdiv::limits::surface(
+        &lsubdiv::CurveScheme::tables(&surface),
+        surface.surface().contained_from,
+        &m,
+        steps,
+        8,
+        threads,
+        true,
+    )
+    .check(
+        &format!("{steps} steps of {} on {in_name}", r.ls.name),
+        max_memory,
+    )
+    .map_err(bad)?;
     let generated = if path == PathChoice::Generic || !r.builtin {
         None
     } else {
@@ -646,7 +733,18 @@ fn subdivide(
         }
         (_, None) => patch::subdivide::<_, f64>(&surface, &m, steps, threads),
     };
-    let fine = result.map_err(|e| bad(format!("error: {e}")))?;
+    let fine = result.map_err(|e| match e {
+        // Found while refining; the text is read again to name the line.
+        SurfaceError::Mesh(e) => bad(e.in_obj(
+            &in_name,
+            &std::fs::read_to_string(input).unwrap_or_default(),
+        )),
+        SurfaceError::Ev(e) => bad(format!("{in_name}: error: {e}")),
+        e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => Failure {
+            code: 1,
+            message: format!("internal error: {e}"),
+        },
+    })?;
     let fine = QuadMesh {
         positions: fine.positions,
         faces: fine.faces,
@@ -662,6 +760,7 @@ fn subdivide(
 }
 
 /// `lsubdiv bench`: one JSON line per configuration.
+#[allow(clippy::too_many_arguments)]
 fn bench(
     mesh: &str,
     scheme: &str,
@@ -670,11 +769,25 @@ fn bench(
     path: BenchPath,
     f32: bool,
     runs: usize,
+    max_memory: u64,
 ) -> Result<(), Failure> {
     use lsubdiv::bench;
-    let m = bench::mesh(mesh).map_err(|e| bad(format!("error: {e}")))?;
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    let m = bench::mesh(mesh).map_err(bad)?;
     let surface = bench::surface(scheme).map_err(|e| bad(format!("error: {e}")))?;
     let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &m, 4_200_000));
+    let scalar = if f32 { 4 } else { 8 };
+    lsubdiv::limits::surface(
+        &lsubdiv::CurveScheme::tables(&surface),
+        surface.surface().contained_from,
+        &m,
+        steps,
+        scalar,
+        threads,
+        false,
+    )
+    .check(&format!("{steps} steps of {scheme} on {mesh}"), max_memory)
+    .map_err(bad)?;
     let p = match path {
         BenchPath::Generated => bench::Path::Generated,
         BenchPath::Generic => bench::Path::Generic,

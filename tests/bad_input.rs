@@ -352,3 +352,143 @@ fn every_scheme_diagnostic_names_file_line_column_and_hint() {
         "no output from a refused scheme"
     );
 }
+
+/// The compiled generic tables of a shipped scheme.
+fn generic(name: &str) -> lsubdiv::compiler::generic::GenericScheme {
+    let r = lsubdiv::resolve(name).unwrap();
+    lsubdiv::compiler::generic::GenericScheme::new(lsubdiv::compiler::Scheme::build(r.ls).unwrap())
+}
+
+#[test]
+fn predicted_curve_sizes_are_exact() {
+    use lsubdiv::{Curve, CurveScheme};
+    let square: Vec<[f64; 2]> = (0..6).map(|i| [f64::from(i), f64::from(i * i)]).collect();
+    let mut cases = Vec::new();
+    for name in [
+        "fibonacci",
+        "binary-ternary",
+        "delay-queue-3",
+        "uniform-binary",
+    ] {
+        for closed in [false, true] {
+            let s = generic(name);
+            let c = Curve::with_axiom(&s.tables(), square.clone(), closed);
+            cases.push((s, c));
+        }
+    }
+    // Labels other than the axiom, open: the interior labels grow, the ends stay.
+    let mut s = generic("fibonacci-curve");
+    let labels = s.scheme().ls.parse_word("SSLSSLSS").unwrap();
+    let c = Curve {
+        points: square,
+        labels,
+        closed: false,
+    };
+    s.prepare(&c);
+    cases.push((s, c));
+    for (s, c) in &cases {
+        let t = s.tables();
+        for steps in 0..7 {
+            let fine = lsubdiv::refine(s, c, steps).unwrap();
+            let p = lsubdiv::limits::curve(&t, &c.labels, c.closed, c.points.len(), 2, steps);
+            assert_eq!(
+                p.vertices,
+                fine.points.len() as u128,
+                "{} closed={} steps={steps}",
+                t.name,
+                c.closed
+            );
+        }
+    }
+}
+
+#[test]
+fn predicted_surface_sizes_are_exact() {
+    use lsubdiv::runtime::generators::{cube, star, torus};
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::CurveScheme;
+    for name in ["binary-ternary", "fibonacci", "uniform-binary"] {
+        let s = lsubdiv::compiler::generic::GenericSurface::new(
+            lsubdiv::compiler::Scheme::build(lsubdiv::resolve(name).unwrap().ls).unwrap(),
+        )
+        .unwrap();
+        for mesh in [cube(), star(), torus(3, 4)] {
+            for steps in 0..4 {
+                let fine =
+                    lsubdiv::runtime::patch::subdivide::<_, f64>(&s, &mesh, steps, 1).unwrap();
+                let t = s.tables();
+                let p = lsubdiv::limits::surface(
+                    &t,
+                    s.surface().contained_from,
+                    &mesh,
+                    steps,
+                    8,
+                    1,
+                    true,
+                );
+                assert_eq!(
+                    (p.vertices, p.quads),
+                    (fine.positions.len() as u128, Some(fine.faces.len() as u128)),
+                    "{name} steps={steps}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn too_large_requests_are_refused_before_refining() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = write(dir.path(), "cube.obj", CUBE);
+    let square = write(dir.path(), "square.txt", "0 0\n1 0\n1 1\n0 1\n");
+    let out = dir.path().join("out");
+    let out_s = out.display().to_string();
+    let started = std::time::Instant::now();
+    for (args, expect) in [
+        (
+            vec!["subdivide", "binary-ternary", "--steps", "40", &cube, "-o", &out_s],
+            "40 steps of binary-ternary on",
+        ),
+        (
+            vec!["subdivide", "binary-ternary", "--steps", "18446744073709551615", &cube, "-o", &out_s],
+            "more than 10^38 vertices, more than 10^38 quads",
+        ),
+        (
+            vec!["curve", "fibonacci", "--steps", "40", &square, "-o", &out_s],
+            "would make 331 160 285 points",
+        ),
+        (
+            // 4 steps of binary-ternary on the cube: |π⁴(C)| = 41, so 6·41² quads, fine under
+            // the default but not under 1 MiB.
+            vec!["subdivide", "binary-ternary", "--steps", "4", "--max-memory", "1M", &cube, "-o", &out_s],
+            "would make 10 088 vertices, 10 086 quads, ~1.4 MiB; --max-memory is ~1.0 MiB; use fewer steps or raise --max-memory",
+        ),
+        (
+            vec!["bench", "--mesh", "cube", "--scheme", "uniform-binary", "--steps", "40", "--json"],
+            "40 steps of uniform-binary on cube would make",
+        ),
+    ] {
+        let o = lsubdiv(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(expect), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?}: no output");
+    }
+    assert!(
+        started.elapsed().as_secs() < 20,
+        "refused quickly: {:?}",
+        started.elapsed()
+    );
+    let o = lsubdiv(&[
+        "subdivide",
+        "binary-ternary",
+        "--steps",
+        "1",
+        "--max-memory",
+        "4X",
+        &cube,
+        "-o",
+        &out_s,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("`4X` is not a size"), "{}", stderr(&o));
+}

@@ -64,6 +64,40 @@ impl CurveTables<'_> {
         self.rule_offsets.len() - 1
     }
 
+    /// |π^steps(word)|, exactly, from symbol counts (counts · M per step) without rewriting;
+    /// `u128::MAX` when it does not fit. Symbols outside the alphabet count as nothing.
+    pub fn image_len(&self, word: &[u8], steps: usize) -> u128 {
+        let mut counts = vec![0u128; self.symbol_count()];
+        for &s in word {
+            if let Some(c) = counts.get_mut(s as usize) {
+                *c += 1;
+            }
+        }
+        let total = |c: &[u128]| c.iter().fold(0u128, |a, &x| a.saturating_add(x));
+        let mut len = total(&counts);
+        // Rules are never empty, so lengths never grow smaller. While the length stays, every
+        // symbol present rewrites to one symbol; if it stays for more steps than there are
+        // symbols, each orbit has closed among such symbols and it stays for ever. So the loop
+        // ends early for huge `steps`, as it does once the length saturates.
+        let mut flat = 0;
+        for _ in 0..steps {
+            if len == u128::MAX || flat > counts.len() {
+                break;
+            }
+            let mut next = vec![0u128; counts.len()];
+            for (a, &c) in counts.iter().enumerate() {
+                for &b in self.rule(a as u8) {
+                    next[b as usize] = next[b as usize].saturating_add(c);
+                }
+            }
+            counts = next;
+            let next_len = total(&counts);
+            flat = if next_len == len { flat + 1 } else { 0 };
+            len = next_len;
+        }
+        len
+    }
+
     /// A word for messages (`LCR`, or `A1 A2` when a symbol name is longer than one character).
     pub fn word_str(&self, w: &[u8]) -> String {
         let all: Vec<&str> = self.symbol_names.split(' ').collect();

@@ -110,6 +110,8 @@ pub enum MeshError {
     BoundaryEdge {
         /// Endpoints, smaller first.
         edge: [u32; 2],
+        /// The face.
+        face: u32,
     },
     /// An edge with more than two faces.
     NonManifoldEdge {
@@ -117,6 +119,8 @@ pub enum MeshError {
         edge: [u32; 2],
         /// Number of faces on it.
         faces: usize,
+        /// The first face on it.
+        face: u32,
     },
     /// The faces around a vertex form more than one cycle.
     NonManifoldVertex {
@@ -130,61 +134,154 @@ pub enum MeshError {
         /// The vertex.
         vertex: u32,
     },
+    /// A vertex where only two faces meet: a closed manifold, but no extraordinary-vertex
+    /// rule applies (\[G\] §2.2.2 needs valence ≥ 3).
+    LowValence {
+        /// The vertex.
+        vertex: u32,
+        /// Its valence.
+        valence: usize,
+    },
 }
 
 fn plural(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
-impl fmt::Display for MeshError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl MeshError {
+    /// The 1-based line of a problem found while reading a file.
+    pub fn line(&self) -> Option<usize> {
         match self {
-            MeshError::BadNumber { line, token } => {
-                write!(f, "line {line}: `{token}` is not a number")
-            }
-            MeshError::NonFinite { line, token } => {
-                write!(f, "line {line}: coordinate `{token}` is not finite")
-            }
-            MeshError::CoordinateCount { line, count } => write!(
-                f,
-                "line {line}: vertex has {}; expected x y z, x y z w or x y z r g b",
-                plural(*count, "value", "values")
-            ),
-            MeshError::NotQuad { line, count } => write!(
-                f,
-                "line {line}: face has {}; only quads are supported",
-                plural(*count, "vertex", "vertices")
-            ),
-            MeshError::BadIndex { line, token } => write!(
-                f,
-                "line {line}: `{token}` is not a face corner (i, i/t, i//n or i/t/n)"
-            ),
-            MeshError::ZeroIndex { line } => write!(
-                f,
-                "line {line}: vertex index 0 is invalid (OBJ indices start at 1)"
-            ),
-            MeshError::IndexOutOfRange {
-                line,
+            MeshError::BadNumber { line, .. }
+            | MeshError::NonFinite { line, .. }
+            | MeshError::CoordinateCount { line, .. }
+            | MeshError::NotQuad { line, .. }
+            | MeshError::BadIndex { line, .. }
+            | MeshError::ZeroIndex { line }
+            | MeshError::IndexOutOfRange { line, .. } => Some(*line),
+            _ => None,
+        }
+    }
+
+    /// The error as `file:line: error: message` for a mesh read from the OBJ `text` of `file`:
+    /// a problem of a face or vertex found after reading is placed at that face's `f` line or
+    /// that vertex's `v` line, with vertices numbered as in the file (from 1).
+    pub fn in_obj(&self, file: &str, text: &str) -> String {
+        let nth = |kind: &str, k: u32| {
+            text.lines()
+                .enumerate()
+                .filter(|(_, l)| matches!(directive(l), Some((d, _)) if d == kind))
+                .nth(k as usize)
+                .map(|(i, _)| i + 1)
+        };
+        let (face, vertex) = (|f: u32| nth("f", f), |v: u32| nth("v", v));
+        let obj = |v: u32| u64::from(v) + 1;
+        let (line, message) = match self {
+            MeshError::FaceIndexOutOfRange {
+                face: f,
                 index,
                 vertices,
+            } => (
+                face(*f),
+                format!(
+                    "vertex index {} out of range (the file has {})",
+                    obj(*index),
+                    plural(*vertices, "vertex", "vertices")
+                ),
+            ),
+            MeshError::RepeatedVertex { face: f, vertex: v } => (
+                face(*f),
+                format!("the face lists vertex {} twice", obj(*v)),
+            ),
+            MeshError::DuplicateFaces { first, second } => (
+                face(*second),
+                match face(*first) {
+                    Some(l) => format!("duplicate face: the face at line {l} has the same vertices"),
+                    None => "duplicate face".into(),
+                },
+            ),
+            MeshError::BoundaryEdge { edge, face: f } => (
+                face(*f),
+                format!(
+                    "edge {}–{} of this face has no other face (open boundary; lsubdiv refines closed meshes)",
+                    obj(edge[0]),
+                    obj(edge[1])
+                ),
+            ),
+            MeshError::NonManifoldEdge {
+                edge,
+                faces,
+                face: f,
+            } => (
+                face(*f),
+                format!(
+                    "edge {}–{} of this face is shared by {faces} faces (non-manifold edge: at most 2)",
+                    obj(edge[0]),
+                    obj(edge[1])
+                ),
+            ),
+            MeshError::NonManifoldVertex { vertex: v, fans } => (
+                vertex(*v),
+                format!(
+                    "vertex {}: its faces form {fans} separate fans (non-manifold vertex)",
+                    obj(*v)
+                ),
+            ),
+            MeshError::IsolatedVertex { vertex: v } => (
+                vertex(*v),
+                format!("vertex {} is used by no face (isolated vertex)", obj(*v)),
+            ),
+            MeshError::LowValence { vertex: v, valence } => (
+                vertex(*v),
+                format!(
+                    "vertex {} has valence {valence}; extraordinary vertices need valence ≥ 3",
+                    obj(*v)
+                ),
+            ),
+            e => (e.line(), e.what()),
+        };
+        match line {
+            Some(l) => format!("{file}:{l}: error: {message}"),
+            None => format!("{file}: error: {message}"),
+        }
+    }
+
+    /// What is wrong, without the line.
+    fn what(&self) -> String {
+        match self {
+            MeshError::BadNumber { token, .. } => format!("`{token}` is not a number"),
+            MeshError::NonFinite { token, .. } => format!("coordinate `{token}` is not finite"),
+            MeshError::CoordinateCount { count, .. } => format!(
+                "vertex has {}; expected x y z, x y z w or x y z r g b",
+                plural(*count, "value", "values")
+            ),
+            MeshError::NotQuad { count, .. } => format!(
+                "face has {}; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+                plural(*count, "vertex", "vertices")
+            ),
+            MeshError::BadIndex { token, .. } => {
+                format!("`{token}` is not a face corner (i, i/t, i//n or i/t/n)")
+            }
+            MeshError::ZeroIndex { .. } => {
+                "vertex index 0 is invalid (OBJ indices start at 1)".into()
+            }
+            MeshError::IndexOutOfRange {
+                index, vertices, ..
             } => {
                 if index.starts_with('-') {
-                    write!(
-                        f,
-                        "line {line}: vertex index {index} out of range (only {} precede this line)",
+                    format!(
+                        "vertex index {index} out of range (only {} precede this line)",
                         plural(*vertices, "vertex", "vertices")
                     )
                 } else {
-                    write!(
-                        f,
-                        "line {line}: vertex index {index} out of range (the file has {})",
+                    format!(
+                        "vertex index {index} out of range (the file has {})",
                         plural(*vertices, "vertex", "vertices")
                     )
                 }
             }
-            MeshError::NoFaces => write!(f, "empty mesh: no faces"),
-            MeshError::TooLarge { vertices, faces } => write!(
-                f,
+            MeshError::NoFaces => "empty mesh: no faces".into(),
+            MeshError::TooLarge { vertices, faces } => format!(
                 "mesh too large: {vertices} vertices and {faces} faces (at most {} vertices and {} faces are supported)",
                 u32::MAX,
                 u32::MAX / 4
@@ -193,32 +290,42 @@ impl fmt::Display for MeshError {
                 face,
                 index,
                 vertices,
-            } => write!(
-                f,
+            } => format!(
                 "face {face}: vertex index {index} out of range (the mesh has {})",
                 plural(*vertices, "vertex", "vertices")
             ),
             MeshError::RepeatedVertex { face, vertex } => {
-                write!(f, "face {face} repeats vertex {vertex}")
+                format!("face {face} repeats vertex {vertex}")
             }
             MeshError::DuplicateFaces { first, second } => {
-                write!(f, "faces {first} and {second} are duplicates")
+                format!("faces {first} and {second} are duplicates")
             }
-            MeshError::BoundaryEdge { edge } => write!(
-                f,
-                "edge ({}, {}) has only one face (open boundary)",
+            MeshError::BoundaryEdge { edge, face } => format!(
+                "edge ({}, {}) of face {face} has no other face (open boundary)",
                 edge[0], edge[1]
             ),
-            MeshError::NonManifoldEdge { edge, faces } => write!(
-                f,
-                "edge ({}, {}) is shared by {faces} faces (non-manifold)",
+            MeshError::NonManifoldEdge { edge, faces, face } => format!(
+                "edge ({}, {}) of face {face} is shared by {faces} faces (non-manifold edge)",
                 edge[0], edge[1]
             ),
-            MeshError::NonManifoldVertex { vertex, fans } => write!(
-                f,
-                "vertex {vertex}: its faces form {fans} separate fans (non-manifold vertex)"
+            MeshError::NonManifoldVertex { vertex, fans } => {
+                format!("vertex {vertex}: its faces form {fans} separate fans (non-manifold vertex)")
+            }
+            MeshError::IsolatedVertex { vertex } => format!("vertex {vertex} is used by no face"),
+            MeshError::LowValence { vertex, valence } => format!(
+                "vertex {vertex} has valence {valence}; extraordinary vertices need valence ≥ 3"
             ),
-            MeshError::IsolatedVertex { vertex } => write!(f, "vertex {vertex} is used by no face"),
+        }
+    }
+}
+
+/// Line-numbered for file problems; faces and vertices 0-based, as in [`QuadMesh`] (see
+/// [`MeshError::in_obj`] for the numbering of an OBJ file).
+impl fmt::Display for MeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line() {
+            Some(line) => write!(f, "line {line}: {}", self.what()),
+            None => write!(f, "{}", self.what()),
         }
     }
 }
@@ -697,17 +804,17 @@ mod tests {
             (
                 format!("{SQUARE_V}\nf 1 2 3\n"),
                 MeshError::NotQuad { line: 6, count: 3 },
-                "line 6: face has 3 vertices; only quads are supported",
+                "line 6: face has 3 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
             ),
             (
                 format!("{SQUARE_V}f 1 2 3 4 1\n"),
                 MeshError::NotQuad { line: 5, count: 5 },
-                "line 5: face has 5 vertices; only quads are supported",
+                "line 5: face has 5 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
             ),
             (
                 format!("{SQUARE_V}f\n"),
                 MeshError::NotQuad { line: 5, count: 0 },
-                "line 5: face has 0 vertices; only quads are supported",
+                "line 5: face has 0 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
             ),
             (
                 format!("{SQUARE_V}f 0 1 2 3\n"),

@@ -717,26 +717,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let lookup: HashMap<&[u8], u32> =
             (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
         // Output quads index vertices with u32: refuse a result that would not fit, before
-        // building anything. |π^steps(ω)| from symbol counts (counts · M per step).
-        let mut counts = vec![0u128; t.symbol_count()];
-        counts[*omega as usize] = 1;
-        for _ in 0..steps {
-            let mut next = vec![0u128; counts.len()];
-            for (a, &c) in counts.iter().enumerate() {
-                for &b in t.rule(a as u8) {
-                    next[b as usize] = next[b as usize].saturating_add(c);
-                }
-            }
-            counts = next;
-        }
-        let n = counts.iter().fold(0u128, |a, &c| a.saturating_add(c));
-        let (nv, nf) = (
+        // building anything.
+        let (out_v, out_f) = output_counts(
             base.topo.vertex_count() as u128,
             base.topo.face_count() as u128,
+            t.image_len(&[*omega], steps),
         );
-        let k = n.saturating_sub(1);
-        let out_v = nv.saturating_add(nf.saturating_mul(k).saturating_mul(k.saturating_add(2)));
-        let out_f = nf.saturating_mul(n).saturating_mul(n);
         if out_v > u128::from(u32::MAX) || out_f > u128::from(u32::MAX) {
             return Err(SurfaceError::Mesh(crate::mesh::MeshError::TooLarge {
                 vertices: usize::try_from(out_v).unwrap_or(usize::MAX),
@@ -777,7 +763,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .iter()
             .map(|&v| {
                 let n = base.topo.valence(v);
-                match st.alpha.get(n.wrapping_sub(3)) {
+                if n < 3 {
+                    return Err(SurfaceError::Mesh(crate::mesh::MeshError::LowValence {
+                        vertex: v,
+                        valence: n,
+                    }));
+                }
+                match st.alpha.get(n - 3) {
                     Some(&a) => Ok(a),
                     None => st.ev.alpha(n).map_err(SurfaceError::Ev),
                 }
@@ -841,6 +833,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// after a fan step in that step.
     pub fn level_seconds(&self) -> &[f64] {
         &self.level_seconds
+    }
+
+    /// The positions of the last `refine` (without a copy).
+    pub fn into_positions(self) -> Vec<[T; 3]> {
+        if self.plans.is_empty() {
+            self.start
+        } else {
+            self.output
+        }
     }
 
     /// Refines new positions of the base vertices; returns the output positions.
@@ -1161,6 +1162,16 @@ fn lap(clock: &mut Instant) -> f64 {
     t
 }
 
+/// Vertices and quads of a closed quad mesh of V vertices and F quads after every edge is
+/// split into n: V + E(n − 1) + F(n − 1)² with E = 2F, and F n² (saturating).
+pub fn output_counts(vertices: u128, faces: u128, n: u128) -> (u128, u128) {
+    let k = n.saturating_sub(1);
+    (
+        vertices.saturating_add(faces.saturating_mul(k).saturating_mul(k.saturating_add(2))),
+        faces.saturating_mul(n).saturating_mul(n),
+    )
+}
+
 /// Refines a closed quad mesh once: `Refiner::new`, `refine`, `faces`.
 pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
     scheme: &S,
@@ -1169,10 +1180,11 @@ pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
     threads: usize,
 ) -> Result<Refined<T>, SurfaceError> {
     let mut r = Refiner::new(scheme, mesh, steps, threads)?;
-    let positions = r.refine(&mesh.positions)?.to_vec();
+    r.refine(&mesh.positions)?;
+    let faces = r.faces();
     Ok(Refined {
-        positions,
-        faces: r.faces(),
+        positions: r.into_positions(),
+        faces,
     })
 }
 

@@ -184,12 +184,17 @@ impl Topology {
                     let bucket =
                         &order[offsets[lo as usize] as usize..offsets[lo as usize + 1] as usize];
                     let faces = bucket.iter().filter(|&&x| ends(x as usize).1 == hi).count();
+                    let face = (h / 4) as u32;
                     return Err(if faces == 1 {
-                        MeshError::BoundaryEdge { edge: [lo, hi] }
+                        MeshError::BoundaryEdge {
+                            edge: [lo, hi],
+                            face,
+                        }
                     } else {
                         MeshError::NonManifoldEdge {
                             edge: [lo, hi],
                             faces,
+                            face,
                         }
                     });
                 }
@@ -671,7 +676,7 @@ mod tests {
         assert!(matches!(e, MeshError::BoundaryEdge { .. }), "{e}");
         assert_eq!(
             e.to_string(),
-            "edge (4, 6) has only one face (open boundary)"
+            "edge (4, 6) of face 0 has no other face (open boundary)"
         );
 
         // Non-manifold edge: a fin of one extra face on edge (0, 1).
@@ -684,12 +689,13 @@ mod tests {
             e,
             MeshError::NonManifoldEdge {
                 edge: [0, 1],
-                faces: 3
+                faces: 3,
+                face: 2
             }
         );
         assert_eq!(
             e.to_string(),
-            "edge (0, 1) is shared by 3 faces (non-manifold)"
+            "edge (0, 1) of face 2 is shared by 3 faces (non-manifold edge)"
         );
 
         // Two cubes sharing an edge: 4 faces on it.

@@ -1,0 +1,293 @@
+//! Size guard of the command line: `--max-memory`, and what a refinement will make and hold,
+//! predicted exactly from the label words before anything is refined, so that a request too
+//! large is refused with the prediction instead of dying half-way.
+//!
+//! Counts are exact: after N steps a curve has |π^N(w)| points (w: its labels, the interior
+//! ones for an open curve) and a closed quad mesh V + 2F(n − 1) + F(n − 1)² vertices and F n²
+//! quads, n = |π^N(ω)| (`CurveTables::image_len`, `patch::output_counts`), in u128 and
+//! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input, the
+//! driver's buffers, the output, and the output file text (built in memory, then written).
+
+use crate::runtime::mesh::QuadMesh;
+use crate::runtime::patch::output_counts;
+use crate::CurveTables;
+
+/// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
+pub const FALLBACK_MAX_MEMORY: u64 = 8 << 30;
+
+/// Characters of one f64 written at round-trip precision (`{:?}`), at most
+/// (`-1.2345678901234567e-308`).
+const COORDINATE_TEXT: u128 = 24;
+
+/// Parses a size: bytes, or a number with a binary unit `K`, `M`, `G`, `T` (optionally followed
+/// by `B` or `iB`, any case): `4G`, `512M`, `1.5GiB`, `1000000`.
+pub fn parse_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let bad = || {
+        format!("`{text}` is not a size: give bytes or a number with K, M, G or T (powers of 1024), e.g. 4G")
+    };
+    let lower = t.to_ascii_lowercase();
+    let body = lower
+        .strip_suffix("ib")
+        .or_else(|| lower.strip_suffix('b'))
+        .unwrap_or(&lower);
+    let (number, shift) = match body.chars().last() {
+        Some('k') => (&body[..body.len() - 1], 10),
+        Some('m') => (&body[..body.len() - 1], 20),
+        Some('g') => (&body[..body.len() - 1], 30),
+        Some('t') => (&body[..body.len() - 1], 40),
+        _ => (body, 0),
+    };
+    if number.is_empty() || !number.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
+        return Err(bad());
+    }
+    let value: f64 = number.parse().map_err(|_| bad())?;
+    let bytes = value * (1u64 << shift) as f64;
+    if !(1.0..=u64::MAX as f64).contains(&bytes) {
+        return Err(format!(
+            "`{text}`: the size must be at least 1 byte and fit 64 bits"
+        ));
+    }
+    Ok(bytes as u64)
+}
+
+/// Half of the machine's memory (`MemTotal` of `/proc/meminfo`), or [`FALLBACK_MAX_MEMORY`].
+pub fn default_max_memory() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find(|l| l.starts_with("MemTotal:"))?;
+            let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(kb.saturating_mul(1024) / 2)
+        })
+        .unwrap_or(FALLBACK_MAX_MEMORY)
+}
+
+/// What a refinement will make and hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Prediction {
+    /// Output points (curves) or vertices (surfaces), exactly.
+    pub vertices: u128,
+    /// Output quads (surfaces), exactly.
+    pub quads: Option<u128>,
+    /// Bytes held at the peak, at most.
+    pub bytes: u128,
+}
+
+impl Prediction {
+    /// Refuses a prediction over `max` bytes; `what` says what was asked, e.g. `4 steps of
+    /// binary-ternary on cube.obj`.
+    pub fn check(&self, what: &str, max: u64) -> Result<(), String> {
+        if self.bytes <= u128::from(max) {
+            return Ok(());
+        }
+        let made = match self.quads {
+            Some(q) => format!("{} vertices, {} quads", count(self.vertices), count(q)),
+            None => format!("{} points", count(self.vertices)),
+        };
+        Err(format!(
+            "error: {what} would make {made}, {}; --max-memory is {}; use fewer steps or raise --max-memory",
+            size(self.bytes),
+            size(u128::from(max))
+        ))
+    }
+}
+
+/// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
+/// on `mesh`, positions of `scalar` bytes; `text`: the output file is built in memory.
+pub fn surface(
+    t: &CurveTables<'_>,
+    contained_from: usize,
+    mesh: &QuadMesh,
+    steps: usize,
+    scalar: u128,
+    threads: usize,
+    text: bool,
+) -> Prediction {
+    let axiom = t.axiom;
+    let n = |s: usize| t.image_len(axiom, s);
+    let (v0, f0) = (mesh.positions.len() as u128, mesh.faces.len() as u128);
+    let (vertices, quads) = output_counts(v0, f0, n(steps));
+    // Faces with a corner of valence ≠ 4 (an EV) are refined as whole patches, level by level;
+    // the steps before masks are contained run on the whole mesh (`Refiner`).
+    let mut valence = vec![0u32; mesh.positions.len()];
+    for &v in mesh.faces.iter().flatten() {
+        if let Some(c) = valence.get_mut(v as usize) {
+            *c += 1;
+        }
+    }
+    let fan_faces = mesh
+        .faces
+        .iter()
+        .filter(|f| f.iter().any(|&v| valence.get(v as usize) != Some(&4)))
+        .count() as u128;
+    let first = if fan_faces > 0 {
+        contained_from.min(steps)
+    } else {
+        0
+    };
+    let point = 3 * scalar;
+    let side = |s: usize| {
+        let m = n(s).saturating_add(3);
+        m.saturating_mul(m)
+    };
+    let input = v0 * 24 + f0 * 16 + f0 * 160; // positions, quads, connectivity
+    let start = output_counts(v0, f0, n(first))
+        .0
+        .saturating_mul(point)
+        .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
+    // The fans' two levels (the last step writes straight to the output), and each worker's
+    // patch of the last level.
+    let fans = if steps > first {
+        let before = |k: usize| side(steps.saturating_sub(k).max(first));
+        fan_faces
+            .saturating_mul(before(1).saturating_add(before(2)))
+            .saturating_mul(point)
+    } else {
+        0
+    };
+    let workers = (threads.max(1) as u128)
+        .saturating_mul(side(steps).max(8192))
+        .saturating_mul(2 * point);
+    let output = vertices
+        .saturating_mul(point)
+        .saturating_add(quads.saturating_mul(16));
+    let refine = [start, fans, workers, output]
+        .iter()
+        .fold(0u128, |a, &b| a.saturating_add(b));
+    let file = if text {
+        // `v x y z` and `f a b c d` lines (PLY lines are shorter).
+        let digits = vertices.max(1).ilog10() as u128 + 1;
+        vertices
+            .saturating_mul(3 * COORDINATE_TEXT + 5)
+            .saturating_add(quads.saturating_mul(4 * digits + 6))
+    } else {
+        0
+    };
+    Prediction {
+        vertices,
+        quads: Some(quads),
+        bytes: input.saturating_add(refine.max(output.saturating_add(file))),
+    }
+}
+
+/// `steps` steps of a curve scheme on `points` control points of dimension `dim` labelled
+/// `labels` (checked against the tables), with its point file built in memory.
+pub fn curve(
+    t: &CurveTables<'_>,
+    labels: &[u8],
+    closed: bool,
+    points: usize,
+    dim: usize,
+    steps: usize,
+) -> Prediction {
+    // An open curve's first and last d labels only carry its ends: each step keeps d labels
+    // before and after π of the interior ones, so it has |π^N(interior)| + d points.
+    let d = t.degree;
+    let m = |s: usize| {
+        if closed {
+            t.image_len(labels, s)
+        } else {
+            let interior = labels.get(d..points).unwrap_or(&[]);
+            t.image_len(interior, s).saturating_add(d as u128)
+        }
+    };
+    let (last, before) = (m(steps), if steps == 0 { 0 } else { m(steps - 1) });
+    let point = 8 * dim as u128;
+    let input = (points as u128) * point + labels.len() as u128;
+    // Two levels of points and labels while refining; the points and their text at the end.
+    let refine = last.saturating_add(before).saturating_mul(point + 1);
+    let file = last.saturating_mul((COORDINATE_TEXT + 1) * dim as u128);
+    Prediction {
+        vertices: last,
+        quads: None,
+        bytes: input.saturating_add(refine.max(last.saturating_mul(point).saturating_add(file))),
+    }
+}
+
+/// `1 234 567`, or `more than 10^38` when the count saturated.
+fn count(n: u128) -> String {
+    if n == u128::MAX {
+        return "more than 10^38".into();
+    }
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Bytes in binary units with one decimal: `~3.1 GiB` (display only).
+fn size(bytes: u128) -> String {
+    const UNITS: [&str; 7] = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    if bytes == u128::MAX {
+        return "more than 10^38 bytes".into();
+    }
+    let mut x = bytes as f64;
+    let mut unit = 0;
+    while x >= 1024.0 && unit + 1 < UNITS.len() {
+        x /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} bytes")
+    } else if x >= 1024.0 {
+        format!("~{x:.1e} {}", UNITS[unit])
+    } else {
+        format!("~{x:.1} {}", UNITS[unit])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_in_binary_units() {
+        for (text, bytes) in [
+            ("1000000", 1_000_000),
+            ("4G", 4 << 30),
+            ("4g", 4 << 30),
+            ("4GiB", 4 << 30),
+            ("4GB", 4 << 30),
+            ("512M", 512 << 20),
+            ("1.5G", 3 << 29),
+            ("64k", 64 << 10),
+            ("2T", 2 << 40),
+            (" 7 ", 7),
+        ] {
+            assert_eq!(parse_size(text), Ok(bytes), "{text}");
+        }
+        for text in [
+            "",
+            "G",
+            "4X",
+            "-1G",
+            "0",
+            "0.1",
+            "1e9",
+            "4 G",
+            "99999999999T",
+            "nan",
+        ] {
+            assert!(parse_size(text).is_err(), "{text}");
+        }
+    }
+
+    #[test]
+    fn counts_and_sizes_read_well() {
+        assert_eq!(count(1_234_567), "1 234 567");
+        assert_eq!(count(999), "999");
+        assert_eq!(count(1000), "1 000");
+        assert_eq!(count(u128::MAX), "more than 10^38");
+        assert_eq!(size(512), "512 bytes");
+        assert_eq!(size(3 << 29), "~1.5 GiB");
+        assert_eq!(size(5 << 60), "~5.0 EiB");
+        assert_eq!(size(1 << 80), "~1.0e6 EiB");
+        assert_eq!(size(u128::MAX), "more than 10^38 bytes");
+    }
+}
