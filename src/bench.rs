@@ -33,7 +33,9 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
         _ => {
             let text = std::fs::read_to_string(spec).map_err(|e| format!("{spec}: error: {e}"))?;
             let (m, _) = parse_obj(&text).map_err(|e| e.in_obj(spec, &text))?;
-            Topology::build(&m).map_err(|e| e.in_obj(spec, &text))?;
+            Topology::build(&m)
+                .and_then(|t| t.check_valences())
+                .map_err(|e| e.in_obj(spec, &text))?;
             Ok(m)
         }
     }

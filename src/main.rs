@@ -701,7 +701,9 @@ fn subdivide(
     for w in warnings {
         eprintln!("{in_name}: warning: {w}");
     }
-    lsubdiv::runtime::topology::Topology::build(&m).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
+    lsubdiv::runtime::topology::Topology::build(&m)
+        .and_then(|t| t.check_valences())
+        .map_err(|e| bad(e.in_obj(&in_name, &text)))?;
     drop(text);
     let surface = lsubdiv_compiler::generic::GenericSurface::new(build(&r)?)?;
     lsubdiv::limits::surface(
@@ -734,11 +736,7 @@ fn subdivide(
         (_, None) => patch::subdivide::<_, f64>(&surface, &m, steps, threads),
     };
     let fine = result.map_err(|e| match e {
-        // Found while refining; the text is read again to name the line.
-        SurfaceError::Mesh(e) => bad(e.in_obj(
-            &in_name,
-            &std::fs::read_to_string(input).unwrap_or_default(),
-        )),
+        SurfaceError::Mesh(e) => bad(format!("{in_name}: error: {e}")),
         SurfaceError::Ev(e) => bad(format!("{in_name}: error: {e}")),
         e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => Failure {
             code: 1,

@@ -492,3 +492,200 @@ fn too_large_requests_are_refused_before_refining() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("`4X` is not a size"), "{}", stderr(&o));
 }
+
+/// Two cubes; the second's vertices listed in `shared` (1-based) are the first's. Vertex lines
+/// first (8, then the second cube's new ones), then the twelve faces.
+fn two_cubes(shared: &[u32]) -> String {
+    let faces: Vec<&str> = CUBE.lines().filter(|l| l.starts_with("f ")).collect();
+    let verts: Vec<&str> = CUBE.lines().filter(|l| l.starts_with("v ")).collect();
+    let mut text: String = verts.iter().map(|v| format!("{v}\n")).collect();
+    let mut map = [0u32; 9];
+    let mut next = 9;
+    for i in 1..=8u32 {
+        if shared.contains(&i) {
+            map[i as usize] = i;
+        } else {
+            map[i as usize] = next;
+            next += 1;
+            let xyz: Vec<f64> = verts[i as usize - 1][2..]
+                .split(' ')
+                .map(|t| t.parse().unwrap())
+                .collect();
+            text += &format!("v {} {} {}\n", xyz[0] + 3.0, xyz[1], xyz[2]);
+        }
+    }
+    for f in &faces {
+        text += &format!("{f}\n");
+    }
+    for f in &faces {
+        let idx: Vec<String> = f[2..]
+            .split(' ')
+            .map(|t| map[t.parse::<usize>().unwrap()].to_string())
+            .collect();
+        text += &format!("f {}\n", idx.join(" "));
+    }
+    text
+}
+
+#[test]
+fn every_mesh_error_names_its_line_or_element() {
+    let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+    let fin = format!("{CUBE}v 0 -2 -1\nv 0 -2 0\nf 1 2 10 9\n");
+    let isolated = format!("{CUBE}v 5 5 5\n");
+    let duplicate = format!("{CUBE}f 2 1 4 3\n");
+    let cube_lines: Vec<&str> = CUBE.lines().collect();
+    let repeated = format!("{}\nf 1 4 4 2\n", cube_lines[..14].join("\n"));
+    // A vertex added on the cube's edge 1–2, and the two pentagons it makes split into quads
+    // (one Catmull–Clark topology step): the new vertex has valence 2. `to_obj` writes a
+    // comment line first, so vertex 9 is on line 10.
+    let valence_two = {
+        let c = lsubdiv::runtime::generators::cube();
+        let mut polys: Vec<Vec<u32>> = c.faces.iter().map(|f| f.to_vec()).collect();
+        for p in &mut polys {
+            if let Some(i) = (0..4).find(|&i| {
+                let (a, b) = (p[i], p[(i + 1) % 4]);
+                (a, b) == (0, 1) || (a, b) == (1, 0)
+            }) {
+                p.insert(i + 1, 8);
+            }
+        }
+        let mut positions = c.positions.clone();
+        positions.push([0.0, -1.0, -1.0]);
+        let m = lsubdiv::runtime::generators::quad_split(&positions, &polys);
+        lsubdiv::runtime::mesh::to_obj(&m)
+    };
+    let rows: Vec<(&str, String, &str)> = vec![
+        (
+            "number.obj",
+            format!("{square}v 0 x 0\n"),
+            ":5: error: `x` is not a number",
+        ),
+        (
+            "count.obj",
+            "v 0 0\n".into(),
+            ":1: error: vertex has 2 values",
+        ),
+        (
+            "nan.obj",
+            "v 0 nan 0\n".into(),
+            ":1: error: coordinate `nan` is not finite",
+        ),
+        (
+            "inf.obj",
+            "v 0 0 -inf\n".into(),
+            ":1: error: coordinate `-inf` is not finite",
+        ),
+        (
+            "corner.obj",
+            format!("{square}f 1 2 3 4/x\n"),
+            ":5: error: `4/x` is not a face corner",
+        ),
+        (
+            "zero.obj",
+            format!("{square}f 0 1 2 3\n"),
+            ":5: error: vertex index 0 is invalid (OBJ indices start at 1)",
+        ),
+        (
+            "range.obj",
+            format!("{square}f 1 2 3 9\n"),
+            ":5: error: vertex index 9 out of range (the file has 4 vertices)",
+        ),
+        (
+            "huge.obj",
+            format!("{square}f 1 2 3 99999999999999999999999\n"),
+            ":5: error: vertex index 99999999999999999999999 out of range",
+        ),
+        (
+            "relative.obj",
+            format!("f -1 -2 -3 -4\n{square}"),
+            ":1: error: vertex index -1 out of range (only 0 vertices precede this line)",
+        ),
+        (
+            "tri.obj",
+            format!("{square}f 1 2 3\n"),
+            ":5: error: face has 3 vertices; lsubdiv refines quad meshes only",
+        ),
+        (
+            "penta.obj",
+            format!("{square}v 2 2 2\nf 1 2 3 4 5\n"),
+            ":6: error: face has 5 vertices; lsubdiv refines quad meshes only",
+        ),
+        ("empty.obj", String::new(), ": error: empty mesh: no faces"),
+        (
+            "comments.obj",
+            "# a comment\n\n# another\n".into(),
+            ": error: empty mesh: no faces",
+        ),
+        (
+            "open.obj",
+            format!("{square}f 1 2 3 4\n"),
+            ":5: error: edge 1–2 of this face has no other face (open boundary",
+        ),
+        (
+            "fin.obj",
+            fin,
+            ":9: error: edge 1–2 of this face is shared by 3 faces (non-manifold edge",
+        ),
+        (
+            "edge.obj",
+            two_cubes(&[1, 2]),
+            ":15: error: edge 1–2 of this face is shared by 4 faces",
+        ),
+        (
+            "vertex.obj",
+            two_cubes(&[1]),
+            ":1: error: vertex 1: its faces form 2 separate fans (non-manifold vertex)",
+        ),
+        (
+            "isolated.obj",
+            isolated,
+            ":15: error: vertex 9 is used by no face (isolated vertex)",
+        ),
+        (
+            "duplicate.obj",
+            duplicate,
+            ":15: error: duplicate face: the face at line 9 has the same vertices",
+        ),
+        (
+            "repeated.obj",
+            repeated,
+            ":15: error: the face lists vertex 4 twice",
+        ),
+        (
+            "valence.obj",
+            valence_two,
+            ":10: error: vertex 9 has valence 2; extraordinary vertices need valence ≥ 3",
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.obj");
+    let out_s = out.display().to_string();
+    for (name, text, expect) in &rows {
+        let f = write(dir.path(), name, text);
+        for args in [
+            vec![
+                "subdivide",
+                "uniform-binary",
+                "--steps",
+                "1",
+                &f,
+                "-o",
+                &out_s,
+            ],
+            vec![
+                "bench", "--mesh", &f, "--steps", "1", "--runs", "1", "--json",
+            ],
+        ] {
+            let o = lsubdiv(&args);
+            let e = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{name} {}: {e}", args[0]);
+            assert!(
+                e.contains(&format!("{name}{expect}")),
+                "{name} {}: {e}",
+                args[0]
+            );
+            assert!(!e.contains("panicked"), "{name}: {e}");
+        }
+    }
+    assert!(!out.exists(), "no output from a refused mesh");
+}

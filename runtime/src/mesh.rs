@@ -503,7 +503,15 @@ fn is_integer(s: &str) -> bool {
 fn parse_corner(line: usize, tok: &str, before: usize, total: usize) -> Result<u32, MeshError> {
     let mut parts = tok.split('/');
     let index = parts.next().unwrap_or("");
-    if parts.count() > 2 || !is_integer(index) {
+    // `i`, `i/t`, `i//n` or `i/t/n`: texture and normal indices are integers when present.
+    let rest: Vec<&str> = parts.collect();
+    let well_formed = match rest.as_slice() {
+        [] => true,
+        [t] => is_integer(t),
+        [t, n] => (t.is_empty() || is_integer(t)) && is_integer(n),
+        _ => false,
+    };
+    if !well_formed || !is_integer(index) {
         return Err(MeshError::BadIndex {
             line,
             token: shorten(tok),
@@ -886,6 +894,30 @@ mod tests {
                     token: "4/1/1/1".into(),
                 },
                 "line 5: `4/1/1/1` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/x\n"),
+                MeshError::BadIndex {
+                    line: 5,
+                    token: "4/x".into(),
+                },
+                "line 5: `4/x` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/\n"),
+                MeshError::BadIndex {
+                    line: 5,
+                    token: "4/".into(),
+                },
+                "line 5: `4/` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/1/\n"),
+                MeshError::BadIndex {
+                    line: 5,
+                    token: "4/1/".into(),
+                },
+                "line 5: `4/1/` is not a face corner (i, i/t, i//n or i/t/n)",
             ),
             (
                 format!("{SQUARE_V}f 1 2 3 /4\n"),

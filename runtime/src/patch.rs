@@ -322,6 +322,7 @@ struct Base {
 impl Base {
     fn new(mesh: &QuadMesh) -> Result<Base, SurfaceError> {
         let topo = Topology::build(mesh)?;
+        topo.check_valences()?;
         let diagonal = (0..topo.face_count() as u32)
             .map(|f| {
                 [0u8, 1, 2, 3].map(|c| {
@@ -763,12 +764,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .iter()
             .map(|&v| {
                 let n = base.topo.valence(v);
-                if n < 3 {
-                    return Err(SurfaceError::Mesh(crate::mesh::MeshError::LowValence {
-                        vertex: v,
-                        valence: n,
-                    }));
-                }
                 match st.alpha.get(n - 3) {
                     Some(&a) => Ok(a),
                     None => st.ev.alpha(n).map_err(SurfaceError::Ev),

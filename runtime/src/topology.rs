@@ -261,6 +261,18 @@ impl Topology {
         })
     }
 
+    /// Refuses the first vertex of valence below 3: a closed manifold may have one (two faces
+    /// sharing two consecutive edges), but no extraordinary-vertex rule applies there.
+    pub fn check_valences(&self) -> Result<(), MeshError> {
+        match (0..self.vertex_count as u32).find(|&v| self.valence(v) < 3) {
+            Some(v) => Err(MeshError::LowValence {
+                vertex: v,
+                valence: self.valence(v),
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
         self.vertex_count
@@ -633,6 +645,15 @@ mod tests {
         let t = build(&quad_split(&pos, &polys));
         assert_eq!(t.valence(8), 2);
         assert_eq!(euler(&t), 2);
+        // A valid manifold, but no EV rule applies at valence 2.
+        assert_eq!(
+            t.check_valences(),
+            Err(MeshError::LowValence {
+                vertex: 8,
+                valence: 2
+            })
+        );
+        assert_eq!(build(&c).check_valences(), Ok(()));
     }
 
     fn two_cubes_sharing(shared: &[u32]) -> QuadMesh {
