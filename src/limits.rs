@@ -211,14 +211,13 @@ fn count(n: u128) -> String {
         return "more than 10^38".into();
     }
     let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(' ');
-        }
-        out.push(c);
-    }
-    out
+    let groups: Vec<&str> = digits
+        .as_bytes()
+        .rchunks(3)
+        .rev()
+        .map(|g| std::str::from_utf8(g).unwrap_or_default())
+        .collect();
+    groups.join(" ")
 }
 
 /// Bytes in binary units with one decimal: `~3.1 GiB` (display only).
