@@ -318,6 +318,13 @@ fn bad(message: String) -> Failure {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ctrl-C, SIGTERM, SIGHUP: outputs are replaced by a rename only, so an interrupted run
+    // leaves the previous ones intact; remove the temporary file being written, if any.
+    // (Nothing can be done on SIGKILL: a hidden `.NAME.PID.N.tmp` may then remain.)
+    let _ = ctrlc::set_handler(|| {
+        lsubdiv::runtime::mesh::remove_partial_files();
+        std::process::exit(130);
+    });
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {

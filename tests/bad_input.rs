@@ -689,3 +689,198 @@ fn every_mesh_error_names_its_line_or_element() {
     }
     assert!(!out.exists(), "no output from a refused mesh");
 }
+
+/// The names in a directory, sorted.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn failed_runs_leave_previous_outputs_and_no_temporary_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cube = write(d, "cube.obj", CUBE);
+    let open = write(
+        d,
+        "open.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+    );
+    let square = write(d, "square.txt", "0 0\n1 0\n1 1\n0 1\n");
+    let bad_scheme = write(
+        d,
+        "bad.toml",
+        "name = \"x\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LX\"\n",
+    );
+    let (mesh, points, code) = (d.join("mesh.obj"), d.join("points.txt"), d.join("code.rs"));
+    let s = |p: &Path| p.display().to_string();
+    for (args, out) in [
+        (
+            vec![
+                "subdivide",
+                "binary-ternary",
+                "--steps",
+                "1",
+                &cube,
+                "-o",
+                &s(&mesh),
+            ],
+            &mesh,
+        ),
+        (
+            vec![
+                "curve",
+                "fibonacci",
+                "--steps",
+                "2",
+                &square,
+                "-o",
+                &s(&points),
+            ],
+            &points,
+        ),
+        (vec!["codegen", "fibonacci", "-o", &s(&code)], &code),
+    ] {
+        assert!(lsubdiv(&args).status.success(), "{args:?}");
+        assert!(out.exists());
+    }
+    let before: Vec<Vec<u8>> = [&mesh, &points, &code]
+        .map(|p| std::fs::read(p).unwrap())
+        .to_vec();
+    let listing = entries(d);
+    // Failures in reading, in refining (too large) and in writing (the output is a directory:
+    // the rename fails after the whole file was written next to it).
+    let target_dir = d.join("taken.obj");
+    std::fs::create_dir(&target_dir).unwrap();
+    for args in [
+        vec![
+            "subdivide",
+            "binary-ternary",
+            "--steps",
+            "1",
+            &open,
+            "-o",
+            &s(&mesh),
+        ],
+        vec![
+            "subdivide",
+            &bad_scheme,
+            "--steps",
+            "1",
+            &cube,
+            "-o",
+            &s(&mesh),
+        ],
+        vec![
+            "subdivide",
+            "binary-ternary",
+            "--steps",
+            "5",
+            "--max-memory",
+            "1K",
+            &cube,
+            "-o",
+            &s(&mesh),
+        ],
+        vec![
+            "curve",
+            "fibonacci",
+            "--steps",
+            "2",
+            "--labels",
+            "LLQ",
+            &square,
+            "-o",
+            &s(&points),
+        ],
+        vec![
+            "curve",
+            "fibonacci",
+            "--steps",
+            "40",
+            &square,
+            "-o",
+            &s(&points),
+        ],
+        vec!["codegen", &bad_scheme, "-o", &s(&code)],
+        vec![
+            "subdivide",
+            "binary-ternary",
+            "--steps",
+            "1",
+            &cube,
+            "-o",
+            &s(&target_dir),
+        ],
+        vec![
+            "curve",
+            "fibonacci",
+            "--steps",
+            "1",
+            &square,
+            "-o",
+            &s(&target_dir),
+        ],
+    ] {
+        let o = lsubdiv(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    }
+    let after: Vec<Vec<u8>> = [&mesh, &points, &code]
+        .map(|p| std::fs::read(p).unwrap())
+        .to_vec();
+    assert!(before == after, "previous outputs changed");
+    let mut expected = listing;
+    expected.push("taken.obj".into());
+    expected.sort();
+    assert_eq!(entries(d), expected, "no temporary or partial file left");
+    assert!(entries(&target_dir).is_empty());
+}
+
+/// Ctrl-C while the output is being written: the temporary file is removed, the previous
+/// output stays, the exit status is 130.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_run_leaves_the_previous_output_and_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let square = write(d, "square.txt", "0 0\n1 0\n1 1\n0 1\n");
+    let out = d.join("points.txt");
+    // 28 Fibonacci steps: 39 MB of text, written and synced while we watch. Should the run
+    // finish before the signal lands (a loaded machine), try again.
+    for attempt in 0..3 {
+        std::fs::write(&out, "previous\n").unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+            .args(["curve", "fibonacci", "--steps", "28", &square, "-o"])
+            .arg(&out)
+            .spawn()
+            .unwrap();
+        let seen = loop {
+            if entries(d).iter().any(|n| n.ends_with(".tmp")) {
+                let kill = Command::new("kill")
+                    .args(["-INT", &child.id().to_string()])
+                    .status()
+                    .unwrap();
+                assert!(kill.success());
+                break true;
+            }
+            if child.try_wait().unwrap().is_some() {
+                break false;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        };
+        let status = child.wait().unwrap();
+        if !seen || status.success() {
+            eprintln!("attempt {attempt}: finished before the signal");
+            continue;
+        }
+        assert_eq!(status.code(), Some(130));
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous\n");
+        assert_eq!(entries(d), vec!["points.txt", "square.txt"]);
+        return;
+    }
+    panic!("could not interrupt a run while it wrote its output");
+}

@@ -8,8 +8,9 @@ use std::ffi::OsString;
 use std::fmt::{self, Write as _};
 use std::fs;
 use std::io::{self, Write as _};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// A polygonal mesh with quad faces (corner order as given in the file).
 #[derive(Clone, Debug, PartialEq)]
@@ -632,6 +633,24 @@ pub fn to_ply(mesh: &QuadMesh) -> String {
 
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
+/// Temporary files that [`write_atomic`] is writing, for [`remove_partial_files`].
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    PENDING
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Removes the temporary files of writes still in progress: for a program interrupted by a
+/// signal (its handler calls this, then exits), so that no partial file is left behind. The
+/// outputs themselves are untouched: they are only ever replaced by a rename.
+pub fn remove_partial_files() {
+    for p in pending().drain(..) {
+        let _ = fs::remove_file(p);
+    }
+}
+
 /// Writes bytes to `path` atomically: a temporary file in the same directory (synced), then
 /// rename; on error the temporary file is removed and a previous file at `path` is intact. The
 /// permissions of a previous file are kept.
@@ -656,12 +675,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
             TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
         ));
         let tmp = dir.join(tmp_name);
+        let mut list = pending();
         match fs::OpenOptions::new()
             .write(true)
             .create_new(true)
             .open(&tmp)
         {
-            Ok(file) => break (tmp, file),
+            Ok(file) => {
+                list.push(tmp.clone());
+                break (tmp, file);
+            }
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempt < 100 => attempt += 1,
             Err(e) => return Err(e),
         }
@@ -678,10 +701,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
             }
             fs::rename(&tmp, path)
         });
-    if let Err(e) = result {
+    if result.is_err() {
         let _ = fs::remove_file(&tmp);
-        return Err(e);
     }
+    pending().retain(|p| *p != tmp);
+    result?;
     #[cfg(unix)]
     if let Ok(d) = fs::File::open(dir) {
         // Best effort: make the rename durable.
