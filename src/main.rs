@@ -316,6 +316,21 @@ fn bad(message: String) -> Failure {
     Failure { code: 2, message }
 }
 
+/// Refuses, before any work, an output path that cannot be written: its folder must exist and
+/// it must not be a folder itself (the write itself may still fail, leaving nothing behind).
+fn check_output(path: &std::path::Path) -> Result<(), Failure> {
+    let fail = |what: &str| bad(format!("{}: error: {what}", path.display()));
+    if path.is_dir() {
+        return Err(fail("is a directory; give a file name"));
+    }
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
+            Err(fail("no such directory to write into"))
+        }
+        _ => Ok(()),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     // Ctrl-C, SIGTERM, SIGHUP: outputs are replaced by a rename only, so an interrupted run
@@ -551,6 +566,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             path,
             limit,
         }) => {
+            check_output(&output)?;
             let r = load(&scheme, degree)?;
             let in_name = input.display().to_string();
             let text = std::fs::read_to_string(&input)
@@ -701,6 +717,7 @@ fn subdivide(
     use lsubdiv::runtime::mesh::{self, QuadMesh};
     use lsubdiv::runtime::patch;
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+    check_output(output)?;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
