@@ -495,3 +495,56 @@ fn head_points<const D: usize>(
     }
     Ok(end)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tables with only rules (no masks).
+    fn rules<'a>(offsets: &'a [u32], symbols: &'a [u8], axiom: &'a [u8]) -> CurveTables<'a> {
+        CurveTables {
+            name: "t",
+            degree: 1,
+            symbol_names: "A B C",
+            rule_offsets: offsets,
+            rule_symbols: symbols,
+            axiom,
+            words: &[],
+            mask_offsets: &[0],
+            mask_words: &[],
+            mask_weights: &[],
+            mask_children: &[],
+        }
+    }
+
+    /// Lengths by rewriting, for comparison.
+    fn rewritten(t: &CurveTables<'_>, word: &[u8], steps: usize) -> u128 {
+        let mut w = word.to_vec();
+        for _ in 0..steps {
+            w = w.iter().flat_map(|&s| t.rule(s).to_vec()).collect();
+        }
+        w.len() as u128
+    }
+
+    #[test]
+    fn image_lengths_are_exact_and_end_early() {
+        // A → B, B → C, C → CC: the length stays 1 for two steps, then doubles.
+        let t = rules(&[0, 1, 2, 4], &[1, 2, 2, 2], &[0]);
+        for steps in 0..12 {
+            assert_eq!(t.image_len(&[0], steps), rewritten(&t, &[0], steps));
+            assert_eq!(
+                t.image_len(&[0, 2, 1], steps),
+                rewritten(&t, &[0, 2, 1], steps)
+            );
+        }
+        // 2^(s−2) saturates u128 long before usize::MAX steps.
+        assert_eq!(t.image_len(&[0], 129), 1 << 127);
+        assert_eq!(t.image_len(&[0], 130), u128::MAX);
+        assert_eq!(t.image_len(&[0], usize::MAX), u128::MAX);
+        // A → B, B → A, C → C: lengths never change, and huge step counts return at once.
+        let t = rules(&[0, 1, 2, 3], &[1, 0, 2], &[0]);
+        assert_eq!(t.image_len(&[0, 2], usize::MAX), 2);
+        // Symbols outside the alphabet count as nothing.
+        assert_eq!(t.image_len(&[0, 7], 3), 1);
+    }
+}
