@@ -3,7 +3,7 @@
 
 use crate::runtime::generators::{cube, star, torus};
 use crate::runtime::mesh::{parse_obj, QuadMesh};
-use crate::runtime::patch::Refiner;
+use crate::runtime::patch::{output_counts, Refiner};
 use crate::runtime::real::Real;
 use crate::runtime::surface::{SurfaceScheme, SurfaceVisitor};
 use crate::runtime::topology::Topology;
@@ -171,11 +171,10 @@ pub fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// Vertices of a closed quad mesh after every edge splits into n: V + E(n−1) + F(n−1)², with
-/// E = 2F.
+/// Vertices of a closed quad mesh after every edge splits into n (`patch::output_counts`).
 fn unique_vertices(mesh: &QuadMesh, n: usize) -> usize {
-    let (v, f) = (mesh.positions.len(), mesh.faces.len());
-    v + 2 * f * (n - 1) + f * (n - 1) * (n - 1)
+    let (v, f) = (mesh.positions.len() as u128, mesh.faces.len() as u128);
+    usize::try_from(output_counts(v, f, n as u128).0).unwrap_or(usize::MAX)
 }
 
 /// The number of steps that brings `mesh` closest to `target` output vertices.
