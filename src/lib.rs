@@ -14,6 +14,9 @@ pub use lsubdiv_runtime::{
 };
 
 pub mod bench;
+pub mod graph_picture;
+pub mod picture;
+pub mod plot;
 pub mod points;
 pub mod report;
 pub mod tables;

@@ -34,14 +34,24 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// The transition graph between (d+1)-words.
+    /// The transition graph between (d+1)-words: DOT, or a picture ([N] Fig. 3).
+    #[command(group(clap::ArgGroup::new("graph_format").required(true)))]
     Graph {
         scheme: String,
         #[arg(long)]
         degree: Option<usize>,
-        /// Graphviz DOT output (the only format for now).
-        #[arg(long, required = true)]
+        /// Graphviz DOT output.
+        #[arg(long, group = "graph_format")]
         dot: bool,
+        /// A drawn picture: SVG, or PNG when the output ends in `.png` ([N] Fig. 3).
+        #[arg(long, group = "graph_format")]
+        svg: bool,
+        /// Output file (written whole or not at all); default: standard output (DOT or SVG).
+        #[arg(short, long)]
+        output: Option<std::path::PathBuf>,
+        /// Picture size in pixels, WxH (with --svg); default: the layout's natural size.
+        #[arg(long)]
+        size: Option<String>,
     },
     /// Writes the generated Rust source of a scheme.
     Codegen {
@@ -76,6 +86,31 @@ enum Command {
         /// table-driven path, or `auto` (generated when available).
         #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
         path: PathChoice,
+    },
+    /// Draws control polygons of successive steps and the limit curve, coloured by interval
+    /// label ([N] Fig. 2), as SVG or PNG (by the output's extension).
+    Plot {
+        scheme: String,
+        /// Number of subdivision steps drawn.
+        #[arg(long, default_value_t = 3)]
+        steps: usize,
+        /// Input points (2 coordinates per line, as for `curve`); default: a closed regular
+        /// hexagon.
+        input: Option<std::path::PathBuf>,
+        /// Output picture: `.svg` or `.png` (written whole or not at all).
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The input polygon is closed (cyclic).
+        #[arg(long)]
+        closed: bool,
+        /// Interval labels, as for `curve`.
+        #[arg(long)]
+        labels: Option<String>,
+        #[arg(long)]
+        degree: Option<usize>,
+        /// Picture size in pixels, WxH.
+        #[arg(long, default_value = "800x600")]
+        size: String,
     },
     /// α and the spectrum at extraordinary vertices (\[G\] §4.2.3), per valence.
     Ev {
@@ -481,11 +516,14 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             runs,
             ..
         }) => bench(&mesh, &scheme, steps, threads, path, f32, runs),
-        Some(Command::Graph { scheme, degree, .. }) => {
-            let s = build(&load(&scheme, degree)?)?;
-            print!("{}", report::dot(&s));
-            Ok(())
-        }
+        Some(Command::Graph {
+            scheme,
+            degree,
+            svg,
+            output,
+            size,
+            ..
+        }) => graph(&scheme, degree, svg, output.as_deref(), size.as_deref()),
         Some(Command::Codegen {
             scheme,
             degree,
@@ -495,6 +533,25 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             write_atomic(&output, generate(&s).as_bytes())?;
             Ok(())
         }
+        Some(Command::Plot {
+            scheme,
+            steps,
+            input,
+            output,
+            closed,
+            labels,
+            degree,
+            size,
+        }) => plot(
+            &scheme,
+            steps,
+            input.as_deref(),
+            &output,
+            closed,
+            labels,
+            degree,
+            &size,
+        ),
         Some(Command::Curve {
             scheme,
             steps,
@@ -562,6 +619,80 @@ fn refine_cli<const D: usize>(
         }
     };
     Ok(refined.points)
+}
+
+/// `lsubdiv plot`: refines a planar polygon (a closed hexagon without input) with the generic
+/// path and draws it ([`lsubdiv::plot`]).
+#[allow(clippy::too_many_arguments)]
+fn plot(
+    scheme: &str,
+    steps: usize,
+    input: Option<&std::path::Path>,
+    output: &std::path::Path,
+    closed: bool,
+    labels: Option<String>,
+    degree: Option<usize>,
+    size: &str,
+) -> Result<(), Failure> {
+    use lsubdiv::picture;
+    picture::format_of(output).map_err(bad)?;
+    let size = picture::parse_size(size).map_err(bad)?;
+    if steps > 12 {
+        return Err(bad(format!(
+            "error: --steps {steps}: plot draws at most 12 steps"
+        )));
+    }
+    let r = load(scheme, degree)?;
+    let (pts, closed) = match input {
+        None => (lsubdiv::plot::hexagon(), true),
+        Some(path) => {
+            let name = path.display().to_string();
+            let text =
+                std::fs::read_to_string(path).map_err(|e| bad(format!("{name}: error: {e}")))?;
+            match points::parse(&name, &text).map_err(bad)? {
+                Points::D2(p) => (p, closed),
+                Points::D3(_) => {
+                    return Err(bad(format!(
+                        "{name}: error: plot draws planar polygons; give 2 coordinates per point"
+                    )))
+                }
+            }
+        }
+    };
+    let generic = GenericScheme::new(build(&r)?);
+    let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), pts, closed);
+    if let Some(l) = labels {
+        curve.labels =
+            r.ls.parse_word(&l)
+                .map_err(|e| bad(format!("error: --labels: {e}")))?;
+    }
+    let pic = lsubdiv::plot::plot(generic, &curve, steps, size).map_err(bad)?;
+    picture::save(&pic, output).map_err(bad)
+}
+
+/// `lsubdiv graph`: DOT or a picture of the transition graph, to a file or standard output.
+fn graph(
+    scheme: &str,
+    degree: Option<usize>,
+    svg: bool,
+    output: Option<&std::path::Path>,
+    size: Option<&str>,
+) -> Result<(), Failure> {
+    use lsubdiv::picture;
+    let size = size.map(picture::parse_size).transpose().map_err(bad)?;
+    if let (true, Some(o)) = (svg, output) {
+        picture::format_of(o).map_err(bad)?;
+    }
+    let s = build(&load(scheme, degree)?)?;
+    match (svg, output) {
+        (false, None) => print!("{}", report::dot(&s)),
+        (false, Some(o)) => write_atomic(o, report::dot(&s).as_bytes())?,
+        (true, None) => print!("{}", lsubdiv::graph_picture::picture(&s, size).svg()),
+        (true, Some(o)) => {
+            picture::save(&lsubdiv::graph_picture::picture(&s, size), o).map_err(bad)?
+        }
+    }
+    Ok(())
 }
 
 /// Parses `n`, `a..b` or `a..=b` (both inclusive).
