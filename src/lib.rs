@@ -14,6 +14,7 @@ pub use lsubdiv_runtime::{
 };
 
 pub mod bench;
+pub mod charmap;
 pub mod graph_picture;
 pub mod picture;
 pub mod plot;

@@ -121,6 +121,15 @@ enum Command {
         /// One JSON object per valence, in an array.
         #[arg(long)]
         json: bool,
+        /// Draw the characteristic map's control net at the (single) valence ([G] Fig. 4).
+        #[arg(long, requires = "output")]
+        characteristic_map: bool,
+        /// Output picture of --characteristic-map: `.svg` or `.png`.
+        #[arg(short, long, requires = "characteristic_map")]
+        output: Option<std::path::PathBuf>,
+        /// Picture size in pixels, WxH.
+        #[arg(long, default_value = "800x800")]
+        size: String,
     },
     /// Refines a closed quad mesh (OBJ) of any topology.
     Subdivide {
@@ -492,7 +501,13 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             scheme,
             valence,
             json,
-        }) => ev_report(&scheme, &valence, json),
+            characteristic_map,
+            output,
+            size,
+        }) => match output {
+            Some(out) if characteristic_map => charmap(&scheme, &valence, &out, &size),
+            _ => ev_report(&scheme, &valence, json),
+        },
         Some(Command::Subdivide {
             scheme,
             steps,
@@ -742,6 +757,61 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
         print!("{}", report::ev_text(&s, &a, &rows));
     }
     Ok(())
+}
+
+/// `lsubdiv ev --characteristic-map`: finds the control net numerically, checks λ1 against
+/// the closed form, draws it ([`lsubdiv::charmap`]).
+fn charmap(
+    scheme: &str,
+    valence: &str,
+    output: &std::path::Path,
+    size: &str,
+) -> Result<(), Failure> {
+    use lsubdiv::picture;
+    picture::format_of(output).map_err(bad)?;
+    let size = picture::parse_size(size).map_err(bad)?;
+    let range = valences(valence)?;
+    let n = *range.start();
+    if range.end() != range.start() {
+        return Err(bad(format!(
+            "error: --characteristic-map draws one valence; --valence {valence} is a range"
+        )));
+    }
+    let s = build(&load(scheme, None)?)?;
+    let name = s.ls.name.clone();
+    let rho = s.analysis.rho.to_f64();
+    let surface = lsubdiv_compiler::generic::GenericSurface::new(s)?;
+    let closed = surface
+        .analysis()
+        .coefficients_f64()
+        .spectrum(n)
+        .map_err(|e| bad(format!("error: {e}")))?
+        .lambda1;
+    // Refine the net until its quads are about a quarter of the net's.
+    let steps = (4f64.ln() / rho.ln()).ceil().max(1.0) as usize;
+    let bar = indicatif::ProgressBar::new_spinner().with_message("power iteration");
+    let map =
+        lsubdiv::charmap::characteristic_map(&surface, n, steps, &|i| bar.set_position(i as u64))
+            .map_err(bad)?;
+    bar.finish_and_clear();
+    println!(
+        "{name}, valence {n}: lambda1 = {:.15} by power iteration on the {}-ring neighbourhood after {} steps ({} iterations, residual {:.1e}); closed form {:.15}",
+        map.lambda, map.k, map.step, map.iterations, map.residual, closed
+    );
+    if (map.lambda - closed).abs() > 1e-9 * closed.abs() {
+        return Err(Failure {
+            code: 1,
+            message: format!(
+                "internal error: the numeric subdominant eigenvalue {} differs from the closed form {closed}",
+                map.lambda
+            ),
+        });
+    }
+    picture::save(
+        &lsubdiv::charmap::picture(&name, &map, closed, size),
+        output,
+    )
+    .map_err(bad)
 }
 
 /// `lsubdiv subdivide`: reads an OBJ, refines (patch path), writes OBJ or PLY atomically.
