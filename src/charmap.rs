@@ -425,9 +425,9 @@ pub fn picture(name: &str, map: &CharacteristicMap, closed_form: f64, size: (u32
     // Control net: the grid lines of each sector.
     let bold = Style::stroke("#1f4e9c", 1.8);
     for sector in &map.net {
-        for t in 0..=map.k {
-            let row: Vec<[f64; 2]> = (0..=map.k).map(|j| frame.map(sector[t][j])).collect();
-            let col: Vec<[f64; 2]> = (0..=map.k).map(|i| frame.map(sector[i][t])).collect();
+        for (t, line) in sector.iter().enumerate() {
+            let row: Vec<[f64; 2]> = line.iter().map(|&p| frame.map(p)).collect();
+            let col: Vec<[f64; 2]> = sector.iter().map(|l| frame.map(l[t])).collect();
             pic.polyline(&row, false, &bold, "net");
             pic.polyline(&col, false, &bold, "net");
         }

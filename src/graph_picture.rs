@@ -19,13 +19,22 @@ use lsubdiv_compiler::Scheme;
 /// Font size of the word labels, in layout units.
 const FONT: f64 = 14.0;
 
+/// An edge as the layout drew it.
+struct DrawnEdge {
+    from: usize,
+    to: usize,
+    /// Bézier path as (point, control) pairs (layout-rs's convention: `M p0 C c0, p1' …`).
+    path: Vec<[[f64; 2]; 2]>,
+    /// Arrowheads at (start, end): a reversed back edge has its head at the start.
+    heads: (bool, bool),
+}
+
 /// What the layout drew: node boxes and edge curves, in layout coordinates.
 #[derive(Default)]
 struct Recorder {
     /// (word index, top-left, size).
     boxes: Vec<(usize, [f64; 2], [f64; 2])>,
-    /// (from, to, Bézier path as (point, control) pairs, heads at (start, end)).
-    curves: Vec<(usize, usize, Vec<[[f64; 2]; 2]>, (bool, bool))>,
+    curves: Vec<DrawnEdge>,
 }
 
 fn pt(p: Point) -> [f64; 2] {
@@ -67,7 +76,12 @@ impl RenderBackend for Recorder {
         });
         if let Some((from, to)) = ends {
             let path = path.iter().map(|(a, b)| [pt(*a), pt(*b)]).collect();
-            self.curves.push((from, to, path, head));
+            self.curves.push(DrawnEdge {
+                from,
+                to,
+                path,
+                heads: head,
+            });
         }
     }
 
@@ -132,8 +146,8 @@ fn extent(r: &Recorder) -> [f64; 4] {
         grow(*at);
         grow([at[0] + size[0], at[1] + size[1] + 16.0]); // room for "steps …"
     }
-    for (_, _, path, _) in &r.curves {
-        for [a, c] in path {
+    for c in &r.curves {
+        for [a, c] in &c.path {
             grow(*a);
             grow(*c);
         }
@@ -239,7 +253,13 @@ pub fn picture(s: &Scheme, size: Option<(u32, u32)>) -> Picture {
         Anchor::Middle,
         "black",
     );
-    for (from, to, path, head) in &rec.curves {
+    for DrawnEdge {
+        from,
+        to,
+        path,
+        heads: head,
+    } in &rec.curves
+    {
         let edge_colour = EDGE_COLOURS[from % EDGE_COLOURS.len()];
         let p: Vec<[[f64; 2]; 2]> = path.iter().map(|[a, c]| [map(*a), map(*c)]).collect();
         if p.len() < 2 {

@@ -34,9 +34,12 @@ fn symbol_style(symbol: u8) -> Style {
 }
 
 /// A run of the limit curve over one knot interval of the last step.
-struct Piece {
-    symbol: u8,
-    points: Vec<[f64; 2]>,
+#[derive(Clone, Debug)]
+pub struct Piece {
+    /// The interval's label.
+    pub symbol: u8,
+    /// Points of the refined polygon over it (the last one starts the next piece).
+    pub points: Vec<[f64; 2]>,
 }
 
 /// The polygon after 0..=steps steps.
@@ -52,13 +55,13 @@ fn levels(scheme: &GenericScheme, curve: &Curve<2>, steps: usize) -> Result<Vec<
 
 /// The limit curve of `last`, in pieces over its knot intervals, refined until every edge is
 /// below `max_edge` (data units).
-fn limit(
+pub fn limit(
     scheme: &mut GenericScheme,
     last: &Curve<2>,
-    lengths: &[f64],
     max_edge: f64,
 ) -> Result<Vec<Piece>, String> {
     let d = scheme.tables().degree;
+    let lengths: Vec<f64> = scheme.scheme().lengths.iter().map(|e| e.to_f64()).collect();
     let (points, labels): (Vec<[f64; 2]>, Vec<u8>) = if last.closed {
         let m = last.points.len();
         let n = last.labels.len();
@@ -96,10 +99,12 @@ fn limit(
         }
         fine = refine(scheme, &fine, 1).map_err(|e| format!("error: {e}"))?;
     }
-    // Cut the fine polygon where its parameter crosses a knot of `last`.
+    // Cut the fine polygon where its parameter crosses a knot of `last`, over the spline's
+    // domain [t_d, t_m] (m points; one period for the unrolled closed polygon).
+    let domain = knots[d]..=knots[points.len()];
     let mut pieces: Vec<Piece> = Vec::new();
     let mut current = usize::MAX;
-    for p in &fine.points {
+    for p in fine.points.iter().filter(|p| domain.contains(&p[2])) {
         let j = knots.partition_point(|&t| t <= p[2]).clamp(1, labels.len()) - 1;
         let xy = [p[0], p[1]];
         if j != current {
@@ -201,7 +206,6 @@ pub fn plot(
     let all = levels(&scheme, curve, steps)?;
     let s = scheme.scheme();
     let ls = &s.ls;
-    let lengths: Vec<f64> = s.lengths.iter().map(|e| e.to_f64()).collect();
     let length_text: Vec<String> = s.lengths.iter().map(|e| e.to_string()).collect();
     let rho = (s.analysis.rho.to_string(), s.analysis.rho.to_f64());
     let (name, degree, symbols) = (ls.name.clone(), ls.degree, ls.symbols.clone());
@@ -217,7 +221,7 @@ pub fn plot(
     let data = bounds(all.iter().flat_map(|c| c.points.iter()), 0.04);
     let frame = Frame::fit(data, plot_box);
     let last = all.last().expect("non-empty");
-    let pieces = limit(&mut scheme, last, &lengths, PIXEL / frame.scale())?;
+    let pieces = limit(&mut scheme, last, PIXEL / frame.scale())?;
 
     let mut pic = Picture::new(size.0, size.1);
     pic.text(
