@@ -386,7 +386,7 @@ pub fn characteristic_map(
 pub fn picture(name: &str, map: &CharacteristicMap, closed_form: f64, size: (u32, u32)) -> Picture {
     let (w, h) = (f64::from(size.0), f64::from(size.1));
     let all = map.net.iter().flatten().flatten();
-    let frame = Frame::fit(bounds(all, 0.03), [16.0, 62.0, w - 32.0, h - 62.0 - 40.0]);
+    let frame = Frame::fit(bounds(all, 0.03), [16.0, 62.0, w - 32.0, h - 62.0 - 44.0]);
     let mut pic = Picture::new(size.0, size.1);
     pic.text(
         [0.5 * w, 26.0],
@@ -405,23 +405,24 @@ pub fn picture(name: &str, map: &CharacteristicMap, closed_form: f64, size: (u32
         Anchor::Middle,
         "#333333",
     );
-    // Refined net: each edge once.
+    // Refined net: each edge once, all in one path.
     let mut edges = HashSet::new();
-    let thin = Style::stroke("#9aa7b8", 0.6);
+    let mut d = String::new();
     for quad in &map.refined {
         for e in 0..4 {
-            let (a, b) = (quad[e], quad[(e + 1) % 4]);
-            let key = |p: [f64; 2]| ((p[0] * 1e9).round() as i64, (p[1] * 1e9).round() as i64);
+            let (a, b) = (frame.map(quad[e]), frame.map(quad[(e + 1) % 4]));
+            let key = |p: [f64; 2]| ((p[0] * 100.0).round() as i64, (p[1] * 100.0).round() as i64);
             let k = if key(a) < key(b) {
                 (key(a), key(b))
             } else {
                 (key(b), key(a))
             };
             if edges.insert(k) {
-                pic.line(frame.map(a), frame.map(b), &thin, "");
+                d.push_str(&format!("M{:.1} {:.1}L{:.1} {:.1}", a[0], a[1], b[0], b[1]));
             }
         }
     }
+    pic.path(&d, &Style::stroke("#9aa7b8", 0.6), "refined");
     // Control net: the grid lines of each sector.
     let bold = Style::stroke("#1f4e9c", 1.8);
     for sector in &map.net {
@@ -441,7 +442,8 @@ pub fn picture(name: &str, map: &CharacteristicMap, closed_form: f64, size: (u32
         );
         pic.circle(frame.map(sector[1][1]), 3.0, &Style::fill("#5b8bd6"), "");
         let label_at = frame.map([1.18 * sector[1][0][0], 1.18 * sector[1][0][1]]);
-        if map.n <= 12 {
+        // Names where the 1-ring is large enough to hold them.
+        if map.n <= 12 && frame.scale() > 60.0 {
             pic.text(
                 [label_at[0], label_at[1] + 4.0],
                 &format!("R{m}"),
@@ -452,17 +454,25 @@ pub fn picture(name: &str, map: &CharacteristicMap, closed_form: f64, size: (u32
         }
     }
     pic.circle(frame.map([0.0, 0.0]), 5.0, &Style::fill("#d62728"), "ev");
-    pic.text(
-        [16.0, h - 16.0],
-        &format!(
-            "bold: control net, {} rings (eigenvector of λ1; x, y = its two real components); thin: refined {} step{} by the scheme",
-            map.k,
+    let captions = [
+        format!(
+            "bold: the control net, {} rings: the eigenvector of λ1 (x, y: its two real components)",
+            map.k
+        ),
+        format!(
+            "thin: that net refined {} step{} by the scheme (where it depends on the net only)",
             map.refined_steps,
             if map.refined_steps == 1 { "" } else { "s" }
         ),
-        12.0,
-        Anchor::Start,
-        "#333333",
-    );
+    ];
+    for (i, c) in captions.iter().enumerate() {
+        pic.text(
+            [16.0, h - 30.0 + 16.0 * i as f64],
+            c,
+            11.0,
+            Anchor::Start,
+            "#333333",
+        );
+    }
     pic
 }
