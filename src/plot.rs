@@ -322,8 +322,10 @@ mod tests {
 
     #[test]
     fn ticks_are_round_and_cover_the_range() {
-        assert_eq!(ticks(-1.1, 1.1, 4), vec![-1.0, -0.5, 0.0, 0.5, 1.0]);
-        assert_eq!(tick_label(-0.0, 0.5), "0");
+        assert_eq!(ticks(-1.1, 1.1, 4), vec![-1.0, 0.0, 1.0]);
+        assert_eq!(ticks(-1.1, 1.1, 5), vec![-1.0, -0.5, 0.0, 0.5, 1.0]);
+        assert_eq!(tick_label(-0.0, 0.5), "0.0");
+        assert_eq!(tick_label(-1e-17, 1.0), "0");
         assert_eq!(tick_label(0.5, 0.5), "0.5");
         assert_eq!(tick_label(20.0, 10.0), "20");
     }
