@@ -15,6 +15,10 @@ pub use lsubdiv_runtime::{
 
 pub mod bench;
 pub mod limits;
+pub mod charmap;
+pub mod graph_picture;
+pub mod picture;
+pub mod plot;
 pub mod points;
 pub mod report;
 pub mod tables;

@@ -34,14 +34,24 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// The transition graph between (d+1)-words.
+    /// The transition graph between (d+1)-words: DOT, or a picture ([N] Fig. 3).
+    #[command(group(clap::ArgGroup::new("graph_format").required(true)))]
     Graph {
         scheme: String,
         #[arg(long)]
         degree: Option<usize>,
-        /// Graphviz DOT output (the only format for now).
-        #[arg(long, required = true)]
+        /// Graphviz DOT output.
+        #[arg(long, group = "graph_format")]
         dot: bool,
+        /// A drawn picture: SVG, or PNG when the output ends in `.png` ([N] Fig. 3).
+        #[arg(long, group = "graph_format")]
+        svg: bool,
+        /// Output file (written whole or not at all); default: standard output (DOT or SVG).
+        #[arg(short, long)]
+        output: Option<std::path::PathBuf>,
+        /// Picture size in pixels, WxH (with --svg); default: the layout's natural size.
+        #[arg(long)]
+        size: Option<String>,
     },
     /// Writes the generated Rust source of a scheme.
     Codegen {
@@ -79,6 +89,31 @@ enum Command {
         #[command(flatten)]
         limit: MemoryLimit,
     },
+    /// Draws control polygons of successive steps and the limit curve, coloured by interval
+    /// label ([N] Fig. 2), as SVG or PNG (by the output's extension).
+    Plot {
+        scheme: String,
+        /// Number of subdivision steps drawn.
+        #[arg(long, default_value_t = 3)]
+        steps: usize,
+        /// Input points (2 coordinates per line, as for `curve`); default: a closed regular
+        /// hexagon.
+        input: Option<std::path::PathBuf>,
+        /// Output picture: `.svg` or `.png` (written whole or not at all).
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// The input polygon is closed (cyclic).
+        #[arg(long)]
+        closed: bool,
+        /// Interval labels, as for `curve`.
+        #[arg(long)]
+        labels: Option<String>,
+        #[arg(long)]
+        degree: Option<usize>,
+        /// Picture size in pixels, WxH.
+        #[arg(long, default_value = "800x600")]
+        size: String,
+    },
     /// α and the spectrum at extraordinary vertices (\[G\] §4.2.3), per valence.
     Ev {
         scheme: String,
@@ -88,6 +123,15 @@ enum Command {
         /// One JSON object per valence, in an array.
         #[arg(long)]
         json: bool,
+        /// Draw the characteristic map's control net at the (single) valence ([G] Fig. 4).
+        #[arg(long, requires = "output")]
+        characteristic_map: bool,
+        /// Output picture of --characteristic-map: `.svg` or `.png`.
+        #[arg(short, long, requires = "characteristic_map")]
+        output: Option<std::path::PathBuf>,
+        /// Picture size in pixels, WxH.
+        #[arg(long, default_value = "800x800")]
+        size: String,
     },
     /// Refines a closed quad mesh (OBJ) of any topology.
     Subdivide {
@@ -498,7 +542,13 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             scheme,
             valence,
             json,
-        }) => ev_report(&scheme, &valence, json),
+            characteristic_map,
+            output,
+            size,
+        }) => match output {
+            Some(out) if characteristic_map => charmap(&scheme, &valence, &out, &size),
+            _ => ev_report(&scheme, &valence, json),
+        },
         Some(Command::Subdivide {
             scheme,
             steps,
@@ -541,11 +591,14 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             runs,
             limit.bytes(),
         ),
-        Some(Command::Graph { scheme, degree, .. }) => {
-            let s = build(&load(&scheme, degree)?)?;
-            print!("{}", report::dot(&s));
-            Ok(())
-        }
+        Some(Command::Graph {
+            scheme,
+            degree,
+            svg,
+            output,
+            size,
+            ..
+        }) => graph(&scheme, degree, svg, output.as_deref(), size.as_deref()),
         Some(Command::Codegen {
             scheme,
             degree,
@@ -555,6 +608,25 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             write_atomic(&output, generate(&s).as_bytes())?;
             Ok(())
         }
+        Some(Command::Plot {
+            scheme,
+            steps,
+            input,
+            output,
+            closed,
+            labels,
+            degree,
+            size,
+        }) => plot(
+            &scheme,
+            steps,
+            input.as_deref(),
+            &output,
+            closed,
+            labels,
+            degree,
+            &size,
+        ),
         Some(Command::Curve {
             scheme,
             steps,
@@ -655,6 +727,80 @@ fn refine_cli<const D: usize>(
     Ok(refined.points)
 }
 
+/// `lsubdiv plot`: refines a planar polygon (a closed hexagon without input) with the generic
+/// path and draws it ([`lsubdiv::plot`]).
+#[allow(clippy::too_many_arguments)]
+fn plot(
+    scheme: &str,
+    steps: usize,
+    input: Option<&std::path::Path>,
+    output: &std::path::Path,
+    closed: bool,
+    labels: Option<String>,
+    degree: Option<usize>,
+    size: &str,
+) -> Result<(), Failure> {
+    use lsubdiv::picture;
+    picture::format_of(output).map_err(bad)?;
+    let size = picture::parse_size(size).map_err(bad)?;
+    if steps > 12 {
+        return Err(bad(format!(
+            "error: --steps {steps}: plot draws at most 12 steps"
+        )));
+    }
+    let r = load(scheme, degree)?;
+    let (pts, closed) = match input {
+        None => (lsubdiv::plot::hexagon(), true),
+        Some(path) => {
+            let name = path.display().to_string();
+            let text =
+                std::fs::read_to_string(path).map_err(|e| bad(format!("{name}: error: {e}")))?;
+            match points::parse(&name, &text).map_err(bad)? {
+                Points::D2(p) => (p, closed),
+                Points::D3(_) => {
+                    return Err(bad(format!(
+                        "{name}: error: plot draws planar polygons; give 2 coordinates per point"
+                    )))
+                }
+            }
+        }
+    };
+    let generic = GenericScheme::new(build(&r)?);
+    let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), pts, closed);
+    if let Some(l) = labels {
+        curve.labels =
+            r.ls.parse_word(&l)
+                .map_err(|e| bad(format!("error: --labels: {e}")))?;
+    }
+    let pic = lsubdiv::plot::plot(generic, &curve, steps, size).map_err(bad)?;
+    picture::save(&pic, output).map_err(bad)
+}
+
+/// `lsubdiv graph`: DOT or a picture of the transition graph, to a file or standard output.
+fn graph(
+    scheme: &str,
+    degree: Option<usize>,
+    svg: bool,
+    output: Option<&std::path::Path>,
+    size: Option<&str>,
+) -> Result<(), Failure> {
+    use lsubdiv::picture;
+    let size = size.map(picture::parse_size).transpose().map_err(bad)?;
+    if let (true, Some(o)) = (svg, output) {
+        picture::format_of(o).map_err(bad)?;
+    }
+    let s = build(&load(scheme, degree)?)?;
+    match (svg, output) {
+        (false, None) => print!("{}", report::dot(&s)),
+        (false, Some(o)) => write_atomic(o, report::dot(&s).as_bytes())?,
+        (true, None) => print!("{}", lsubdiv::graph_picture::picture(&s, size).svg()),
+        (true, Some(o)) => {
+            picture::save(&lsubdiv::graph_picture::picture(&s, size), o).map_err(bad)?
+        }
+    }
+    Ok(())
+}
+
 /// Parses `n`, `a..b` or `a..=b` (both inclusive).
 fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Failure> {
     let bad_range = || {
@@ -702,6 +848,61 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
         print!("{}", report::ev_text(&s, &a, &rows));
     }
     Ok(())
+}
+
+/// `lsubdiv ev --characteristic-map`: finds the control net numerically, checks λ1 against
+/// the closed form, draws it ([`lsubdiv::charmap`]).
+fn charmap(
+    scheme: &str,
+    valence: &str,
+    output: &std::path::Path,
+    size: &str,
+) -> Result<(), Failure> {
+    use lsubdiv::picture;
+    picture::format_of(output).map_err(bad)?;
+    let size = picture::parse_size(size).map_err(bad)?;
+    let range = valences(valence)?;
+    let n = *range.start();
+    if range.end() != range.start() {
+        return Err(bad(format!(
+            "error: --characteristic-map draws one valence; --valence {valence} is a range"
+        )));
+    }
+    let s = build(&load(scheme, None)?)?;
+    let name = s.ls.name.clone();
+    let rho = s.analysis.rho.to_f64();
+    let surface = lsubdiv_compiler::generic::GenericSurface::new(s)?;
+    let closed = surface
+        .analysis()
+        .coefficients_f64()
+        .spectrum(n)
+        .map_err(|e| bad(format!("error: {e}")))?
+        .lambda1;
+    // Refine the net until its quads are about a quarter of the net's.
+    let steps = (4f64.ln() / rho.ln()).ceil().max(1.0) as usize;
+    let bar = indicatif::ProgressBar::new_spinner().with_message("power iteration");
+    let map =
+        lsubdiv::charmap::characteristic_map(&surface, n, steps, &|i| bar.set_position(i as u64))
+            .map_err(bad)?;
+    bar.finish_and_clear();
+    println!(
+        "{name}, valence {n}: lambda1 = {:.15} by power iteration on the {}-ring neighbourhood after {} steps ({} iterations, residual {:.1e}); closed form {:.15}",
+        map.lambda, map.k, map.step, map.iterations, map.residual, closed
+    );
+    if (map.lambda - closed).abs() > 1e-9 * closed.abs() {
+        return Err(Failure {
+            code: 1,
+            message: format!(
+                "internal error: the numeric subdominant eigenvalue {} differs from the closed form {closed}",
+                map.lambda
+            ),
+        });
+    }
+    picture::save(
+        &lsubdiv::charmap::picture(&name, &map, closed, size),
+        output,
+    )
+    .map_err(bad)
 }
 
 /// `lsubdiv subdivide`: reads an OBJ, refines (patch path), writes OBJ or PLY atomically.

@@ -233,6 +233,11 @@ pub fn text(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> String {
     s
 }
 
+/// Fill colours of strongly connected components, by component index (DOT and pictures).
+pub const SCC_FILLS: [&str; 6] = [
+    "#cfe2ff", "#d1e7dd", "#fff3cd", "#f8d7da", "#e2d9f3", "#d3f1f4",
+];
+
 /// The transition graph in DOT: SCC members filled, transitional words dashed.
 pub fn dot(s: &Scheme) -> String {
     let ls = &s.ls;
@@ -243,15 +248,12 @@ pub fn dot(s: &Scheme) -> String {
     let in_scc: Vec<Option<usize>> = (0..s.graph.words.len())
         .map(|i| s.graph.sccs.iter().position(|c| c.contains(&i)))
         .collect();
-    let palette = [
-        "#cfe2ff", "#d1e7dd", "#fff3cd", "#f8d7da", "#e2d9f3", "#d3f1f4",
-    ];
     for (i, w) in s.graph.words.iter().enumerate() {
         let mut attrs = vec![format!("label=\"{}\"", ls.word_str(&w.word))];
         if let Some(c) = in_scc[i] {
             attrs.push(format!(
                 "style=filled, fillcolor=\"{}\"",
-                palette[c % palette.len()]
+                SCC_FILLS[c % SCC_FILLS.len()]
             ));
         }
         if w.transitional {
