@@ -15,6 +15,7 @@ pub use lsubdiv_runtime::{
 
 pub mod bench;
 pub mod points;
+pub mod render;
 pub mod report;
 pub mod tables;
 

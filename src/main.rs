@@ -130,6 +130,9 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Draws a closed quad mesh to a PNG or PPM image (software, no GPU): flat, smooth,
+    /// mean-curvature or reflection-line shading ([G] Fig. 6), optionally with its quad edges.
+    Render(RenderArgs),
     /// Lists the shipped schemes.
     Schemes,
     /// The L-systems of a [G] §5.2 family, exactly, sorted by ρ then masks (Appendix B).
@@ -200,6 +203,47 @@ enum PathChoice {
     Auto,
     Generated,
     Generic,
+}
+
+/// Arguments of `lsubdiv render`.
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// An OBJ file, or a built-in mesh: `cube` (3-valent EVs), `star` (EVs of valence 3, 5, 9),
+    /// `torus:R:C`.
+    mesh: String,
+    /// Output image, `.png` or `.ppm` (written whole or not at all).
+    #[arg(short, long)]
+    output: std::path::PathBuf,
+    /// Image size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600")]
+    size: String,
+    #[arg(long, value_enum, default_value_t = lsubdiv::render::Shading::Smooth)]
+    shading: lsubdiv::render::Shading,
+    /// Draw the quad edges on top.
+    #[arg(long)]
+    wireframe: bool,
+    /// `azimuth,elevation[,distance]`: degrees about +z from +x, degrees above the xy-plane,
+    /// distance in bounding-sphere radii (default 35,25 and the whole mesh in view).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "eye")]
+    camera: Option<String>,
+    /// Camera position `x,y,z` instead of --camera.
+    #[arg(long, allow_hyphen_values = true)]
+    eye: Option<String>,
+    /// Point looked at from --eye, `x,y,z` (default: the centre of the bounding box).
+    #[arg(long, allow_hyphen_values = true, requires = "eye")]
+    target: Option<String>,
+    /// Refine the mesh with this scheme first (as `subdivide` does).
+    #[arg(long, requires = "steps")]
+    scheme: Option<String>,
+    /// Subdivision steps before drawing.
+    #[arg(long, requires = "scheme")]
+    steps: Option<usize>,
+    /// Curvature colours span [−R, R] (default: the 98th percentile of |H|).
+    #[arg(long)]
+    curvature_range: Option<f64>,
+    /// Worker threads for the refinement; default: all cores.
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 /// A failure and its exit status.
@@ -421,6 +465,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             );
             out.emit(&found.front)
         }
+        Some(Command::Render(args)) => render(&args),
         Some(Command::Schemes) => {
             for n in lsubdiv::builtin_names() {
                 println!("{n}");
@@ -622,8 +667,7 @@ fn subdivide(
     path: PathChoice,
     threads: usize,
 ) -> Result<(), Failure> {
-    use lsubdiv::runtime::mesh::{self, QuadMesh};
-    use lsubdiv::runtime::patch;
+    use lsubdiv::runtime::mesh;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
@@ -634,11 +678,30 @@ fn subdivide(
     }
     lsubdiv::runtime::topology::Topology::build(&m)
         .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
-    let surface = lsubdiv_compiler::generic::GenericSurface::new(build(&r)?)?;
+    let fine = refine_mesh(&r, &m, steps, path, threads)?;
+    let bytes = if output.extension().is_some_and(|e| e == "ply") {
+        mesh::to_ply(&fine)
+    } else {
+        mesh::to_obj(&fine)
+    };
+    mesh::write_atomic(output, bytes.as_bytes())
+        .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
+    Ok(())
+}
+
+/// Refines a closed quad mesh (already validated) by the requested path, as `subdivide` does.
+fn refine_mesh(
+    r: &Resolved,
+    m: &lsubdiv::runtime::mesh::QuadMesh,
+    steps: usize,
+    path: PathChoice,
+    threads: usize,
+) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
+    let surface = lsubdiv_compiler::generic::GenericSurface::new(build(r)?)?;
     let generated = if path == PathChoice::Generic || !r.builtin {
         None
     } else {
-        lsubdiv::generated::subdivide::<f64>(&r.ls.name, &m, steps, threads)
+        lsubdiv::generated::subdivide::<f64>(&r.ls.name, m, steps, threads)
     };
     let result = match (path, generated) {
         (_, Some(res)) => res,
@@ -648,20 +711,119 @@ fn subdivide(
                 r.ls.name
             )))
         }
-        (_, None) => patch::subdivide::<_, f64>(&surface, &m, steps, threads),
+        (_, None) => lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, m, steps, threads),
     };
     let fine = result.map_err(|e| bad(format!("error: {e}")))?;
-    let fine = QuadMesh {
+    Ok(lsubdiv::runtime::mesh::QuadMesh {
         positions: fine.positions,
         faces: fine.faces,
+    })
+}
+
+/// `lsubdiv render`: reads or builds the mesh, refines it if asked, draws it, writes the image
+/// atomically. Reports the curvature range on stderr.
+fn render(a: &RenderArgs) -> Result<(), Failure> {
+    use lsubdiv::render::{self, camera::View, image::Format};
+    let out_name = a.output.display().to_string();
+    let format = Format::of(&a.output).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
+    let (width, height) = render::parse_size(&a.size).map_err(|e| bad(format!("error: {e}")))?;
+    let numbers = |flag: &str, text: &str, n| {
+        render::parse_numbers(flag, text, n).map_err(|e| bad(format!("error: {e}")))
     };
-    let bytes = if output.extension().is_some_and(|e| e == "ply") {
-        mesh::to_ply(&fine)
+    let view = match (&a.camera, &a.eye) {
+        (_, Some(eye)) => {
+            let eye = numbers("--eye", eye, 3..=3)?;
+            let target = a
+                .target
+                .as_deref()
+                .map(|t| numbers("--target", t, 3..=3))
+                .transpose()?;
+            View::LookAt {
+                eye: [eye[0], eye[1], eye[2]],
+                target: target.map(|t| [t[0], t[1], t[2]]),
+            }
+        }
+        (Some(c), None) => {
+            let v = numbers("--camera", c, 2..=3)?;
+            View::Orbit {
+                azimuth: v[0],
+                elevation: v[1],
+                distance: v.get(2).copied(),
+            }
+        }
+        (None, None) => View::default(),
+    };
+    if let Some(r) = a.curvature_range {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(bad(format!(
+                "error: --curvature-range {r}: expected a positive number"
+            )));
+        }
+    }
+    let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
+        lsubdiv::bench::mesh(&a.mesh).map_err(|e| bad(format!("error: {e}")))?
     } else {
-        mesh::to_obj(&fine)
+        let text =
+            std::fs::read_to_string(&a.mesh).map_err(|e| bad(format!("{}: error: {e}", a.mesh)))?;
+        let (m, warnings) = lsubdiv::runtime::mesh::parse_obj(&text)
+            .map_err(|e| bad(format!("{}: error: {e}", a.mesh)))?;
+        for w in warnings {
+            eprintln!("{}: warning: {w}", a.mesh);
+        }
+        m
     };
-    mesh::write_atomic(output, bytes.as_bytes())
-        .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
+    let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
+    let mesh = match (&a.scheme, a.steps) {
+        (Some(scheme), Some(steps)) => {
+            lsubdiv::runtime::topology::Topology::build(&mesh)
+                .map_err(|e| scene_error(e.to_string()))?;
+            let threads = a.threads.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+            });
+            refine_mesh(
+                &load(scheme, None)?,
+                &mesh,
+                steps,
+                PathChoice::Auto,
+                threads,
+            )?
+        }
+        _ => mesh,
+    };
+    let scene = render::Scene::new(&mesh).map_err(scene_error)?;
+    let opts = render::Options {
+        width,
+        height,
+        view,
+        shading: a.shading,
+        wireframe: a.wireframe,
+        curvature_range: a.curvature_range,
+    };
+    let rendered = scene
+        .render(&opts)
+        .map_err(|e| bad(format!("error: {e}")))?;
+    if let Some(r) = rendered.curvature {
+        if !scene.orientable() {
+            eprintln!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh);
+        }
+        eprintln!(
+            "mean curvature H from {:.4} to {:.4}; colours span ±{:.4} ({})",
+            r.min,
+            r.max,
+            r.span,
+            if r.percentile {
+                "98th percentile of |H| over the vertices"
+            } else {
+                "--curvature-range"
+            }
+        );
+    }
+    let bytes = rendered.image.encode(format).map_err(|e| Failure {
+        code: 1,
+        message: format!("internal error: {e}"),
+    })?;
+    lsubdiv::runtime::mesh::write_atomic(&a.output, &bytes)
+        .map_err(|e| bad(format!("{out_name}: error: {e}")))?;
     Ok(())
 }
 
