@@ -238,7 +238,8 @@ struct RenderArgs {
     /// Subdivision steps before drawing.
     #[arg(long, requires = "scheme")]
     steps: Option<usize>,
-    /// Curvature colours span [−R, R] (default: the 98th percentile of |H|).
+    /// Curvature colours span [−R, R] (default: the 98th percentile of |H| over the vertices of
+    /// the faces in view).
     #[arg(long)]
     curvature_range: Option<f64>,
     /// Worker threads for the refinement; default: all cores.
@@ -807,12 +808,12 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
             eprintln!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh);
         }
         eprintln!(
-            "mean curvature H from {:.4} to {:.4}; colours span ±{:.4} ({})",
+            "mean curvature H in view from {:.4} to {:.4}; colours span ±{:.4} ({})",
             r.min,
             r.max,
             r.span,
             if r.percentile {
-                "98th percentile of |H| over the vertices"
+                "98th percentile of |H| over the vertices in view"
             } else {
                 "--curvature-range"
             }

@@ -63,7 +63,8 @@ fn fit_distance() -> f64 {
 }
 
 impl Camera {
-    /// The camera for `view` of a mesh with bounding sphere (`centre`, `radius`).
+    /// The camera for `view` of a mesh with bounding sphere (`centre`, `radius`), framed in the
+    /// leftmost `width` × `height` samples of the image.
     pub fn new(
         view: &View,
         centre: [f64; 3],

@@ -15,6 +15,7 @@ use super::surface::{cross, dot, normalize, sub};
 use crate::runtime::mesh::QuadMesh;
 use crate::runtime::topology::Topology;
 use nalgebra::{Matrix5, Vector5};
+use rayon::prelude::*;
 
 /// The 1-ring of v: each edge neighbour once, each diagonal neighbour once.
 fn ring<'a>(mesh: &'a QuadMesh, topo: &'a Topology, v: u32) -> impl Iterator<Item = [f64; 3]> + 'a {
@@ -32,6 +33,7 @@ fn ring<'a>(mesh: &'a QuadMesh, topo: &'a Topology, v: u32) -> impl Iterator<Ite
 /// (a sphere of radius r with outward normals has H = 1/r). NaN where the fit is singular.
 pub fn mean_curvature(mesh: &QuadMesh, topo: &Topology, normals: &[[f64; 3]]) -> Vec<f64> {
     (0..mesh.positions.len())
+        .into_par_iter()
         .map(|v| {
             let n = normals[v];
             let p = mesh.positions[v];

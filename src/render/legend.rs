@@ -70,11 +70,20 @@ pub fn label(x: f64) -> String {
     }
 }
 
-/// A vertical colour bar at the right edge, +span at the top, −span at the bottom, labelled.
+/// Pixels at the right edge the bar and its labels take.
+pub const WIDTH: usize = 80;
+
+/// Whether an image of this size has room for the bar (beside a picture at least as wide).
+pub fn fits(width: usize, height: usize) -> bool {
+    width >= 2 * WIDTH && height >= 64
+}
+
+/// A vertical colour bar in the right [`WIDTH`] pixels, +span at the top, −span at the bottom,
+/// labelled.
 pub fn bar(img: &mut Image, span: f64) {
     let (w, h) = (img.width, img.height);
-    if w < 80 || h < 60 {
-        return; // no room
+    if !fits(w, h) {
+        return;
     }
     let (x0, x1) = (w - 30, w - 16);
     let (y0, y1) = (h / 5, h - h / 5);

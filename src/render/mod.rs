@@ -19,6 +19,7 @@ use crate::runtime::topology::Topology;
 use camera::{Camera, View};
 use image::Image;
 use raster::{clip, plane_value, ClipVertex, Frame, Vertex, EMPTY};
+use rayon::prelude::*;
 
 /// How the surface is coloured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -46,7 +47,8 @@ pub struct Options {
     pub shading: Shading,
     /// Draw the quad edges.
     pub wireframe: bool,
-    /// Colours of the curvature map span [−r, r]; default: the 98th percentile of |H|.
+    /// Colours of the curvature map span [−r, r]; default: the 98th percentile of |H| over the
+    /// vertices of the faces in the picture.
     pub curvature_range: Option<f64>,
 }
 
@@ -164,7 +166,10 @@ impl<'m> Scene<'m> {
     pub fn render(&self, opts: &Options) -> Result<Rendered, String> {
         let s = supersampling(opts.width, opts.height);
         let (w, h) = (opts.width * s, opts.height * s);
-        let camera = Camera::new(&opts.view, self.centre, self.radius, w, h)?;
+        // The curvature legend gets a strip at the right; the picture is framed beside it.
+        let legend = opts.shading == Shading::Curvature && legend::fits(opts.width, opts.height);
+        let viewport = w - if legend { legend::WIDTH * s } else { 0 };
+        let camera = Camera::new(&opts.view, self.centre, self.radius, viewport, h)?;
         let mut frame = Frame::new(w, h);
         let projected = Projected::new(self.mesh, &camera);
         for (f, face) in self.mesh.faces.iter().enumerate() {
@@ -181,7 +186,7 @@ impl<'m> Scene<'m> {
         }
         let (values, range) = if opts.shading == Shading::Curvature {
             let h = curvature::mean_curvature(self.mesh, &self.topology, &self.oriented.normals);
-            let range = curvature::range(&h, opts.curvature_range);
+            let range = curvature::range(&self.seen(&frame, &h), opts.curvature_range);
             (Some(h), Some(range))
         } else {
             (None, None)
@@ -194,13 +199,35 @@ impl<'m> Scene<'m> {
             shading: opts.shading,
         };
         let mut image = shader.resolve(&frame, s);
-        if let Some(r) = &range {
+        if let (true, Some(r)) = (legend, &range) {
             legend::bar(&mut image, r.span);
         }
         Ok(Rendered {
             image,
             curvature: range,
         })
+    }
+
+    /// The values at the vertices of the faces seen in `frame`, each vertex once.
+    fn seen(&self, frame: &Frame, values: &[f64]) -> Vec<f64> {
+        let mut face = vec![false; self.mesh.faces.len()];
+        for &t in &frame.triangle {
+            if t != EMPTY {
+                face[(t / 2) as usize] = true;
+            }
+        }
+        let mut vertex = vec![false; values.len()];
+        for (f, _) in face.iter().enumerate().filter(|(_, &seen)| seen) {
+            for &v in &self.mesh.faces[f] {
+                vertex[v as usize] = true;
+            }
+        }
+        values
+            .iter()
+            .zip(vertex)
+            .filter(|(_, seen)| *seen)
+            .map(|(&h, _)| h)
+            .collect()
     }
 
     /// Marks the quad edges, one pixel wide. A sample shows the line unless a surface other than
@@ -232,9 +259,13 @@ struct Projected<'c> {
 impl<'c> Projected<'c> {
     fn new(mesh: &QuadMesh, camera: &'c Camera) -> Projected<'c> {
         let planes = camera.planes();
-        let view: Vec<[f64; 3]> = mesh.positions.iter().map(|&p| camera.to_view(p)).collect();
+        let view: Vec<[f64; 3]> = mesh
+            .positions
+            .par_iter()
+            .map(|&p| camera.to_view(p))
+            .collect();
         let outside = view
-            .iter()
+            .par_iter()
             .map(|&v| {
                 planes
                     .iter()

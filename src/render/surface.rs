@@ -6,6 +6,7 @@
 
 use crate::runtime::mesh::QuadMesh;
 use crate::runtime::topology::Topology;
+use rayon::prelude::*;
 
 /// Faces oriented consistently and vertex normals.
 pub struct Oriented {
@@ -125,6 +126,7 @@ pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
 /// after the flips) counts negated. On an orientable mesh this never happens.
 fn vertex_normals(mesh: &QuadMesh, topo: &Topology, flip: &[bool]) -> Vec<[f64; 3]> {
     let areas: Vec<[f64; 3]> = (0..mesh.faces.len())
+        .into_par_iter()
         .map(|f| {
             let a = quad_area_vector(mesh, f);
             if flip[f] {
@@ -135,6 +137,7 @@ fn vertex_normals(mesh: &QuadMesh, topo: &Topology, flip: &[bool]) -> Vec<[f64; 
         })
         .collect();
     (0..mesh.positions.len() as u32)
+        .into_par_iter()
         .map(|v| {
             let rot = topo.rotation(v);
             let turn = |w: &crate::runtime::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
