@@ -49,7 +49,7 @@ impl Picture {
     /// Pixels of the object: not the white background, left of the curvature legend's strip.
     fn object(&self) -> Vec<(usize, usize)> {
         (0..self.height)
-            .flat_map(|y| (0..self.width - 80).map(move |x| (x, y)))
+            .flat_map(|y| (0..self.width - 100).map(move |x| (x, y)))
             .filter(|&(x, y)| self.at(x, y) != [255; 3])
             .collect()
     }
@@ -202,8 +202,8 @@ fn curvature_is_uniform_on_a_sphere_and_changes_sign_on_a_fat_torus() {
     // Along the middle row from the hole (the centre of the picture beside the legend)
     // outwards: the inner rim is blue, the outer red.
     let y = p.height / 2;
-    assert_eq!(p.at((p.width - 80) / 2, y), [255; 3]);
-    let row: Vec<usize> = ((p.width - 80) / 2..p.width - 80)
+    assert_eq!(p.at((p.width - 100) / 2, y), [255; 3]);
+    let row: Vec<usize> = ((p.width - 100) / 2..p.width - 100)
         .filter(|&x| p.at(x, y) != [255; 3])
         .collect();
     let (inner, outer) = (row[0] + 3, row[row.len() - 1] - 3);

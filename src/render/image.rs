@@ -54,6 +54,8 @@ impl Image {
                 let mut e = png::Encoder::new(&mut out, self.width as u32, self.height as u32);
                 e.set_color(png::ColorType::Rgb);
                 e.set_depth(png::BitDepth::Eight);
+                e.set_compression(png::Compression::Best);
+                e.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
                 let data: Vec<u8> = bytes.collect();
                 e.write_header()
                     .and_then(|mut w| w.write_image_data(&data))

@@ -71,7 +71,7 @@ pub fn label(x: f64) -> String {
 }
 
 /// Pixels at the right edge the bar and its labels take.
-pub const WIDTH: usize = 80;
+pub const WIDTH: usize = 100;
 
 /// Whether an image of this size has room for the bar (beside a picture at least as wide).
 pub fn fits(width: usize, height: usize) -> bool {
@@ -84,6 +84,9 @@ pub fn bar(img: &mut Image, span: f64) {
     let (w, h) = (img.width, img.height);
     if !fits(w, h) {
         return;
+    }
+    for y in 0..h {
+        img.pixels[y * w + w - WIDTH..(y + 1) * w].fill([255; 3]);
     }
     let (x0, x1) = (w - 30, w - 16);
     let (y0, y1) = (h / 5, h - h / 5);

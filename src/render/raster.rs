@@ -301,16 +301,14 @@ mod tests {
                 (9.5 - o, 9.5),
                 (0.5, 9.5 - o),
             ];
-            let mut f = Frame::new(10, 10);
             let v = |i: usize, c: usize| vertex(q[i].0, q[i].1, c);
             let mut hits = vec![0; 100];
             for (id, tri) in [[0, 1, 2], [0, 2, 3]].iter().enumerate() {
                 let mut g = Frame::new(10, 10);
                 g.triangle(id as u32, [v(tri[0], 0), v(tri[1], 1), v(tri[2], 2)]);
-                for s in 0..100 {
-                    hits[s] += usize::from(g.triangle[s] != EMPTY);
+                for (h, &t) in hits.iter_mut().zip(&g.triangle) {
+                    *h += usize::from(t != EMPTY);
                 }
-                f.triangle(id as u32, [v(tri[0], 0), v(tri[1], 1), v(tri[2], 2)]);
             }
             assert!(hits.iter().all(|&h| h <= 1), "double hit at offset {o}");
             // Every sample strictly inside the quad is hit.
@@ -320,10 +318,10 @@ mod tests {
                     (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0) > 1e-9
                 })
             };
-            for s in 0..100 {
+            for (s, &h) in hits.iter().enumerate() {
                 let (x, y) = ((s % 10) as f64 + 0.5, (s / 10) as f64 + 0.5);
                 if inside(x, y) {
-                    assert_eq!(hits[s], 1, "hole at ({x}, {y}), offset {o}");
+                    assert_eq!(h, 1, "hole at ({x}, {y}), offset {o}");
                 }
             }
         }

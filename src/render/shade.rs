@@ -61,7 +61,7 @@ impl Shader<'_> {
             return BACKGROUND;
         }
         let face = (t / 2) as usize;
-        let corners = if t % 2 == 0 { [0, 1, 2] } else { [0, 2, 3] };
+        let corners = if t & 1 == 0 { [0, 1, 2] } else { [0, 2, 3] };
         let ids = corners.map(|c| self.mesh.faces[face][c] as usize);
         let p = ids.map(|v| self.mesh.positions[v]);
         let [b1, b2] = frame.bary[s].map(f64::from);
