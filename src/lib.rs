@@ -14,12 +14,13 @@ pub use lsubdiv_runtime::{
 };
 
 pub mod bench;
-pub mod limits;
 pub mod charmap;
 pub mod graph_picture;
+pub mod limits;
 pub mod picture;
 pub mod plot;
 pub mod points;
+pub mod render;
 pub mod report;
 pub mod tables;
 

@@ -180,6 +180,9 @@ enum Command {
         #[command(flatten)]
         limit: MemoryLimit,
     },
+    /// Draws a closed quad mesh to a PNG or PPM image (software, no GPU): flat, smooth,
+    /// mean-curvature or reflection-line shading ([G] Fig. 6), optionally with its quad edges.
+    Render(RenderArgs),
     /// Lists the shipped schemes.
     Schemes,
     /// The L-systems of a [G] §5.2 family, exactly, sorted by ρ then masks (Appendix B).
@@ -267,6 +270,50 @@ impl MemoryLimit {
         self.max_memory
             .unwrap_or_else(lsubdiv::limits::default_max_memory)
     }
+}
+
+/// Arguments of `lsubdiv render`.
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// An OBJ file, or a built-in mesh: `cube` (3-valent EVs), `star` (EVs of valence 3, 5, 9),
+    /// `torus:R:C`.
+    mesh: String,
+    /// Output image, `.png` or `.ppm` (written whole or not at all).
+    #[arg(short, long)]
+    output: std::path::PathBuf,
+    /// Image size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600")]
+    size: String,
+    #[arg(long, value_enum, default_value_t = lsubdiv::render::Shading::Smooth)]
+    shading: lsubdiv::render::Shading,
+    /// Draw the quad edges on top.
+    #[arg(long)]
+    wireframe: bool,
+    /// `azimuth,elevation[,distance]`: degrees about +z from +x, degrees above the xy-plane,
+    /// distance in bounding-sphere radii (default 35,25 and the whole mesh in view).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "eye")]
+    camera: Option<String>,
+    /// Camera position `x,y,z` instead of --camera.
+    #[arg(long, allow_hyphen_values = true)]
+    eye: Option<String>,
+    /// Point looked at from --eye, `x,y,z` (default: the centre of the bounding box).
+    #[arg(long, allow_hyphen_values = true, requires = "eye")]
+    target: Option<String>,
+    /// Refine the mesh with this scheme first (as `subdivide` does).
+    #[arg(long, requires = "steps")]
+    scheme: Option<String>,
+    /// Subdivision steps before drawing.
+    #[arg(long, requires = "scheme")]
+    steps: Option<usize>,
+    /// Curvature colours span [−R, R] (default: the 98th percentile of |H| over the vertices of
+    /// the faces in view).
+    #[arg(long)]
+    curvature_range: Option<f64>,
+    /// Worker threads for the refinement; default: all cores.
+    #[arg(long)]
+    threads: Option<usize>,
+    #[command(flatten)]
+    limit: MemoryLimit,
 }
 
 /// A failure and its exit status.
@@ -510,6 +557,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             );
             out.emit(&found.front)
         }
+        Some(Command::Render(args)) => render(&args),
         Some(Command::Schemes) => {
             for n in lsubdiv::builtin_names() {
                 println!("{n}");
@@ -915,40 +963,69 @@ fn subdivide(
     threads: usize,
     max_memory: u64,
 ) -> Result<(), Failure> {
-    use lsubdiv::runtime::mesh::{self, QuadMesh};
-    use lsubdiv::runtime::patch;
-    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+    use lsubdiv::runtime::mesh;
     check_output(output)?;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
+    let m = read_mesh(input)?;
+    let fine = refine_mesh(&r, &m, &in_name, steps, path, threads, max_memory)?;
+    let bytes = if output.extension().is_some_and(|e| e == "ply") {
+        mesh::to_ply(&fine)
+    } else {
+        mesh::to_obj(&fine)
+    };
+    mesh::write_atomic(output, bytes.as_bytes())
+        .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
+    Ok(())
+}
+
+/// Reads a closed quad mesh from an OBJ file: errors name the file's line, vertex or edge;
+/// warnings go to stderr.
+fn read_mesh(input: &std::path::Path) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
+    let in_name = input.display().to_string();
     let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
-    let (m, warnings) = mesh::parse_obj(&text).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
+    let (m, warnings) =
+        lsubdiv::runtime::mesh::parse_obj(&text).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
     for w in warnings {
         eprintln!("{in_name}: warning: {w}");
     }
     lsubdiv::runtime::topology::Topology::build(&m)
         .and_then(|t| t.check_valences())
         .map_err(|e| bad(e.in_obj(&in_name, &text)))?;
-    drop(text);
-    let surface = lsubdiv_compiler::generic::GenericSurface::new(build(&r)?)?;
+    Ok(m)
+}
+
+/// Refines a closed quad mesh (already validated; `name` says where it came from) by the
+/// requested path, after the size guard (`--max-memory`) has accepted the prediction.
+fn refine_mesh(
+    r: &Resolved,
+    m: &lsubdiv::runtime::mesh::QuadMesh,
+    name: &str,
+    steps: usize,
+    path: PathChoice,
+    threads: usize,
+    max_memory: u64,
+) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
+    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+    let surface = lsubdiv_compiler::generic::GenericSurface::new(build(r)?)?;
     lsubdiv::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
-        &m,
+        m,
         steps,
         8,
         threads,
         true,
     )
     .check(
-        &format!("{steps} steps of {} on {in_name}", r.ls.name),
+        &format!("{steps} steps of {} on {name}", r.ls.name),
         max_memory,
     )
     .map_err(bad)?;
     let generated = if path == PathChoice::Generic || !r.builtin {
         None
     } else {
-        lsubdiv::generated::subdivide::<f64>(&r.ls.name, &m, steps, threads)
+        lsubdiv::generated::subdivide::<f64>(&r.ls.name, m, steps, threads)
     };
     let result = match (path, generated) {
         (_, Some(res)) => res,
@@ -958,27 +1035,119 @@ fn subdivide(
                 r.ls.name
             )))
         }
-        (_, None) => patch::subdivide::<_, f64>(&surface, &m, steps, threads),
+        (_, None) => lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, m, steps, threads),
     };
     let fine = result.map_err(|e| match e {
-        SurfaceError::Mesh(e) => bad(format!("{in_name}: error: {e}")),
-        SurfaceError::Ev(e) => bad(format!("{in_name}: error: {e}")),
+        SurfaceError::Mesh(e) => bad(format!("{name}: error: {e}")),
+        SurfaceError::Ev(e) => bad(format!("{name}: error: {e}")),
         e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => Failure {
             code: 1,
             message: format!("internal error: {e}"),
         },
     })?;
-    let fine = QuadMesh {
+    Ok(lsubdiv::runtime::mesh::QuadMesh {
         positions: fine.positions,
         faces: fine.faces,
+    })
+}
+
+/// `lsubdiv render`: reads or builds the mesh, refines it if asked, draws it, writes the image
+/// atomically. Reports the curvature range on stderr.
+fn render(a: &RenderArgs) -> Result<(), Failure> {
+    use lsubdiv::render::{self, camera::View, image::Format};
+    let out_name = a.output.display().to_string();
+    let format = Format::of(&a.output).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
+    let (width, height) = render::parse_size(&a.size).map_err(|e| bad(format!("error: {e}")))?;
+    let numbers = |flag: &str, text: &str, n| {
+        render::parse_numbers(flag, text, n).map_err(|e| bad(format!("error: {e}")))
     };
-    let bytes = if output.extension().is_some_and(|e| e == "ply") {
-        mesh::to_ply(&fine)
+    let view = match (&a.camera, &a.eye) {
+        (_, Some(eye)) => {
+            let eye = numbers("--eye", eye, 3..=3)?;
+            let target = a
+                .target
+                .as_deref()
+                .map(|t| numbers("--target", t, 3..=3))
+                .transpose()?;
+            View::LookAt {
+                eye: [eye[0], eye[1], eye[2]],
+                target: target.map(|t| [t[0], t[1], t[2]]),
+            }
+        }
+        (Some(c), None) => {
+            let v = numbers("--camera", c, 2..=3)?;
+            View::Orbit {
+                azimuth: v[0],
+                elevation: v[1],
+                distance: v.get(2).copied(),
+            }
+        }
+        (None, None) => View::default(),
+    };
+    if let Some(r) = a.curvature_range {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(bad(format!(
+                "error: --curvature-range {r}: expected a positive number"
+            )));
+        }
+    }
+    let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
+        lsubdiv::bench::mesh(&a.mesh).map_err(|e| bad(format!("error: {e}")))?
     } else {
-        mesh::to_obj(&fine)
+        read_mesh(std::path::Path::new(&a.mesh))?
     };
-    mesh::write_atomic(output, bytes.as_bytes())
-        .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
+    let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
+    let mesh = match (&a.scheme, a.steps) {
+        (Some(scheme), Some(steps)) => {
+            let threads = a.threads.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+            });
+            refine_mesh(
+                &load(scheme, None)?,
+                &mesh,
+                &a.mesh,
+                steps,
+                PathChoice::Auto,
+                threads,
+                a.limit.bytes(),
+            )?
+        }
+        _ => mesh,
+    };
+    let scene = render::Scene::new(&mesh).map_err(scene_error)?;
+    let opts = render::Options {
+        width,
+        height,
+        view,
+        shading: a.shading,
+        wireframe: a.wireframe,
+        curvature_range: a.curvature_range,
+    };
+    let rendered = scene
+        .render(&opts)
+        .map_err(|e| bad(format!("error: {e}")))?;
+    if let Some(r) = rendered.curvature {
+        if !scene.orientable() {
+            eprintln!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh);
+        }
+        eprintln!(
+            "mean curvature H in view from {:.4} to {:.4}; colours span ±{:.4} ({})",
+            r.min,
+            r.max,
+            r.span,
+            if r.percentile {
+                "98th percentile of |H| over the vertices in view"
+            } else {
+                "--curvature-range"
+            }
+        );
+    }
+    let bytes = rendered.image.encode(format).map_err(|e| Failure {
+        code: 1,
+        message: format!("internal error: {e}"),
+    })?;
+    lsubdiv::runtime::mesh::write_atomic(&a.output, &bytes)
+        .map_err(|e| bad(format!("{out_name}: error: {e}")))?;
     Ok(())
 }
 

@@ -1,0 +1,347 @@
+//! Software rendering of closed quad meshes for `lsubdiv render`: no GPU, no system library.
+//!
+//! A perspective camera ([`camera`]), a z-buffered rasteriser with exact edge functions and
+//! supersampling ([`raster`]), deferred per-sample shading ([`shade`]) in four modes — flat,
+//! smooth, the mean-curvature colour map and reflection lines, the two pictures [G] Fig. 6 uses
+//! to judge a scheme near extraordinary vertices — and an optional wireframe of the quad edges.
+//! Each quad is drawn as the triangles (0, 1, 2) and (0, 2, 3).
+
+pub mod camera;
+pub mod curvature;
+pub mod image;
+pub mod legend;
+pub mod raster;
+pub mod shade;
+pub mod surface;
+
+use crate::runtime::mesh::QuadMesh;
+use crate::runtime::topology::Topology;
+use camera::{Camera, View};
+use image::Image;
+use raster::{clip, plane_value, ClipVertex, Frame, Vertex, EMPTY};
+use rayon::prelude::*;
+
+/// How the surface is coloured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Shading {
+    /// One normal per quad, diffuse light.
+    Flat,
+    /// Interpolated vertex normals, diffuse and specular light.
+    Smooth,
+    /// Mean curvature: blue negative, green zero, red positive ([G] Fig. 6, fourth row).
+    Curvature,
+    /// Reflection lines of light lines at infinity ([G] Fig. 6, third row).
+    Reflection,
+}
+
+/// What to draw.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Image width in pixels.
+    pub width: usize,
+    /// Image height in pixels.
+    pub height: usize,
+    /// Camera placement.
+    pub view: View,
+    /// Colouring.
+    pub shading: Shading,
+    /// Draw the quad edges.
+    pub wireframe: bool,
+    /// Colours of the curvature map span [−r, r]; default: the 98th percentile of |H| over the
+    /// vertices of the faces in the picture.
+    pub curvature_range: Option<f64>,
+}
+
+/// A rendered picture and what the caller may want to report.
+pub struct Rendered {
+    /// The picture.
+    pub image: Image,
+    /// The curvature values and colour span (curvature mode).
+    pub curvature: Option<curvature::Range>,
+}
+
+/// A mesh ready to draw: connectivity checked, faces oriented, normals and bounding sphere.
+pub struct Scene<'m> {
+    mesh: &'m QuadMesh,
+    topology: Topology,
+    oriented: surface::Oriented,
+    centre: [f64; 3],
+    radius: f64,
+}
+
+/// Largest image side accepted.
+pub const MAX_SIDE: usize = 8192;
+
+/// Parses `WxH` (e.g. `800x600`), each side 16 to [`MAX_SIDE`].
+pub fn parse_size(text: &str) -> Result<(usize, usize), String> {
+    let fail = || {
+        format!("--size `{text}`: expected WIDTHxHEIGHT with sides 16 to {MAX_SIDE}, e.g. 800x600")
+    };
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(fail)?;
+    let side = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|n| (16..=MAX_SIDE).contains(n))
+            .ok_or_else(fail)
+    };
+    Ok((side(w)?, side(h)?))
+}
+
+/// Parses `n` comma-separated finite numbers.
+pub fn parse_numbers(
+    flag: &str,
+    text: &str,
+    n: std::ops::RangeInclusive<usize>,
+) -> Result<Vec<f64>, String> {
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<_>>()
+        .filter(|v: &Vec<f64>| n.contains(&v.len()))
+        .ok_or_else(|| {
+            format!(
+                "{flag} `{text}`: expected {} comma-separated numbers",
+                if n.start() == n.end() {
+                    n.start().to_string()
+                } else {
+                    format!("{} to {}", n.start(), n.end())
+                }
+            )
+        })?;
+    Ok(values)
+}
+
+/// Samples per pixel side: 3 × 3 while the frame stays under ~9.4 M samples, else fewer.
+fn supersampling(width: usize, height: usize) -> usize {
+    (1..=3)
+        .rev()
+        .find(|s| width * height * s * s <= 9 << 20)
+        .unwrap_or(1)
+}
+
+impl<'m> Scene<'m> {
+    /// Checks the mesh (a closed 2-manifold quad mesh, as for `subdivide`), orients it and
+    /// measures it.
+    pub fn new(mesh: &'m QuadMesh) -> Result<Scene<'m>, String> {
+        let topology = Topology::build(mesh).map_err(|e| e.to_string())?;
+        let (lo, hi) = mesh.positions.iter().fold(
+            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |(lo, hi), p| {
+                (
+                    [0, 1, 2].map(|c| lo[c].min(p[c])),
+                    [0, 1, 2].map(|c| hi[c].max(p[c])),
+                )
+            },
+        );
+        let centre = [0, 1, 2].map(|c| 0.5 * (lo[c] + hi[c]));
+        let radius = mesh
+            .positions
+            .iter()
+            .map(|&p| surface::dot(surface::sub(p, centre), surface::sub(p, centre)))
+            .fold(0.0, f64::max)
+            .sqrt();
+        if !(radius > 0.0 && radius.is_finite()) {
+            return Err(format!(
+                "the mesh has no extent to draw (bounding radius {radius})"
+            ));
+        }
+        let oriented = surface::orient(mesh, &topology);
+        Ok(Scene {
+            mesh,
+            topology,
+            oriented,
+            centre,
+            radius,
+        })
+    }
+
+    /// Every component could be oriented (else the sign of the mean curvature flips across a
+    /// seam).
+    pub fn orientable(&self) -> bool {
+        self.oriented.orientable
+    }
+
+    /// Draws the picture.
+    pub fn render(&self, opts: &Options) -> Result<Rendered, String> {
+        let s = supersampling(opts.width, opts.height);
+        let (w, h) = (opts.width * s, opts.height * s);
+        // The curvature legend gets a strip at the right; the picture is framed beside it.
+        let legend = opts.shading == Shading::Curvature && legend::fits(opts.width, opts.height);
+        let viewport = w - if legend { legend::WIDTH * s } else { 0 };
+        let camera = Camera::new(&opts.view, self.centre, self.radius, viewport, h)?;
+        let mut frame = Frame::new(w, h);
+        let projected = Projected::new(self.mesh, &camera);
+        for (f, face) in self.mesh.faces.iter().enumerate() {
+            for (k, tri) in [[0, 1, 2], [0, 2, 3]].iter().enumerate() {
+                projected.triangle(
+                    &mut frame,
+                    (2 * f + k) as u32,
+                    tri.map(|c| face[c] as usize),
+                );
+            }
+        }
+        if opts.wireframe {
+            self.wireframe(&projected, &mut frame, s);
+        }
+        let (values, range) = if opts.shading == Shading::Curvature {
+            let h = curvature::mean_curvature(self.mesh, &self.topology, &self.oriented.normals);
+            let range = curvature::range(&self.seen(&frame, &h), opts.curvature_range);
+            (Some(h), Some(range))
+        } else {
+            (None, None)
+        };
+        let shader = shade::Shader {
+            mesh: self.mesh,
+            normals: &self.oriented.normals,
+            curvature: values.as_deref().zip(range.map(|r| r.span)),
+            camera: &camera,
+            shading: opts.shading,
+        };
+        let mut image = shader.resolve(&frame, s);
+        if let (true, Some(r)) = (legend, &range) {
+            legend::bar(&mut image, r.span);
+        }
+        Ok(Rendered {
+            image,
+            curvature: range,
+        })
+    }
+
+    /// The values at the vertices of the faces seen in `frame`, each vertex once.
+    fn seen(&self, frame: &Frame, values: &[f64]) -> Vec<f64> {
+        let mut face = vec![false; self.mesh.faces.len()];
+        for &t in &frame.triangle {
+            if t != EMPTY {
+                face[(t / 2) as usize] = true;
+            }
+        }
+        let mut vertex = vec![false; values.len()];
+        for (f, _) in face.iter().enumerate().filter(|(_, &seen)| seen) {
+            for &v in &self.mesh.faces[f] {
+                vertex[v as usize] = true;
+            }
+        }
+        values
+            .iter()
+            .zip(vertex)
+            .filter(|(_, seen)| *seen)
+            .map(|(&h, _)| h)
+            .collect()
+    }
+
+    /// Marks the quad edges, one pixel wide. A sample shows the line unless a surface other than
+    /// the edge's two faces is in front of it by more than a small depth offset (0.2 % of the
+    /// depth), which keeps lines whole over their own faces at grazing angles.
+    fn wireframe(&self, projected: &Projected, frame: &mut Frame, s: usize) {
+        for e in 0..self.topology.edge_count() as u32 {
+            let [a, b] = self.topology.edge_vertices(e);
+            let faces = self.topology.edge_faces(e).map(|(f, _)| f);
+            let visible = |t: u32, surface: f32, line: f64| {
+                t == EMPTY || faces.contains(&(t / 2)) || line >= f64::from(surface) * 0.998
+            };
+            if let Some((pa, pb)) = projected.segment(a as usize, b as usize) {
+                frame.line(pa, pb, s, visible);
+            }
+        }
+    }
+}
+
+/// The mesh's vertices in camera space, which clipping planes each is outside, and the
+/// projections of those inside all of them.
+struct Projected<'c> {
+    camera: &'c Camera,
+    planes: [[f64; 4]; 5],
+    view: Vec<[f64; 3]>,
+    outside: Vec<u8>,
+}
+
+impl<'c> Projected<'c> {
+    fn new(mesh: &QuadMesh, camera: &'c Camera) -> Projected<'c> {
+        let planes = camera.planes();
+        let view: Vec<[f64; 3]> = mesh
+            .positions
+            .par_iter()
+            .map(|&p| camera.to_view(p))
+            .collect();
+        let outside = view
+            .par_iter()
+            .map(|&v| {
+                planes
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, pl)| plane_value(pl, v) < 0.0)
+                    .fold(0u8, |m, (i, _)| m | 1 << i)
+            })
+            .collect();
+        Projected {
+            camera,
+            planes,
+            view,
+            outside,
+        }
+    }
+
+    fn vertex(&self, p: [f64; 3], bary: [f64; 3]) -> Vertex {
+        let [x, y] = self.camera.project(p);
+        Vertex {
+            x,
+            y,
+            inv_depth: 1.0 / p[2],
+            bary,
+        }
+    }
+
+    /// Draws the triangle with vertices `v`, clipped.
+    fn triangle(&self, frame: &mut Frame, id: u32, v: [usize; 3]) {
+        let codes = v.map(|i| self.outside[i]);
+        if codes[0] & codes[1] & codes[2] != 0 {
+            return; // wholly outside one plane
+        }
+        let unit = |c: usize| {
+            let mut b = [0.0; 3];
+            b[c] = 1.0;
+            b
+        };
+        if codes == [0; 3] {
+            frame.triangle(id, [0, 1, 2].map(|c| self.vertex(self.view[v[c]], unit(c))));
+            return;
+        }
+        let mut poly: Vec<ClipVertex> = (0..3)
+            .map(|c| ClipVertex {
+                p: self.view[v[c]],
+                bary: unit(c),
+            })
+            .collect();
+        clip(&mut poly, &self.planes);
+        let fan: Vec<Vertex> = poly.iter().map(|c| self.vertex(c.p, c.bary)).collect();
+        for i in 1..fan.len().saturating_sub(1) {
+            frame.triangle(id, [fan[0], fan[i], fan[i + 1]]);
+        }
+    }
+
+    /// The visible part of the segment between two vertices, projected.
+    fn segment(&self, a: usize, b: usize) -> Option<(Vertex, Vertex)> {
+        if self.outside[a] & self.outside[b] != 0 {
+            return None;
+        }
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        let (pa, pb) = (self.view[a], self.view[b]);
+        for pl in &self.planes {
+            let (da, db) = (plane_value(pl, pa), plane_value(pl, pb));
+            if da < 0.0 && db < 0.0 {
+                return None;
+            }
+            if da < 0.0 {
+                t0 = t0.max(da / (da - db));
+            } else if db < 0.0 {
+                t1 = t1.min(da / (da - db));
+            }
+        }
+        if t0 > t1 {
+            return None;
+        }
+        let at = |t: f64| [0, 1, 2].map(|c| pa[c] + t * (pb[c] - pa[c]));
+        Some((self.vertex(at(t0), [0.0; 3]), self.vertex(at(t1), [0.0; 3])))
+    }
+}
