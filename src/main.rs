@@ -1057,7 +1057,8 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
     use lsubdiv::render::{self, camera::View, image::Format};
     let out_name = a.output.display().to_string();
     let format = Format::of(&a.output).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
-    let (width, height) = render::parse_size(&a.size).map_err(|e| bad(format!("error: {e}")))?;
+    let (width, height) = lsubdiv::picture::parse_size(&a.size).map_err(bad)?;
+    let (width, height) = (width as usize, height as usize);
     let numbers = |flag: &str, text: &str, n| {
         render::parse_numbers(flag, text, n).map_err(|e| bad(format!("error: {e}")))
     };

@@ -248,8 +248,8 @@ impl Picture {
         )
     }
 
-    /// The picture rasterised to PNG (resvg, text in the embedded font).
-    pub fn png(&self) -> Result<Vec<u8>, String> {
+    /// The picture rasterised by resvg (text in the embedded font): premultiplied RGBA.
+    pub fn pixmap(&self) -> Result<resvg::tiny_skia::Pixmap, String> {
         use resvg::{tiny_skia, usvg};
         let mut opt = usvg::Options {
             font_family: FONT.into(),
@@ -262,7 +262,12 @@ impl Picture {
         let mut pixmap = tiny_skia::Pixmap::new(self.width, self.height)
             .ok_or_else(|| format!("cannot allocate a {}x{} image", self.width, self.height))?;
         resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
-        pixmap
+        Ok(pixmap)
+    }
+
+    /// The picture rasterised to PNG.
+    pub fn png(&self) -> Result<Vec<u8>, String> {
+        self.pixmap()?
             .encode_png()
             .map_err(|e| format!("internal error: PNG encoding failed: {e}"))
     }

@@ -1,60 +1,9 @@
-//! The colour bar of the curvature map, labelled with its range in a 3 × 5 pixel font.
+//! The colour bar of the curvature map, labelled with its range: drawn by the picture layer
+//! (SVG rasterised by resvg, text in the embedded DejaVu Sans) and copied into the image.
 
 use super::curvature::colour;
 use super::image::Image;
-
-/// Glyph rows, 3 bits each (the high bit is the left column), top row first.
-fn glyph(c: char) -> Option<[u8; 5]> {
-    Some(match c {
-        '0' => [7, 5, 5, 5, 7],
-        '1' => [2, 6, 2, 2, 7],
-        '2' => [7, 1, 7, 4, 7],
-        '3' => [7, 1, 7, 1, 7],
-        '4' => [5, 5, 7, 1, 1],
-        '5' => [7, 4, 7, 1, 7],
-        '6' => [7, 4, 7, 5, 7],
-        '7' => [7, 1, 1, 1, 1],
-        '8' => [7, 5, 7, 5, 7],
-        '9' => [7, 5, 7, 1, 7],
-        '.' => [0, 0, 0, 0, 2],
-        '-' => [0, 0, 7, 0, 0],
-        '+' => [0, 2, 7, 2, 0],
-        'e' => [2, 5, 7, 4, 3],
-        'H' => [5, 5, 7, 5, 5],
-        _ => return None,
-    })
-}
-
-/// Pixels per font pixel.
-const SCALE: usize = 2;
-/// Width of one character cell, spacing included.
-const ADVANCE: usize = 4 * SCALE;
-
-fn put(img: &mut Image, x: usize, y: usize, c: [u8; 3]) {
-    if x < img.width && y < img.height {
-        img.pixels[y * img.width + x] = c;
-    }
-}
-
-/// Draws `text` with its top right corner at (right, top).
-fn text(img: &mut Image, text: &str, right: usize, top: usize) {
-    let left = right.saturating_sub(text.chars().count() * ADVANCE);
-    for (i, c) in text.chars().enumerate() {
-        let Some(rows) = glyph(c) else { continue };
-        for (r, bits) in rows.iter().enumerate() {
-            for col in 0..3 {
-                if bits >> (2 - col) & 1 == 1 {
-                    for dy in 0..SCALE {
-                        for dx in 0..SCALE {
-                            let x = left + i * ADVANCE + col * SCALE + dx;
-                            put(img, x, top + r * SCALE + dy, [0, 0, 0]);
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
+use crate::picture::{Anchor, Picture, Style};
 
 /// A number in at most three significant digits: `1.83`, `0.0421`, `125`, `1.83e-5`.
 pub fn label(x: f64) -> String {
@@ -78,32 +27,62 @@ pub fn fits(width: usize, height: usize) -> bool {
     width >= 2 * WIDTH && height >= 64
 }
 
-/// A vertical colour bar in the right [`WIDTH`] pixels, +span at the top, −span at the bottom,
-/// labelled.
-pub fn bar(img: &mut Image, span: f64) {
+/// Hex colour of a curvature in [−1, 1] on the map's scale.
+fn hex(t: f64) -> String {
+    let [r, g, b] = colour(t).map(|c| (c * 255.0).round() as u8);
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// The bar as a picture [`WIDTH`] wide and `height` high: +span at the top, −span at the
+/// bottom, labelled.
+fn picture(height: usize, span: f64) -> Picture {
+    let mut p = Picture::new(WIDTH as u32, height as u32);
+    let (x0, x1) = (WIDTH as f64 - 30.0, WIDTH as f64 - 16.0);
+    let (y0, y1) = ((height / 5) as f64, (height - height / 5) as f64);
+    let rows = (y1 - y0).round() as usize;
+    for i in 0..rows {
+        let t = 1.0 - 2.0 * (i as f64 + 0.5) / rows as f64;
+        let y = y0 + i as f64;
+        p.rect([x0, y], [x1 - x0, 1.0], &Style::fill(&hex(t)), "");
+    }
+    p.rect(
+        [x0, y0],
+        [x1 - x0, y1 - y0],
+        &Style::stroke("black", 1.0),
+        "",
+    );
+    let right = x0 - 4.0;
+    p.text(
+        [(x0 + x1) / 2.0, y0 - 8.0],
+        "H",
+        12.0,
+        Anchor::Middle,
+        "black",
+    );
+    for (y, text) in [
+        (y0, format!("+{}", label(span))),
+        ((y0 + y1) / 2.0, "0".to_string()),
+        (y1, label(-span)),
+    ] {
+        p.text([right, y + 4.0], &text, 11.0, Anchor::End, "black");
+    }
+    p
+}
+
+/// Draws the bar into the right [`WIDTH`] pixels of `img` (nothing if it does not fit).
+pub fn bar(img: &mut Image, span: f64) -> Result<(), String> {
     let (w, h) = (img.width, img.height);
     if !fits(w, h) {
-        return;
+        return Ok(());
     }
-    for y in 0..h {
-        img.pixels[y * w + w - WIDTH..(y + 1) * w].fill([255; 3]);
-    }
-    let (x0, x1) = (w - 30, w - 16);
-    let (y0, y1) = (h / 5, h - h / 5);
-    for y in y0..=y1 {
-        let t = 1.0 - 2.0 * (y - y0) as f64 / (y1 - y0) as f64;
-        let c = colour(t).map(|c| (c * 255.0).round() as u8);
-        for x in x0..=x1 {
-            let frame = y == y0 || y == y1 || x == x0 || x == x1;
-            put(img, x, y, if frame { [0, 0, 0] } else { c });
+    let pixmap = picture(h, span).pixmap()?;
+    // The picture's background is opaque white, so its premultiplied pixels are the colours.
+    for (y, row) in pixmap.pixels().chunks_exact(WIDTH).enumerate() {
+        for (x, px) in row.iter().enumerate() {
+            img.pixels[y * w + w - WIDTH + x] = [px.red(), px.green(), px.blue()];
         }
     }
-    let right = x0 - 4;
-    let glyph_height = 5 * SCALE;
-    text(img, "H", x1 - 3, y0 - glyph_height - 6);
-    text(img, &format!("+{}", label(span)), right, y0);
-    text(img, "0", right, (y0 + y1 - glyph_height) / 2);
-    text(img, &label(-span), right, y1 + 1 - glyph_height);
+    Ok(())
 }
 
 #[cfg(test)]
@@ -111,14 +90,33 @@ mod tests {
     use super::*;
 
     #[test]
-    fn labels_have_three_significant_digits_and_only_drawable_characters() {
+    fn labels_have_three_significant_digits() {
         assert_eq!(label(1.8349), "1.83");
         assert_eq!(label(-0.042149), "-0.0421");
         assert_eq!(label(125.4), "125");
         assert_eq!(label(0.0000183), "1.83e-5");
         assert_eq!(label(25000.0), "2.50e4");
-        for x in [1.8349, -0.042149, 0.0000183, 2.5e4, 7.0] {
-            assert!(label(x).chars().all(|c| glyph(c).is_some()), "{x}");
-        }
+    }
+
+    #[test]
+    fn the_bar_runs_from_red_at_the_top_to_blue_at_the_bottom_with_text() {
+        let mut img = Image {
+            width: 300,
+            height: 200,
+            pixels: vec![[7; 3]; 300 * 200],
+        };
+        bar(&mut img, 1.5).unwrap();
+        let at = |x: usize, y: usize| img.pixels[y * 300 + x];
+        let x = 300 - 23;
+        let (top, bottom) = (at(x, 200 / 5 + 2), at(x, 200 - 200 / 5 - 2));
+        assert!(top[0] > 200 && top[2] < 80, "{top:?}");
+        assert!(bottom[2] > 200 && bottom[0] < 80, "{bottom:?}");
+        assert_eq!(at(0, 0), [7; 3], "the picture part is left alone");
+        // The labels left of the bar put dark pixels on the white strip.
+        let dark = (200..270)
+            .flat_map(|x| (0..200).map(move |y| (x, y)))
+            .filter(|&(x, y)| at(x, y)[0] < 100)
+            .count();
+        assert!(dark > 20, "{dark} dark label pixels");
     }
 }

@@ -69,25 +69,6 @@ pub struct Scene<'m> {
     radius: f64,
 }
 
-/// Largest image side accepted.
-pub const MAX_SIDE: usize = 8192;
-
-/// Parses `WxH` (e.g. `800x600`), each side 16 to [`MAX_SIDE`].
-pub fn parse_size(text: &str) -> Result<(usize, usize), String> {
-    let fail = || {
-        format!("--size `{text}`: expected WIDTHxHEIGHT with sides 16 to {MAX_SIDE}, e.g. 800x600")
-    };
-    let (w, h) = text.split_once(['x', 'X']).ok_or_else(fail)?;
-    let side = |s: &str| {
-        s.trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|n| (16..=MAX_SIDE).contains(n))
-            .ok_or_else(fail)
-    };
-    Ok((side(w)?, side(h)?))
-}
-
 /// Parses `n` comma-separated finite numbers.
 pub fn parse_numbers(
     flag: &str,
@@ -200,7 +181,7 @@ impl<'m> Scene<'m> {
         };
         let mut image = shader.resolve(&frame, s);
         if let (true, Some(r)) = (legend, &range) {
-            legend::bar(&mut image, r.span);
+            legend::bar(&mut image, r.span)?;
         }
         Ok(Rendered {
             image,
