@@ -20,6 +20,7 @@ pub mod limits;
 pub mod picture;
 pub mod plot;
 pub mod points;
+pub mod progress;
 pub mod render;
 pub mod report;
 pub mod tables;

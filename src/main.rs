@@ -534,10 +534,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                 limit,
                 degree,
             };
-            let bar = indicatif::ProgressBar::new(0).with_style(
-                indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rule sets ({eta})")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
+            let bar = lsubdiv::progress::bar(0, "rule sets");
             let found = lsubdiv_compiler::explore::search(&opts, &|done, total| {
                 bar.set_length(total);
                 bar.set_position(done);
@@ -689,10 +686,13 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             check_output(&output)?;
             let r = load(&scheme, degree)?;
             let in_name = input.display().to_string();
+            let stages = lsubdiv::progress::Stages::new(3);
+            stages.next(format!("reading {in_name}"));
             let text = std::fs::read_to_string(&input)
                 .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
             let pts = points::parse(&in_name, &text).map_err(bad)?;
             drop(text);
+            stages.next(format!("refining: {steps} steps of {}", r.ls.name));
             let job = CurveJob {
                 what: format!("{steps} steps of {} on {in_name}", r.ls.name),
                 closed,
@@ -705,6 +705,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                 Points::D2(p) => points::format(&refine_cli(&r, p, job)?),
                 Points::D3(p) => points::format(&refine_cli(&r, p, job)?),
             };
+            stages.next(format!("writing {}", output.display()));
             write_atomic(&output, out.as_bytes())?;
             Ok(())
         }
@@ -967,8 +968,17 @@ fn subdivide(
     check_output(output)?;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
+    let stages = lsubdiv::progress::Stages::new(3);
+    stages.next(format!("reading {in_name}"));
     let m = read_mesh(input)?;
+    stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let fine = refine_mesh(&r, &m, &in_name, steps, path, threads, max_memory)?;
+    stages.next(format!(
+        "writing {} vertices, {} quads to {}",
+        fine.positions.len(),
+        fine.faces.len(),
+        output.display()
+    ));
     let bytes = if output.extension().is_some_and(|e| e == "ply") {
         mesh::to_ply(&fine)
     } else {
@@ -1092,6 +1102,8 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
             )));
         }
     }
+    let stages = lsubdiv::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
+    stages.next(format!("reading {}", a.mesh));
     let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
         lsubdiv::bench::mesh(&a.mesh).map_err(|e| bad(format!("error: {e}")))?
     } else {
@@ -1100,6 +1112,7 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
     let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
     let mesh = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
+            stages.next(format!("refining: {steps} steps of {scheme}"));
             let threads = a.threads.unwrap_or_else(|| {
                 std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
             });
@@ -1115,6 +1128,7 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
         }
         _ => mesh,
     };
+    stages.next(format!("drawing {} quads", mesh.faces.len()));
     let scene = render::Scene::new(&mesh).map_err(scene_error)?;
     let opts = render::Options {
         width,
@@ -1129,9 +1143,9 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
         .map_err(|e| bad(format!("error: {e}")))?;
     if let Some(r) = rendered.curvature {
         if !scene.orientable() {
-            eprintln!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh);
+            stages.note(&format!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh));
         }
-        eprintln!(
+        stages.note(&format!(
             "mean curvature H in view from {:.4} to {:.4}; colours span ±{:.4} ({})",
             r.min,
             r.max,
@@ -1141,12 +1155,13 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
             } else {
                 "--curvature-range"
             }
-        );
+        ));
     }
     let bytes = rendered.image.encode(format).map_err(|e| Failure {
         code: 1,
         message: format!("internal error: {e}"),
     })?;
+    stages.next(format!("writing {out_name}"));
     lsubdiv::runtime::mesh::write_atomic(&a.output, &bytes)
         .map_err(|e| bad(format!("{out_name}: error: {e}")))?;
     Ok(())

@@ -396,3 +396,46 @@ fn bench_json_has_the_documented_fields() {
         assert!(v["phase_seconds"][phase].as_f64().unwrap() >= 0.0);
     }
 }
+
+/// Long runs show their stages on a terminal (here a pseudo-terminal made by `script`, from
+/// util-linux) and nothing when stderr is a pipe.
+#[test]
+fn progress_shows_on_a_terminal_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "cube.obj", CUBE);
+    let out = dir.path().join("out.obj").display().to_string();
+    let args = [
+        "subdivide",
+        "binary-ternary",
+        "--steps",
+        "3",
+        &input,
+        "-o",
+        &out,
+    ];
+    let o = lsubdiv(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        !e.contains("refining") && !e.contains('\x1b'),
+        "no progress on a pipe: {e}"
+    );
+    let script = Path::new("/usr/bin/script");
+    if !script.exists() {
+        eprintln!("no /usr/bin/script: the terminal half of this test did not run");
+        return;
+    }
+    let command = std::iter::once(env!("CARGO_BIN_EXE_lsubdiv"))
+        .chain(args)
+        .collect::<Vec<_>>()
+        .join(" ");
+    let o = Command::new(script)
+        .args(["-qec", &command, "/dev/null"])
+        .output()
+        .expect("runs script");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let shown = String::from_utf8_lossy(&o.stdout);
+    for stage in ["reading", "refining: 3 steps of binary-ternary", "writing"] {
+        assert!(shown.contains(stage), "{stage} missing from {shown:?}");
+    }
+}
