@@ -1,25 +1,11 @@
 //! Bad input as a user meets it on the command line: every diagnostic names its place, says
 //! what is wrong and how to fix it, and exits with status 2; nothing panics.
 
+mod common;
+
+use common::cli::{lsubdiv, stderr, write};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn lsubdiv(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.display().to_string()
-}
+use std::process::Command;
 
 const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
 

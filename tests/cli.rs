@@ -1,25 +1,11 @@
 //! The command line as a user runs it: JSON shape, errors with places and exit status 2,
 //! point files in and out, DOT and codegen outputs.
 
+mod common;
+
+use common::cli::{lsubdiv, stderr, write};
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn lsubdiv(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.display().to_string()
-}
 
 #[test]
 fn inspect_json_has_the_documented_fields() {

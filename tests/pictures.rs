@@ -2,20 +2,16 @@
 //! each writes a non-empty, decodable image of the requested size whose content matches the
 //! scheme; bad arguments exit 2. And the characteristic map's numbers against closed forms.
 
+mod common;
+
+use common::cli::lsubdiv;
 use lsubdiv::compiler::generic::{GenericScheme, GenericSurface};
 use lsubdiv::compiler::Scheme;
 use lsubdiv::{Curve, CurveScheme};
 use resvg::usvg;
 use std::collections::BTreeSet;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn lsubdiv(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+use std::process::Output;
 
 fn ok(o: &Output) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

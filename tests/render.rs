@@ -2,21 +2,12 @@
 //! size showing the object; the curvature map is uniform on a sphere and changes sign on a fat
 //! torus; bad arguments exit 2 without writing anything.
 
+mod common;
+
+use common::cli::{lsubdiv, stderr};
 use lsubdiv::runtime::generators::{cube, torus};
 use lsubdiv::runtime::mesh::{to_obj, QuadMesh};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn lsubdiv(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A decoded RGB image.
 struct Picture {
