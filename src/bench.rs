@@ -11,6 +11,10 @@ use lsubdiv_compiler::generic::GenericSurface;
 use lsubdiv_compiler::Scheme;
 use std::time::Instant;
 
+/// Faces of the largest built-in torus (about 0.7 GB of mesh): larger ones are refused
+/// instead of failing to allocate.
+pub const MAX_TORUS_FACES: usize = 1 << 24;
+
 /// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ file.
 pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
     let parts: Vec<&str> = spec.split(':').collect();
@@ -22,7 +26,11 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
                     .filter(|&n| (3..=100_000).contains(&n))
             };
             match (p(r), p(c)) {
-                (Some(r), Some(c)) => Ok(torus(r, c)),
+                (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => Ok(torus(r, c)),
+                (Some(r), Some(c)) => Err(format!(
+                    "error: `{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
+                    r * c
+                )),
                 _ => Err(format!(
                     "error: `{spec}`: torus sizes are integers from 3 to 100000"
                 )),

@@ -917,6 +917,14 @@ fn charmap(
             "error: --characteristic-map draws one valence; --valence {valence} is a range"
         )));
     }
+    // The power iteration's net grows with n (about 0.4 s per valence unit in debug builds);
+    // beyond this the picture's n-fold sectors are thinner than its lines anyway.
+    const MAX_MAP_VALENCE: usize = 100;
+    if n > MAX_MAP_VALENCE {
+        return Err(bad(format!(
+            "error: --characteristic-map draws valences 3 to {MAX_MAP_VALENCE}; --valence {n} is beyond"
+        )));
+    }
     let s = build(&load(scheme, None)?)?;
     let name = s.ls.name.clone();
     let rho = s.analysis.rho.to_f64();
@@ -1105,7 +1113,7 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
     let stages = lsubdiv::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
     let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
-        lsubdiv::bench::mesh(&a.mesh).map_err(|e| bad(format!("error: {e}")))?
+        lsubdiv::bench::mesh(&a.mesh).map_err(bad)?
     } else {
         read_mesh(std::path::Path::new(&a.mesh))?
     };

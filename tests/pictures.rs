@@ -307,6 +307,18 @@ fn bad_picture_arguments_exit_2_with_a_message() {
         ),
         (
             vec![
+                "ev".into(),
+                "binary-ternary".into(),
+                "--valence".into(),
+                "200".into(),
+                "--characteristic-map".into(),
+                "-o".into(),
+                out("a.svg"),
+            ],
+            "valences 3 to 100",
+        ),
+        (
+            vec![
                 "plot".into(),
                 "fibonacci".into(),
                 "-o".into(),

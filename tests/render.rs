@@ -240,6 +240,10 @@ fn ppm_output_and_bad_arguments() {
         ),
         (vec!["cube", "-o", out, "--camera", "30"], "--camera `30`"),
         (
+            vec!["torus:100000:100000", "-o", out],
+            "built-in tori have at most 16777216",
+        ),
+        (
             vec!["cube", "-o", out, "--camera", "0,120"],
             "elevation 120",
         ),
