@@ -73,15 +73,8 @@ enum Command {
         /// Output points, full f64 precision.
         #[arg(short, long)]
         output: std::path::PathBuf,
-        /// The polygon is closed (cyclic).
-        #[arg(long)]
-        closed: bool,
-        /// Interval labels (a word: m + d symbols for an open polygon of m points, m if closed);
-        /// default: the axiom repeated from the first interval on.
-        #[arg(long)]
-        labels: Option<String>,
-        #[arg(long)]
-        degree: Option<usize>,
+        #[command(flatten)]
+        polygon: PolygonArgs,
         /// Which implementation refines: the generated kernels of a shipped scheme, the generic
         /// table-driven path, or `auto` (generated when available).
         #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
@@ -102,14 +95,8 @@ enum Command {
         /// Output picture: `.svg` or `.png` (written whole or not at all).
         #[arg(short, long)]
         output: std::path::PathBuf,
-        /// The input polygon is closed (cyclic).
-        #[arg(long)]
-        closed: bool,
-        /// Interval labels, as for `curve`.
-        #[arg(long)]
-        labels: Option<String>,
-        #[arg(long)]
-        degree: Option<usize>,
+        #[command(flatten)]
+        polygon: PolygonArgs,
         /// Picture size in pixels, WxH.
         #[arg(long, default_value = "800x600")]
         size: String,
@@ -253,6 +240,21 @@ enum PathChoice {
     Auto,
     Generated,
     Generic,
+}
+
+/// How `curve` and `plot` read a polygon: open or closed, its labels, the scheme's degree.
+#[derive(clap::Args)]
+struct PolygonArgs {
+    /// The polygon is closed (cyclic).
+    #[arg(long)]
+    closed: bool,
+    /// Interval labels (a word: m + d symbols for an open polygon of m points, m if closed);
+    /// default: the axiom repeated from the first interval on.
+    #[arg(long)]
+    labels: Option<String>,
+    /// Override the scheme's degree.
+    #[arg(long)]
+    degree: Option<usize>,
 }
 
 /// `--max-memory`, for the commands that refine.
@@ -658,28 +660,20 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             steps,
             input,
             output,
-            closed,
-            labels,
-            degree,
+            polygon,
             size,
-        }) => plot(
-            &scheme,
-            steps,
-            input.as_deref(),
-            &output,
-            closed,
-            labels,
-            degree,
-            &size,
-        ),
+        }) => plot(&scheme, steps, input.as_deref(), &output, polygon, &size),
         Some(Command::Curve {
             scheme,
             steps,
             input,
             output,
-            closed,
-            labels,
-            degree,
+            polygon:
+                PolygonArgs {
+                    closed,
+                    labels,
+                    degree,
+                },
             path,
             limit,
         }) => {
@@ -784,12 +778,15 @@ fn plot(
     steps: usize,
     input: Option<&std::path::Path>,
     output: &std::path::Path,
-    closed: bool,
-    labels: Option<String>,
-    degree: Option<usize>,
+    polygon: PolygonArgs,
     size: &str,
 ) -> Result<(), Failure> {
     use lsubdiv::picture;
+    let PolygonArgs {
+        closed,
+        labels,
+        degree,
+    } = polygon;
     picture::format_of(output).map_err(bad)?;
     let size = picture::parse_size(size).map_err(bad)?;
     if steps > 12 {
