@@ -14,6 +14,7 @@ pub use lsubdiv_runtime::{
 };
 
 pub mod bench;
+pub mod fuzzing;
 pub mod points;
 pub mod report;
 pub mod tables;
