@@ -186,7 +186,8 @@ impl SmallSystem {
     }
 
     /// Draws a system with 1..=`symbols` symbols, rules of length 1..=`rule_len`, degree
-    /// 1..=`degree`, an axiom of length 1..=3, made symmetric half of the time.
+    /// 1..=`degree`, an axiom of length 1..=3, made symmetric half of the time. One draw in
+    /// three aims at the surface conditions (\[G\] §4): degree 3, a one-symbol axiom, symmetric.
     pub fn draw(
         u: &mut Unstructured<'_>,
         symbols: usize,
@@ -194,7 +195,12 @@ impl SmallSystem {
         degree: usize,
     ) -> arbitrary::Result<SmallSystem> {
         let n = u.int_in_range(1..=symbols)?;
-        let degree = u.int_in_range(1..=degree)?;
+        let surface = u.ratio(1u8, 3)?;
+        let degree = if surface {
+            3
+        } else {
+            u.int_in_range(1..=degree)?
+        };
         let word = |u: &mut Unstructured<'_>, max: usize| -> arbitrary::Result<Vec<u8>> {
             let len = u.int_in_range(1..=max)?;
             (0..len).map(|_| u.int_in_range(0..=n as u8 - 1)).collect()
@@ -202,14 +208,14 @@ impl SmallSystem {
         let rules = (0..n)
             .map(|_| word(u, rule_len))
             .collect::<arbitrary::Result<_>>()?;
-        let axiom = word(u, 3)?;
+        let axiom = word(u, if surface { 1 } else { 3 })?;
         let s = SmallSystem {
             degree,
             rules,
             axiom,
             sigma: None,
         };
-        Ok(if bool::arbitrary(u)? {
+        Ok(if surface || bool::arbitrary(u)? {
             let picks = (0..n)
                 .map(|_| u.int_in_range(0..=n - 1))
                 .collect::<arbitrary::Result<Vec<_>>>()?;

@@ -8,7 +8,7 @@ use common::spline::spline_distance;
 use lsubdiv::compiler::field::Elem;
 use lsubdiv::compiler::generic::GenericScheme;
 use lsubdiv::compiler::lsystem::LSystem;
-use lsubdiv::compiler::symmetry::check_symmetry;
+use lsubdiv::compiler::symmetry::{check_symmetry, involutions, is_symmetry};
 use lsubdiv::compiler::{scheme, validity, Scheme};
 use lsubdiv::fuzzing::{involution, SmallSystem};
 use lsubdiv::{Curve, CurveScheme};
@@ -230,6 +230,43 @@ proptest! {
     fn random_symmetric_systems(c in cases(1.0)) {
         mirror_symmetry(&c)?;
         partition_of_unity(&c)?;
+    }
+}
+
+/// Every involution of 0..n (brute force, for checking the search).
+fn all_involutions(n: usize) -> Vec<Vec<u8>> {
+    fn extend(sigma: &mut Vec<Option<u8>>, out: &mut Vec<Vec<u8>>) {
+        let Some(a) = sigma.iter().position(Option::is_none) else {
+            out.push(sigma.iter().map(|s| s.expect("set")).collect());
+            return;
+        };
+        for b in a..sigma.len() {
+            if sigma[b].is_none() {
+                (sigma[a], sigma[b]) = (Some(b as u8), Some(a as u8));
+                extend(sigma, out);
+                (sigma[a], sigma[b]) = (None, None);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    extend(&mut vec![None; n], &mut out);
+    out.sort();
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// The involution search (constraint propagation) finds exactly the involutions that make
+    /// the system symmetric, valid or not, in lexicographic order.
+    #[test]
+    fn involution_search_finds_every_symmetry(s in systems(0.5)) {
+        let ls = scheme::parse("small.toml", &s.to_toml()).expect("generated text parses");
+        let expect: Vec<Vec<u8>> = all_involutions(ls.n())
+            .into_iter()
+            .filter(|sigma| is_symmetry(&ls, sigma))
+            .collect();
+        prop_assert_eq!(involutions(&ls), expect);
     }
 }
 
