@@ -7,7 +7,7 @@
 //! invariant that fails is a bug and panics, so the fuzzer reports it.
 
 use crate::compiler::generic::{GenericScheme, GenericSurface};
-use crate::compiler::{scheme, validity, Error, Scheme};
+use crate::compiler::{scheme, symmetry, validity, Error, Scheme};
 use crate::runtime::mesh::parse_obj;
 use crate::runtime::topology::Topology;
 use crate::runtime::{generators, patch};
@@ -38,11 +38,20 @@ fn scheme_error(e: Error, text: &str) -> String {
     shown
 }
 
-/// Scheme text → [`scheme::parse`] → [`validity::analyse`]: errors name the file and a line of
-/// the text, and a valid system's lengths are positive.
+/// Scheme text → [`scheme::parse`] → [`symmetry::involutions`] → [`validity::analyse`]: errors
+/// name the file and a line of the text, the involutions found make the system symmetric and
+/// include a declared σ that does, and a valid system's lengths are positive.
 pub fn check_scheme(data: &[u8]) -> Outcome {
     let text = std::str::from_utf8(data).map_err(|e| e.to_string())?;
     let ls = scheme::parse(SCHEME_FILE, text).map_err(|e| scheme_error(e, text))?;
+    let found = symmetry::involutions(&ls);
+    assert!(found.iter().all(|s| symmetry::is_symmetry(&ls, s)));
+    if let Some(sigma) = &ls.symmetry {
+        let complete = found.len() < symmetry::MAX_INVOLUTIONS;
+        if complete && symmetry::is_symmetry(&ls, sigma) {
+            assert!(found.contains(sigma), "declared σ not found");
+        }
+    }
     if ls.n() > MAX_ANALYSED_SYMBOLS {
         return Err(format!("{} symbols: analysis not fuzzed", ls.n()));
     }
