@@ -128,13 +128,13 @@ fn partition_of_unity(c: &Case) -> Result<(), TestCaseError> {
     let total = offsets[len];
     let field = &s.analysis.field;
     let mut sums = vec![Elem::zero(field); total];
-    for k in 0..len {
+    for (k, &start) in offsets[..len].iter().enumerate() {
         let w: Vec<u8> = (k..=k + d).map(|i| u[i % len]).collect();
         let m = s.mask_of(&w);
         let image: usize = w.iter().map(|&a| s.ls.rules[a as usize].len()).sum();
         prop_assert_eq!(m.contributions.len(), image - d);
         for (j, c) in m.contributions.iter().enumerate() {
-            let l = (offsets[k] + j) % total;
+            let l = (start + j) % total;
             sums[l] = sums[l].add(&c.weight);
         }
     }

@@ -57,7 +57,7 @@ pub fn involutions(ls: &LSystem) -> Vec<Vec<Sym>> {
     let w = &ls.axiom;
     let forced = (0..w.len()).map(|i| (w[w.len() - 1 - i] as usize, w[i] as usize));
     if assign(ls, &mut sigma, forced) {
-        search(ls, &mut sigma, &mut out);
+        search(ls, &sigma, &mut out);
     }
     out
 }
@@ -93,7 +93,7 @@ fn assign(
 /// Backtracking over involutions in lexicographic order: the first unassigned symbol is fixed or
 /// paired with a later unassigned one, and the constraints this forces are propagated
 /// ([`assign`]), so a choice fixes σ on everything its rules reach and dead branches end early.
-fn search(ls: &LSystem, sigma: &mut Vec<Option<Sym>>, out: &mut Vec<Vec<Sym>>) {
+fn search(ls: &LSystem, sigma: &[Option<Sym>], out: &mut Vec<Vec<Sym>>) {
     if out.len() >= MAX_INVOLUTIONS {
         return;
     }
@@ -108,9 +108,9 @@ fn search(ls: &LSystem, sigma: &mut Vec<Option<Sym>>, out: &mut Vec<Vec<Sym>>) {
         if sigma[b].is_some() {
             continue;
         }
-        let mut trial = sigma.clone();
+        let mut trial = sigma.to_vec();
         if assign(ls, &mut trial, [(a, b)]) {
-            search(ls, &mut trial, out);
+            search(ls, &trial, out);
         }
     }
 }
