@@ -16,6 +16,7 @@ use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{TestCaseError, TestRunner};
+use std::fmt;
 
 /// Random systems, symmetric with probability `symmetric` (in 0..=1). Half of them get a
 /// cycle A → B → … → A through their rules (the last symbol of π(a) becomes a + 1), which makes
@@ -63,8 +64,9 @@ fn valid(s: &SmallSystem) -> Option<LSystem> {
 }
 
 /// A valid scheme and what the properties draw for it.
-#[derive(Debug)]
 struct Case {
+    /// The scheme file (shown when a property fails).
+    text: String,
     /// The tables (the exact scheme is `generic.scheme()`), prepared for `curve`'s words.
     generic: GenericScheme,
     /// A cyclic word over the alphabet, of length d+1..=d+6.
@@ -77,16 +79,32 @@ struct Case {
     affine: ([[f64; 3]; 3], [f64; 3]),
 }
 
+impl fmt::Debug for Case {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let c = &self.curve;
+        writeln!(f, "{}", self.text)?;
+        writeln!(
+            f,
+            "word {:?}, steps {}, closed {}",
+            self.word, self.steps, c.closed
+        )?;
+        writeln!(f, "labels {:?}\npoints {:?}", c.labels, c.points)?;
+        write!(f, "affine {:?}", self.affine)
+    }
+}
+
 /// Cases over valid systems, symmetric with probability `symmetric`.
 fn cases(symmetric: f64) -> impl Strategy<Value = Case> {
     let matrix = proptest::array::uniform3(proptest::array::uniform3(-2.0..2.0f64));
     let shift = proptest::array::uniform3(-5.0..5.0f64);
     systems(symmetric)
-        .prop_filter_map("invalid or lengths undetermined", |s| valid(&s))
-        .prop_flat_map(move |ls| {
+        .prop_filter_map("invalid or lengths undetermined", |s| {
+            valid(&s).map(|ls| (s.to_toml(), ls))
+        })
+        .prop_flat_map(move |(text, ls)| {
             let (n, d) = (ls.n(), ls.degree);
             (
-                Just(ls),
+                Just((text, ls)),
                 vec(0..n as u8, d + 1..=d + 6),
                 vec(proptest::array::uniform3(-1.0..1.0f64), d + 1..=d + 5),
                 any::<bool>(),
@@ -95,8 +113,7 @@ fn cases(symmetric: f64) -> impl Strategy<Value = Case> {
                 (matrix.clone(), shift.clone()),
             )
         })
-        .prop_map(|(ls, word, points, closed, drawn, steps, affine)| {
-            let text = format!("{ls:?}");
+        .prop_map(|((text, ls), word, points, closed, drawn, steps, affine)| {
             let s = Scheme::build(ls)
                 .unwrap_or_else(|e| panic!("valid but does not compile: {e}\n{text}"));
             let mut generic = GenericScheme::new(s);
@@ -106,6 +123,7 @@ fn cases(symmetric: f64) -> impl Strategy<Value = Case> {
             }
             generic.prepare(&curve);
             Case {
+                text,
                 generic,
                 word,
                 curve,
