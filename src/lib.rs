@@ -15,6 +15,7 @@ pub use lsubdiv_runtime::{
 
 pub mod bench;
 pub mod charmap;
+pub mod fuzzing;
 pub mod graph_picture;
 pub mod limits;
 pub mod picture;

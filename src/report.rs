@@ -2,6 +2,7 @@
 
 use lsubdiv_compiler::field::Elem;
 use lsubdiv_compiler::lsystem::LSystem;
+use lsubdiv_compiler::symmetry::MAX_INVOLUTIONS;
 use lsubdiv_compiler::validity::{Analysis, LengthSource};
 use lsubdiv_compiler::Scheme;
 use serde_json::{json, Value};
@@ -43,6 +44,7 @@ fn surface_json(ls: &LSystem, scheme: Option<&Scheme>) -> Value {
                 .collect::<serde_json::Map<String, Value>>(),
             "sigma_declared": a.declared,
             "involutions": a.involutions.len(),
+            "involutions_complete": a.involutions.len() < MAX_INVOLUTIONS,
             "stationary_from": a.stationary_from,
             "contained_from": a.contained_from,
         }),
@@ -289,7 +291,7 @@ pub fn ev_text(
         .collect();
     let _ = writeln!(
         w,
-        "scheme {}: sigma {} ({}; {} involution(s) make it symmetric)",
+        "scheme {}: sigma {} ({}; {}{} involution(s) make it symmetric)",
         ls.name,
         if sigma.is_empty() {
             "identity".into()
@@ -297,6 +299,11 @@ pub fn ev_text(
             sigma.join(" ")
         },
         if a.declared { "declared" } else { "found" },
+        if a.involutions.len() >= MAX_INVOLUTIONS {
+            "at least "
+        } else {
+            ""
+        },
         a.involutions.len()
     );
     let _ = writeln!(

@@ -2,6 +2,9 @@
 //! spline on the refined knots (checked by independent de Boor evaluation), it converges to the
 //! spline, and the generic and generated paths agree bit for bit.
 
+mod common;
+
+use common::spline::{de_boor, knots_and_points, max_dist, spline_distance};
 use lsubdiv::compiler::generic::GenericScheme;
 use lsubdiv::compiler::Scheme;
 use lsubdiv::{generated, resolve, Curve, CurveError, CurveScheme};
@@ -31,88 +34,15 @@ fn generic(name: &str, degree: Option<usize>) -> GenericScheme {
     GenericScheme::new(Scheme::build(r.ls).expect("compiles"))
 }
 
-/// Evaluates the spline with knots `t` (len m + d + 1) and points `p` at x ∈ [t_d, t_m] (de Boor).
-fn de_boor<const D: usize>(t: &[f64], p: &[[f64; D]], d: usize, x: f64) -> [f64; D] {
-    let m = p.len();
-    let mut mu = d;
-    while mu + 1 < m && t[mu + 1] <= x {
-        mu += 1;
-    }
-    let mut q: Vec<[f64; D]> = p[mu - d..=mu].to_vec();
-    for r in 1..=d {
-        for j in (r..=d).rev() {
-            let i = mu - d + j;
-            let a = (x - t[i]) / (t[i + d + 1 - r] - t[i]);
-            let prev = q[j - 1];
-            for (v, pv) in q[j].iter_mut().zip(prev) {
-                *v = (1.0 - a) * pv + a * *v;
-            }
-        }
-    }
-    q[d]
-}
-
-/// Knots of a curve at step s: starting at `start`, interval lengths ℓ(label)/ρ^s. A closed
-/// curve is unrolled into an open one covering one period (points p_0..p_{m+d−1} cyclically).
-fn knots_and_points<const D: usize>(
-    c: &Curve<D>,
-    lengths: &[f64],
-    scale: f64,
-    start: f64,
-    d: usize,
-) -> (Vec<f64>, Vec<[f64; D]>) {
-    let (n_int, pts) = if c.closed {
-        let m = c.points.len();
-        (m + 2 * d, (0..m + d).map(|j| c.points[j % m]).collect())
-    } else {
-        (c.labels.len(), c.points.clone())
-    };
-    let mut t = vec![start];
-    for j in 0..n_int {
-        let l = lengths[c.labels[j % c.labels.len()] as usize] * scale;
-        t.push(t[j] + l);
-    }
-    (t, pts)
-}
-
-fn max_dist<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
-    (0..D).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max)
-}
-
-/// Checks that `fine` (after `steps` steps of `coarse`) is the same spline, at 400 parameters.
+/// Checks that `fine` (after `steps` steps of `coarse`) is the same spline, at 401 parameters.
 fn assert_same_spline<const D: usize>(
     s: &GenericScheme,
     coarse: &Curve<D>,
     fine: &Curve<D>,
     steps: usize,
 ) {
-    let a = &s.scheme().analysis;
-    let d = s.scheme().ls.degree;
-    let lengths: Vec<f64> = s.scheme().lengths.iter().map(|l| l.to_f64()).collect();
-    let rho = a.rho.to_f64();
-    let (t0, p0) = knots_and_points(coarse, &lengths, 1.0, 0.0, d);
-    // Open: the domain start t_d is invariant. Closed: the first knot is.
-    let start = if coarse.closed {
-        0.0
-    } else {
-        let (u, _) = knots_and_points(fine, &lengths, rho.powi(-(steps as i32)), 0.0, d);
-        t0[d] - u[d]
-    };
-    let (t1, p1) = knots_and_points(fine, &lengths, rho.powi(-(steps as i32)), start, d);
-    let (m0, m1) = (p0.len(), p1.len());
-    let lo = t0[d].max(t1[d]);
-    let hi = t0[m0].min(t1[m1]);
-    assert!(hi > lo, "empty common domain");
-    for i in 0..=400 {
-        let x = lo + (hi - lo) * i as f64 / 400.0 * (1.0 - 1e-12);
-        let (y0, y1) = (de_boor(&t0, &p0, d, x), de_boor(&t1, &p1, d, x));
-        let err = max_dist(&y0, &y1);
-        assert!(
-            err < 1e-12,
-            "{}: x = {x}: {y0:?} vs {y1:?} ({err:e})",
-            s.scheme().ls.name
-        );
-    }
+    let (err, x) = spline_distance(s, coarse, fine, steps);
+    assert!(err < 1e-12, "{}: x = {x}: {err:e}", s.scheme().ls.name);
 }
 
 fn check_scheme(name: &str, degree: Option<usize>, seed: u64) {

@@ -56,7 +56,8 @@ pub struct SurfaceAnalysis {
     pub sigma: Vec<Sym>,
     /// Whether σ was declared in the scheme file (else found).
     pub declared: bool,
-    /// Every involution that makes the system symmetric (Remark 4.5).
+    /// Every involution that makes the system symmetric (Remark 4.5), the first
+    /// [`MAX_INVOLUTIONS`](crate::symmetry::MAX_INVOLUTIONS) when there are more.
     pub involutions: Vec<Vec<Sym>>,
     /// Steps 0 ..= `stationary_from`.
     pub steps: Vec<StepInfo>,

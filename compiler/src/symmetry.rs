@@ -45,20 +45,61 @@ pub fn check_symmetry(ls: &LSystem, sigma: &[Sym]) -> Result<(), Error> {
     Ok(())
 }
 
+/// At most this many involutions are listed by [`involutions`]: Remark 4.5's systems have one or
+/// two, but symbols with interchangeable rules (say every Xᵢ → A) give exponentially many.
+pub const MAX_INVOLUTIONS: usize = 1000;
+
 /// Every involution σ of the alphabet that makes the L-system symmetric (Remark 4.5: there may be
-/// several), in a canonical order (lexicographic on σ as a table).
+/// several), in a canonical order (lexicographic on σ as a table); the first
+/// [`MAX_INVOLUTIONS`] of that order when there are more.
 pub fn involutions(ls: &LSystem) -> Vec<Vec<Sym>> {
     let n = ls.n();
     let mut out = Vec::new();
     let mut sigma: Vec<Option<Sym>> = vec![None; n];
-    search(ls, &mut sigma, &mut out);
-    out.sort();
+    // The axiom is a σ-palindrome: σ(ω_{k−1−i}) = ω_i.
+    let w = &ls.axiom;
+    let forced = (0..w.len()).map(|i| (w[w.len() - 1 - i] as usize, w[i] as usize));
+    if assign(ls, &mut sigma, forced) {
+        search(ls, &sigma, &mut out);
+    }
     out
 }
 
-/// Backtracking over involutions: each unassigned symbol is fixed or paired with a later
-/// unassigned one whose rule has the same length (|π(σ(A))| = |π(A)| is necessary).
-fn search(ls: &LSystem, sigma: &mut Vec<Option<Sym>>, out: &mut Vec<Vec<Sym>>) {
+/// Sets σ(x) = y and σ(y) = x for each given pair and everything [G] eq. (14) then forces:
+/// π(y) = σ̄(π(x)), i.e. σ(π(x)_{k−1−i}) = π(y)_i. False on a contradiction (σ left partly set).
+fn assign(
+    ls: &LSystem,
+    sigma: &mut [Option<Sym>],
+    pairs: impl IntoIterator<Item = (usize, usize)>,
+) -> bool {
+    let mut queue: Vec<(usize, usize)> = pairs.into_iter().collect();
+    while let Some((x, y)) = queue.pop() {
+        for (p, q) in [(x, y), (y, x)] {
+            match sigma[p] {
+                Some(v) if v as usize != q => return false,
+                Some(_) => {}
+                None => {
+                    sigma[p] = Some(q as Sym);
+                    let (rp, rq) = (&ls.rules[p], &ls.rules[q]);
+                    if rp.len() != rq.len() {
+                        return false;
+                    }
+                    let k = rp.len();
+                    queue.extend((0..k).map(|i| (rp[k - 1 - i] as usize, rq[i] as usize)));
+                }
+            }
+        }
+    }
+    true
+}
+
+/// Backtracking over involutions in lexicographic order: the first unassigned symbol is fixed or
+/// paired with a later unassigned one, and the constraints this forces are propagated
+/// ([`assign`]), so a choice fixes σ on everything its rules reach and dead branches end early.
+fn search(ls: &LSystem, sigma: &[Option<Sym>], out: &mut Vec<Vec<Sym>>) {
+    if out.len() >= MAX_INVOLUTIONS {
+        return;
+    }
     let Some(a) = sigma.iter().position(Option::is_none) else {
         let s: Vec<Sym> = sigma.iter().map(|x| x.expect("assigned")).collect();
         if is_symmetry(ls, &s) {
@@ -66,15 +107,13 @@ fn search(ls: &LSystem, sigma: &mut Vec<Option<Sym>>, out: &mut Vec<Vec<Sym>>) {
         }
         return;
     };
-    let n = sigma.len();
-    for b in a..n {
-        if sigma[b].is_some() || ls.rules[a].len() != ls.rules[b].len() {
+    for b in a..sigma.len() {
+        if sigma[b].is_some() {
             continue;
         }
-        sigma[a] = Some(b as Sym);
-        sigma[b] = Some(a as Sym);
-        search(ls, sigma, out);
-        sigma[a] = None;
-        sigma[b] = None;
+        let mut trial = sigma.to_vec();
+        if assign(ls, &mut trial, [(a, b)]) {
+            search(ls, &trial, out);
+        }
     }
 }

@@ -5,7 +5,7 @@
 
 use lsubdiv_compiler::ev::{analyse, SurfaceAnalysis};
 use lsubdiv_compiler::field::Elem;
-use lsubdiv_compiler::symmetry::involutions;
+use lsubdiv_compiler::symmetry::{involutions, MAX_INVOLUTIONS};
 use lsubdiv_compiler::{scheme, Scheme};
 use nalgebra::DMatrix;
 
@@ -264,6 +264,50 @@ fn g_remark_4_5_involutions() {
     let found = involutions(&ls);
     assert_eq!(found.len(), 1);
     assert_eq!(found[0], vec![0, 2, 1]);
+}
+
+/// The involution search propagates [G] eq. (14) instead of trying every involution: on a
+/// strongly connected 40-symbol system (every rule of length 2, so the old length filter pruned
+/// nothing and `lsubdiv inspect` ran for minutes at 20 symbols) it answers at once; and when
+/// there are exponentially many (20 interchangeable symbols) it lists the first
+/// `MAX_INVOLUTIONS` in lexicographic order.
+#[test]
+fn involution_search_scales() {
+    let system = |rules: String| {
+        scheme::parse(
+            "t.toml",
+            &format!("name = \"t\"\ndegree = 3\naxiom = \"S0\"\n[rules]\n{rules}"),
+        )
+        .unwrap()
+    };
+    let n = 40;
+    let ls = system(
+        (0..n)
+            .map(|i| format!("S{i} = \"S{} S{}\"\n", (i + 1) % n, (i * 7 + 3) % n))
+            .collect(),
+    );
+    assert!(involutions(&ls).is_empty());
+    // A palindromic ring: S_i → S_{i+1} S_{i+1}; σ(S_i) = S_i is the only symmetry.
+    let ls = system(
+        (0..n)
+            .map(|i| format!("S{i} = \"S{0} S{0}\"\n", (i + 1) % n))
+            .collect(),
+    );
+    let identity: Vec<u8> = (0..n as u8).collect();
+    assert_eq!(involutions(&ls), vec![identity]);
+    // S0 → S0 S0 and X_i → S0: every involution of the X_i fixing S0 is a symmetry.
+    let ls = system(
+        std::iter::once("S0 = \"S0 S0\"\n".to_string())
+            .chain((1..=20).map(|i| format!("X{i} = \"S0\"\n")))
+            .collect(),
+    );
+    let found = involutions(&ls);
+    assert_eq!(found.len(), MAX_INVOLUTIONS);
+    assert_eq!(found[0], (0..=20).collect::<Vec<u8>>());
+    assert!(found.windows(2).all(|w| w[0] < w[1]), "lexicographic");
+    assert!(found
+        .iter()
+        .all(|s| s[0] == 0 && (0..=20).all(|i| s[s[i] as usize] == i as u8)));
 }
 
 #[test]

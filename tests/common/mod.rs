@@ -2,3 +2,4 @@
 #![allow(dead_code)]
 pub mod catmull_clark;
 pub mod cli;
+pub mod spline;

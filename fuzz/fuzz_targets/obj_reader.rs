@@ -1,0 +1,6 @@
+//! OBJ files: arbitrary bytes through the reader and the topology check.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let _ = lsubdiv::fuzzing::check_obj(data);
+});

@@ -1,0 +1,6 @@
+//! A small random L-system through parse → compile → curve refinement → surface refinement.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let _ = lsubdiv::fuzzing::check_pipeline(data);
+});

@@ -1,0 +1,88 @@
+//! Independent B-spline evaluation (de Boor) for checking that a refined polygon is the control
+//! polygon of the same spline on the refined knots (\[N\] §2.2).
+
+use lsubdiv::compiler::generic::GenericScheme;
+use lsubdiv::Curve;
+
+/// Evaluates the spline with knots `t` (len m + d + 1) and points `p` at x ∈ [t_d, t_m] (de Boor).
+pub fn de_boor<const D: usize>(t: &[f64], p: &[[f64; D]], d: usize, x: f64) -> [f64; D] {
+    let m = p.len();
+    let mut mu = d;
+    while mu + 1 < m && t[mu + 1] <= x {
+        mu += 1;
+    }
+    let mut q: Vec<[f64; D]> = p[mu - d..=mu].to_vec();
+    for r in 1..=d {
+        for j in (r..=d).rev() {
+            let i = mu - d + j;
+            let a = (x - t[i]) / (t[i + d + 1 - r] - t[i]);
+            let prev = q[j - 1];
+            for (v, pv) in q[j].iter_mut().zip(prev) {
+                *v = (1.0 - a) * pv + a * *v;
+            }
+        }
+    }
+    q[d]
+}
+
+/// Knots of a curve at step s: starting at `start`, interval lengths ℓ(label)/ρ^s. A closed
+/// curve is unrolled into an open one covering one period (points p_0..p_{m+d−1} cyclically).
+pub fn knots_and_points<const D: usize>(
+    c: &Curve<D>,
+    lengths: &[f64],
+    scale: f64,
+    start: f64,
+    d: usize,
+) -> (Vec<f64>, Vec<[f64; D]>) {
+    let (n_int, pts) = if c.closed {
+        let m = c.points.len();
+        (m + 2 * d, (0..m + d).map(|j| c.points[j % m]).collect())
+    } else {
+        (c.labels.len(), c.points.clone())
+    };
+    let mut t = vec![start];
+    for j in 0..n_int {
+        let l = lengths[c.labels[j % c.labels.len()] as usize] * scale;
+        t.push(t[j] + l);
+    }
+    (t, pts)
+}
+
+/// Largest coordinate difference.
+pub fn max_dist<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    (0..D).map(|c| (a[c] - b[c]).abs()).fold(0.0, f64::max)
+}
+
+/// Largest distance between the splines of `coarse` and of `fine` (after `steps` steps of
+/// `coarse`) at 401 parameters of their common domain, with the parameter where it occurs.
+pub fn spline_distance<const D: usize>(
+    s: &GenericScheme,
+    coarse: &Curve<D>,
+    fine: &Curve<D>,
+    steps: usize,
+) -> (f64, f64) {
+    let a = &s.scheme().analysis;
+    let d = s.scheme().ls.degree;
+    let lengths: Vec<f64> = s.scheme().lengths.iter().map(|l| l.to_f64()).collect();
+    let scale = a.rho.to_f64().powi(-(steps as i32));
+    let (t0, p0) = knots_and_points(coarse, &lengths, 1.0, 0.0, d);
+    // Open: the domain start t_d is invariant. Closed: the first knot is.
+    let start = if coarse.closed {
+        0.0
+    } else {
+        let (u, _) = knots_and_points(fine, &lengths, scale, 0.0, d);
+        t0[d] - u[d]
+    };
+    let (t1, p1) = knots_and_points(fine, &lengths, scale, start, d);
+    let (m0, m1) = (p0.len(), p1.len());
+    let lo = t0[d].max(t1[d]);
+    let hi = t0[m0].min(t1[m1]);
+    assert!(hi > lo, "empty common domain");
+    (0..=400)
+        .map(|i| {
+            let x = lo + (hi - lo) * i as f64 / 400.0 * (1.0 - 1e-12);
+            let err = max_dist(&de_boor(&t0, &p0, d, x), &de_boor(&t1, &p1, d, x));
+            (err, x)
+        })
+        .fold((0.0, lo), |a, b| if b.0 > a.0 { b } else { a })
+}
