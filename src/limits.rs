@@ -93,6 +93,26 @@ impl Prediction {
     }
 }
 
+/// Refuses an input file whose reading could exceed `max` bytes: its text plus what is parsed
+/// from it, at most 4 bytes per byte of text (`0 0 0\n`, 6 bytes, parses to 24), so 5 times
+/// its size.
+pub fn input(path: &std::path::Path, max: u64) -> Result<(), String> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(()); // reading it reports the problem
+    };
+    let bytes = u128::from(meta.len()) * 5;
+    if bytes <= u128::from(max) {
+        return Ok(());
+    }
+    Err(format!(
+        "{}: error: the file has {}, and reading it may hold {}; --max-memory is {}; raise --max-memory",
+        path.display(),
+        size(u128::from(meta.len())),
+        size(bytes),
+        size(u128::from(max))
+    ))
+}
+
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
 /// on `mesh`, positions of `scalar` bytes; `text`: the output file is built in memory.
 pub fn surface(

@@ -682,6 +682,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             let in_name = input.display().to_string();
             let stages = lsubdiv::progress::Stages::new(3);
             stages.next(format!("reading {in_name}"));
+            lsubdiv::limits::input(&input, limit.bytes()).map_err(bad)?;
             let text = std::fs::read_to_string(&input)
                 .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
             let pts = points::parse(&in_name, &text).map_err(bad)?;
@@ -975,7 +976,7 @@ fn subdivide(
     let in_name = input.display().to_string();
     let stages = lsubdiv::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let m = read_mesh(input)?;
+    let m = read_mesh(input, max_memory)?;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let fine = refine_mesh(&r, &m, &in_name, steps, path, threads, max_memory)?;
     stages.next(format!(
@@ -994,10 +995,14 @@ fn subdivide(
     Ok(())
 }
 
-/// Reads a closed quad mesh from an OBJ file: errors name the file's line, vertex or edge;
-/// warnings go to stderr.
-fn read_mesh(input: &std::path::Path) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
+/// Reads a closed quad mesh from an OBJ file (refused unread when reading it could exceed
+/// `max_memory`): errors name the file's line, vertex or edge; warnings go to stderr.
+fn read_mesh(
+    input: &std::path::Path,
+    max_memory: u64,
+) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
     let in_name = input.display().to_string();
+    lsubdiv::limits::input(input, max_memory).map_err(bad)?;
     let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
     let (m, warnings) =
         lsubdiv::runtime::mesh::parse_obj(&text).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
@@ -1112,7 +1117,7 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
     let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
         lsubdiv::bench::mesh(&a.mesh).map_err(bad)?
     } else {
-        read_mesh(std::path::Path::new(&a.mesh))?
+        read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
     };
     let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
     let mesh = match (&a.scheme, a.steps) {

@@ -453,6 +453,15 @@ fn too_large_requests_are_refused_before_refining() {
             vec!["bench", "--mesh", "cube", "--scheme", "uniform-binary", "--steps", "40", "--json"],
             "40 steps of uniform-binary on cube would make",
         ),
+        // Inputs too large to read under the limit are refused unread (5 bytes held per byte).
+        (
+            vec!["subdivide", "binary-ternary", "--steps", "1", "--max-memory", "500", &cube, "-o", &out_s],
+            "cube.obj: error: the file has 136 bytes, and reading it may hold 680 bytes; --max-memory is 500 bytes",
+        ),
+        (
+            vec!["curve", "fibonacci", "--steps", "1", "--max-memory", "50", &square, "-o", &out_s],
+            "square.txt: error: the file has 16 bytes, and reading it may hold 80 bytes; --max-memory is 50 bytes",
+        ),
     ] {
         let o = lsubdiv(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
