@@ -7,13 +7,13 @@
 //! invariant that fails is a bug and panics, so the fuzzer reports it.
 
 use crate::compiler::generic::{GenericScheme, GenericSurface};
+use crate::compiler::lsystem::{LSystem, Source};
 use crate::compiler::{scheme, symmetry, validity, Error, Scheme};
 use crate::runtime::mesh::parse_obj;
 use crate::runtime::topology::Topology;
 use crate::runtime::{generators, patch};
 use crate::{refine, Curve, CurveScheme};
 use arbitrary::{Arbitrary, Unstructured};
-use std::fmt::Write as _;
 
 /// File name the checks give the scheme parser (errors must name it).
 pub const SCHEME_FILE: &str = "fuzz.toml";
@@ -162,36 +162,21 @@ impl SmallSystem {
         self
     }
 
-    /// The name of symbol a.
-    pub fn symbol(a: u8) -> char {
-        char::from(b'A' + a)
-    }
-
-    /// A word as scheme files write it.
-    pub fn word(w: &[u8]) -> String {
-        w.iter().map(|&s| Self::symbol(s)).collect()
-    }
-
-    /// The scheme file text.
+    /// The scheme file text (symbols `A`, `B`, …; named `small`).
     pub fn to_toml(&self) -> String {
-        let mut t = format!(
-            "name = \"small\"\ndegree = {}\naxiom = \"{}\"\n\n[rules]\n",
-            self.degree,
-            Self::word(&self.axiom)
-        );
-        for (a, r) in self.rules.iter().enumerate() {
-            let _ = writeln!(t, "{} = \"{}\"", Self::symbol(a as u8), Self::word(r));
-        }
-        if let Some(sigma) = &self.sigma {
-            t.push_str("\n[symmetry]\n");
-            for (a, &b) in sigma.iter().enumerate() {
-                if a < b as usize {
-                    let (x, y) = (Self::symbol(a as u8), Self::symbol(b));
-                    let _ = writeln!(t, "{x} = \"{y}\"");
-                }
-            }
-        }
-        t
+        let n = self.rules.len();
+        scheme::to_toml(&LSystem {
+            name: "small".into(),
+            degree: self.degree,
+            symbols: (0..n as u8)
+                .map(|a| char::from(b'A' + a).to_string())
+                .collect(),
+            rules: self.rules.clone(),
+            axiom: self.axiom.clone(),
+            symmetry: self.sigma.clone(),
+            lengths: None,
+            source: Source::default(),
+        })
     }
 
     /// Draws a system with 1..=`symbols` symbols, rules of length 1..=`rule_len`, degree

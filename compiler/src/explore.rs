@@ -661,25 +661,16 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
 
 /// A scheme file for the row's L-system, accepted by the rest of the toolkit.
 pub fn scheme_toml(row: &Row) -> String {
-    let ls = &row.ls;
-    let mut out = format!(
-        "# Found by `lsubdiv {}`: rho ~ {:.6} (minimal polynomial {}, constant term first), {} masks.\nname = \"{}\"\ndegree = {}\naxiom = \"{}\"\n\n[rules]\n",
+    let ls = LSystem {
+        symmetry: row.sigma.clone(),
+        ..row.ls.clone()
+    };
+    format!(
+        "# Found by `lsubdiv {}`: rho ~ {:.6} (minimal polynomial {}, constant term first), {} masks.\n{}",
         if row.family == "search" { "search" } else { "enumerate" },
         row.rho_f64(),
         row.minimal_polynomial().join(", "),
         row.masks,
-        ls.name,
-        ls.degree,
-        ls.word_str(&ls.axiom)
-    );
-    for a in 0..ls.n() {
-        out += &format!("{} = \"{}\"\n", ls.symbols[a], ls.word_str(&ls.rules[a]));
-    }
-    if let Some(s) = &row.sigma {
-        out += "\n[symmetry]\n";
-        for a in (0..ls.n()).filter(|&a| s[a] as usize > a) {
-            out += &format!("{} = \"{}\"\n", ls.symbols[a], ls.symbols[s[a] as usize]);
-        }
-    }
-    out
+        crate::scheme::to_toml(&ls)
+    )
 }

@@ -39,6 +39,34 @@ pub fn load(path: &Path) -> Result<LSystem, Error> {
 /// How a scheme file looks, for hints on syntax errors.
 const SHAPE: &str = "scheme files are TOML: `name = \"...\"`, `degree = 3` and `axiom = \"...\"`, then `[rules]` with one `SYMBOL = \"WORD\"` line per symbol";
 
+/// The scheme file text of `ls`, which [`parse`] reads back: name, degree, axiom, `[rules]`,
+/// and `[symmetry]` (each twin pair once) and `[lengths]` when declared.
+pub fn to_toml(ls: &LSystem) -> String {
+    use std::fmt::Write as _;
+    let mut out = format!(
+        "name = \"{}\"\ndegree = {}\naxiom = \"{}\"\n\n[rules]\n",
+        ls.name,
+        ls.degree,
+        ls.word_str(&ls.axiom)
+    );
+    for (a, rule) in ls.rules.iter().enumerate() {
+        let _ = writeln!(out, "{} = \"{}\"", ls.symbols[a], ls.word_str(rule));
+    }
+    if let Some(s) = &ls.symmetry {
+        out += "\n[symmetry]\n";
+        for a in (0..ls.n()).filter(|&a| s[a] as usize > a) {
+            let _ = writeln!(out, "{} = \"{}\"", ls.symbols[a], ls.symbols[s[a] as usize]);
+        }
+    }
+    if let Some(lengths) = &ls.lengths {
+        out += "\n[lengths]\n";
+        for (a, l) in lengths.iter().enumerate() {
+            let _ = writeln!(out, "{} = \"{l}\"", ls.symbols[a]);
+        }
+    }
+    out
+}
+
 /// Parses scheme text; `file` is used in error locations.
 pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     let cx = Cx { file, text };
@@ -411,5 +439,27 @@ impl Cx<'_> {
             .enumerate()
             .map(|(i, s)| s.unwrap_or(i as Sym))
             .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every shipped scheme (symmetry and lengths included) reads back from [`to_toml`].
+    #[test]
+    fn written_schemes_parse_back_to_the_same_system() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../schemes");
+        let files = scheme_files(&dir).unwrap();
+        assert!(files.len() >= 2, "the shipped schemes are found");
+        for file in files {
+            let ls = load(&file).unwrap();
+            let again = parse("again.toml", &to_toml(&ls)).unwrap();
+            let strip = |l: &LSystem| LSystem {
+                source: Source::default(),
+                ..l.clone()
+            };
+            assert_eq!(strip(&again), strip(&ls), "{}", file.display());
+        }
     }
 }
