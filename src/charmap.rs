@@ -222,19 +222,29 @@ fn apply(
     to: &Rings,
     v: &[[f64; 2]],
 ) -> Result<Option<Vec<[f64; 2]>>, String> {
-    mesh.mesh.positions.fill([f64::NAN; 3]);
-    for ((_, _, _, id), p) in from.cells().zip(v) {
-        mesh.mesh.positions[id as usize] = [p[0], p[1], 0.0];
-    }
+    place(&mut mesh.mesh.positions, from, v);
     let (next, _) = refine_surface(surface, mesh, 1).map_err(|e| format!("error: {e}"))?;
-    let out: Vec<[f64; 2]> = to
-        .cells()
+    let out = planar(to, &next.mesh.positions);
+    Ok(out.iter().flatten().all(|x| x.is_finite()).then_some(out))
+}
+
+/// Puts the net `v` (in the grid's cell order) in the plane z = 0 and NaN everywhere else, so
+/// that whatever depends on points outside the net comes out NaN.
+fn place(positions: &mut [[f64; 3]], grid: &Rings, v: &[[f64; 2]]) {
+    positions.fill([f64::NAN; 3]);
+    for ((_, _, _, id), p) in grid.cells().zip(v) {
+        positions[id as usize] = [p[0], p[1], 0.0];
+    }
+}
+
+/// The x, y of the grid's points, in its cell order.
+fn planar(grid: &Rings, positions: &[[f64; 3]]) -> Vec<[f64; 2]> {
+    grid.cells()
         .map(|(_, _, _, id)| {
-            let p = next.mesh.positions[id as usize];
+            let p = positions[id as usize];
             [p[0], p[1]]
         })
-        .collect();
-    Ok(out.iter().flatten().all(|x| x.is_finite()).then_some(out))
+        .collect()
 }
 
 fn dot(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
@@ -264,13 +274,7 @@ fn stage(surface: &GenericSurface, n: usize, s: usize, k: usize) -> Result<Optio
     ) else {
         return Ok(None);
     };
-    let v: Vec<[f64; 2]> = from
-        .cells()
-        .map(|(_, _, _, id)| {
-            let p = mesh.mesh.positions[id as usize];
-            [p[0], p[1]]
-        })
-        .collect();
+    let v = planar(&from, &mesh.mesh.positions);
     if apply(surface, &mut mesh, &from, &to, &v)?.is_none() {
         return Ok(None);
     }
@@ -353,10 +357,7 @@ pub fn characteristic_map(
         net[m][i][j] = *p;
     }
     // The refined net: the net alone in the mesh (NaN elsewhere), refined by the scheme.
-    mesh.mesh.positions.fill([f64::NAN; 3]);
-    for ((_, _, _, id), p) in rings.cells().zip(&normal) {
-        mesh.mesh.positions[id as usize] = [p[0], p[1], 0.0];
-    }
+    place(&mut mesh.mesh.positions, &rings, &normal);
     let (fine, _) = refine_surface(surface, &mesh, refine).map_err(|e| format!("error: {e}"))?;
     let pos = &fine.mesh.positions;
     let refined = fine
