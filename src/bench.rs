@@ -2,11 +2,10 @@
 //! thread count, timed (median of repeated runs, refinement only, no I/O).
 
 use crate::runtime::generators::{cube, star, torus};
-use crate::runtime::mesh::{parse_obj, QuadMesh};
+use crate::runtime::mesh::QuadMesh;
 use crate::runtime::patch::{output_counts, Refiner};
 use crate::runtime::real::Real;
 use crate::runtime::surface::{SurfaceScheme, SurfaceVisitor};
-use crate::runtime::topology::Topology;
 use lsubdiv_compiler::generic::GenericSurface;
 use lsubdiv_compiler::Scheme;
 use std::time::Instant;
@@ -38,14 +37,7 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
         }
         ["cube"] => Ok(cube()),
         ["star"] => Ok(star()),
-        _ => {
-            let text = std::fs::read_to_string(spec).map_err(|e| format!("{spec}: error: {e}"))?;
-            let (m, _) = parse_obj(&text).map_err(|e| e.in_obj(spec, &text))?;
-            Topology::build(&m)
-                .and_then(|t| t.check_valences())
-                .map_err(|e| e.in_obj(spec, &text))?;
-            Ok(m)
-        }
+        _ => crate::read_obj(std::path::Path::new(spec)).map(|(m, _)| m),
     }
 }
 

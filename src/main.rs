@@ -1001,17 +1001,11 @@ fn read_mesh(
     input: &std::path::Path,
     max_memory: u64,
 ) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
-    let in_name = input.display().to_string();
     lsubdiv::limits::input(input, max_memory).map_err(bad)?;
-    let text = std::fs::read_to_string(input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
-    let (m, warnings) =
-        lsubdiv::runtime::mesh::parse_obj(&text).map_err(|e| bad(e.in_obj(&in_name, &text)))?;
+    let (m, warnings) = lsubdiv::read_obj(input).map_err(bad)?;
     for w in warnings {
-        eprintln!("{in_name}: warning: {w}");
+        eprintln!("{}: warning: {w}", input.display());
     }
-    lsubdiv::runtime::topology::Topology::build(&m)
-        .and_then(|t| t.check_valences())
-        .map_err(|e| bad(e.in_obj(&in_name, &text)))?;
     Ok(m)
 }
 
