@@ -6,7 +6,7 @@ use std::path::PathBuf;
 fn main() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("schemes");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let files = lsubdiv_compiler::scheme::scheme_files(&dir).unwrap_or_else(|e| {
+    let files = lsubdiv_compiler::exact::scheme::scheme_files(&dir).unwrap_or_else(|e| {
         eprintln!("{e}");
         std::process::exit(1)
     });
@@ -27,8 +27,10 @@ fn main() {
     }
     out.push_str("];\n");
     let dest = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR")).join("builtin.rs");
-    lsubdiv_compiler::codegen::write_if_changed(&dest, &out).unwrap_or_else(|e| {
-        eprintln!("{e}");
-        std::process::exit(1)
-    });
+    if std::fs::read_to_string(&dest).ok().as_deref() != Some(out.as_str()) {
+        std::fs::write(&dest, out).unwrap_or_else(|e| {
+            eprintln!("{}: {e}", dest.display());
+            std::process::exit(1)
+        });
+    }
 }

@@ -3,9 +3,10 @@
 //! against the memory-bandwidth bound. Prints the ratios measured in this run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use lsubdiv::compiler::generic::GenericScheme;
-use lsubdiv::compiler::Scheme;
-use lsubdiv::{resolve, Curve, CurveRefiner, CurveScheme};
+use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::{Curve, CurveRefiner, CurveScheme};
+use lsubdiv_cli::resolve;
 use std::time::{Duration, Instant};
 
 fn polygon(n: usize) -> Vec<[f64; 3]> {

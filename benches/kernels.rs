@@ -43,7 +43,7 @@ fn both<T: Real>(
     steps: usize,
     scalar: &str,
 ) {
-    let generic = lsubdiv::bench::surface(name).expect("surface scheme");
+    let generic = lsubdiv_cli::bench::surface(name).expect("surface scheme");
     for path in ["generated", "generic"] {
         let b = Bench::<T> {
             group: &mut *group,

@@ -36,14 +36,14 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn compile_times() {
     println!("| scheme | exact compile (ms) |");
     println!("|---|---|");
-    for name in lsubdiv::builtin_names() {
+    for name in lsubdiv_cli::builtin_names() {
         let mut times: Vec<f64> = (0..5)
             .map(|_| {
                 let t = std::time::Instant::now();
-                let r = lsubdiv::resolve(name).expect("shipped scheme");
-                let s = lsubdiv::compiler::Scheme::build(r.ls).expect("compiles");
-                let surface = lsubdiv::compiler::ev::analyse(&s).ok();
-                std::hint::black_box(lsubdiv::compiler::codegen::generate_with(
+                let r = lsubdiv_cli::resolve(name).expect("shipped scheme");
+                let s = lsubdiv::compiler::exact::Scheme::build(r.ls).expect("compiles");
+                let surface = lsubdiv::compiler::exact::ev::analyse(&s).ok();
+                std::hint::black_box(lsubdiv::compiler::exact::codegen::generate_with(
                     &s,
                     surface.as_ref(),
                 ));

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 fn main() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../schemes");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let result = lsubdiv_compiler::scheme::scheme_files(&dir).and_then(|files| {
+    let result = lsubdiv_compiler::exact::scheme::scheme_files(&dir).and_then(|files| {
         lsubdiv_compiler::Config::new()
             .registry("registry.rs")
             .compile(&files)

@@ -1,13 +1,13 @@
 //! The benchmark behind `lsubdiv bench`: standard meshes, refined with a scheme by one path at a
 //! thread count, timed (median of repeated runs, refinement only, no I/O).
 
-use crate::runtime::generators::{cube, star, torus};
-use crate::runtime::mesh::QuadMesh;
-use crate::runtime::patch::{output_counts, Refiner};
-use crate::runtime::real::Real;
-use crate::runtime::surface::{SurfaceScheme, SurfaceVisitor};
-use lsubdiv_compiler::generic::GenericSurface;
-use lsubdiv_compiler::Scheme;
+use lsubdiv::compiler::exact::generic::GenericSurface;
+use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::runtime::generators::{cube, star, torus};
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::patch::{output_counts, Refiner};
+use lsubdiv::runtime::real::Real;
+use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
 use std::time::Instant;
 
 /// Faces of the largest built-in torus (about 0.7 GB of mesh): larger ones are refused
@@ -37,7 +37,7 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
         }
         ["cube"] => Ok(cube()),
         ["star"] => Ok(star()),
-        _ => crate::read_obj(std::path::Path::new(spec)).map(|(m, _)| m),
+        _ => lsubdiv::read_obj(std::path::Path::new(spec)).map(|(m, _)| m),
     }
 }
 
@@ -138,7 +138,7 @@ pub fn measure<T: Real>(
         _scalar: std::marker::PhantomData,
     };
     let mut m = match path {
-        Path::Generated => crate::generated::visit_surface(scheme, timed)
+        Path::Generated => lsubdiv::generated::visit_surface(scheme, timed)
             .ok_or_else(|| format!("`{scheme}` has no generated surface code"))??,
         Path::Generic => timed.visit(surface)?,
     };

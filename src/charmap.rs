@@ -19,10 +19,10 @@
 //! 2×2 Fourier block (`EvCoefficients::block`), which the command checks.
 
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
-use lsubdiv_compiler::generic::GenericSurface;
-use lsubdiv_runtime::mesh::QuadMesh;
-use lsubdiv_runtime::surface::{refine_surface, LabelledMesh};
-use lsubdiv_runtime::topology::Topology;
+use lsubdiv::compiler::exact::generic::GenericSurface;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
+use lsubdiv::runtime::topology::Topology;
 use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Largest ring count tried for the neighbourhood.
@@ -260,7 +260,7 @@ type Stage = (LabelledMesh, Rings, Rings, Vec<[f64; 2]>);
 
 fn stage(surface: &GenericSurface, n: usize, s: usize, k: usize) -> Result<Option<Stage>, String> {
     let start = LabelledMesh::with_axiom(
-        &lsubdiv_runtime::CurveScheme::tables(surface),
+        &lsubdiv::runtime::CurveScheme::tables(surface),
         trapezohedron(n),
     )
     .map_err(|e| format!("error: {e}"))?;

@@ -14,7 +14,7 @@ use layout::core::geometry::Point;
 use layout::core::style::StyleAttr;
 use layout::std_shapes::shapes::{Arrow, Element, ShapeKind};
 use layout::topo::layout::VisualGraph;
-use lsubdiv_compiler::Scheme;
+use lsubdiv::compiler::exact::Scheme;
 
 /// Font size of the word labels, in layout units.
 const FONT: f64 = 14.0;

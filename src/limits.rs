@@ -8,9 +8,9 @@
 //! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input, the
 //! driver's buffers, the output, and the output file text (built in memory, then written).
 
-use crate::runtime::mesh::QuadMesh;
-use crate::runtime::patch::output_counts;
-use crate::CurveTables;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::patch::output_counts;
+use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
 pub const FALLBACK_MAX_MEMORY: u64 = 8 << 30;

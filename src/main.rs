@@ -2,12 +2,15 @@
 //! internal error.
 
 use clap::{Parser, Subcommand, ValueEnum};
+use lsubdiv::compiler::exact::codegen::generate;
+use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::exact::validity::analyse;
+use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::compiler::Error;
 use lsubdiv::points::{self, Points};
-use lsubdiv::{report, resolve, tables, Curve, CurveError, Resolved};
-use lsubdiv_compiler::codegen::{generate, write_atomic};
-use lsubdiv_compiler::generic::GenericScheme;
-use lsubdiv_compiler::validity::analyse;
-use lsubdiv_compiler::{Error, Scheme};
+use lsubdiv::{Curve, CurveError};
+use lsubdiv_cli::output::write_atomic;
+use lsubdiv_cli::{report, resolve, tables, Resolved};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -263,14 +266,14 @@ struct MemoryLimit {
     /// Refuse, before refining, a run whose predicted peak memory exceeds this: bytes, or a
     /// number with K, M, G or T (powers of 1024). Default: half of the machine's memory
     /// (`MemTotal` of /proc/meminfo; 8 GiB where that cannot be read).
-    #[arg(long, value_parser = lsubdiv::limits::parse_size)]
+    #[arg(long, value_parser = lsubdiv_cli::limits::parse_size)]
     max_memory: Option<u64>,
 }
 
 impl MemoryLimit {
     fn bytes(&self) -> u64 {
         self.max_memory
-            .unwrap_or_else(lsubdiv::limits::default_max_memory)
+            .unwrap_or_else(lsubdiv_cli::limits::default_max_memory)
     }
 }
 
@@ -286,8 +289,8 @@ struct RenderArgs {
     /// Image size in pixels, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600")]
     size: String,
-    #[arg(long, value_enum, default_value_t = lsubdiv::render::Shading::Smooth)]
-    shading: lsubdiv::render::Shading,
+    #[arg(long, value_enum, default_value_t = lsubdiv_cli::render::Shading::Smooth)]
+    shading: lsubdiv_cli::render::Shading,
     /// Draw the quad edges on top.
     #[arg(long)]
     wireframe: bool,
@@ -362,14 +365,14 @@ impl TableArgs {
     }
 
     /// Prints the rows and writes the scheme files.
-    fn emit(&self, rows: &[lsubdiv_compiler::explore::Row]) -> Result<(), Failure> {
+    fn emit(&self, rows: &[lsubdiv_explorer::Row]) -> Result<(), Failure> {
         print!("{}", tables::render(rows, self.format()));
         if let Some(dir) = &self.emit_scheme {
             std::fs::create_dir_all(dir)
                 .map_err(|e| bad(format!("{}: error: {e}", dir.display())))?;
             for r in rows {
                 let path = dir.join(format!("{}.toml", r.ls.name));
-                write_atomic(&path, lsubdiv_compiler::explore::scheme_toml(r).as_bytes())?;
+                write_atomic(&path, lsubdiv_explorer::scheme_toml(r).as_bytes())?;
             }
         }
         Ok(())
@@ -430,7 +433,7 @@ fn main() -> ExitCode {
     // leaves the previous ones intact; remove the temporary file being written, if any.
     // (Nothing can be done on SIGKILL: a hidden `.NAME.PID.N.tmp` may then remain.)
     let _ = ctrlc::set_handler(|| {
-        lsubdiv::runtime::mesh::remove_partial_files();
+        lsubdiv_cli::output::remove_partial_files();
         std::process::exit(130);
     });
     match run(cli.command) {
@@ -445,10 +448,10 @@ fn main() -> ExitCode {
 fn load(scheme: &str, degree: Option<usize>) -> Result<Resolved, Failure> {
     let mut r = resolve(scheme)?;
     if let Some(d) = degree {
-        if d == 0 || d > lsubdiv_compiler::scheme::MAX_DEGREE {
+        if d == 0 || d > lsubdiv::compiler::exact::scheme::MAX_DEGREE {
             return Err(bad(format!(
                 "error: --degree {d} is out of range (1 to {})",
-                lsubdiv_compiler::scheme::MAX_DEGREE
+                lsubdiv::compiler::exact::scheme::MAX_DEGREE
             )));
         }
         if d != r.ls.degree {
@@ -474,7 +477,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             degree,
             out,
         }) => {
-            use lsubdiv_compiler::explore::{enumerate, Enumeration, Family};
+            use lsubdiv_explorer::{enumerate, Enumeration, Family};
             let families = match family.as_str() {
                 "all" => Family::ALL.to_vec(),
                 f => vec![Family::parse(f).ok_or_else(|| {
@@ -484,9 +487,9 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                 })?],
             };
             if !(1..=6).contains(&max_word_len)
-                || !(1..=lsubdiv_compiler::scheme::MAX_DEGREE).contains(&degree)
+                || !(1..=lsubdiv::compiler::exact::scheme::MAX_DEGREE).contains(&degree)
             {
-                return Err(bad(format!("error: --max-word-len {max_word_len} must be 1 to 6 and --degree {degree} 1 to {}", lsubdiv_compiler::scheme::MAX_DEGREE)));
+                return Err(bad(format!("error: --max-word-len {max_word_len} must be 1 to 6 and --degree {degree} 1 to {}", lsubdiv::compiler::exact::scheme::MAX_DEGREE)));
             }
             let opts = Enumeration {
                 max_word_len,
@@ -518,13 +521,13 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                     "error: --symbols {symbols} must be 2 to 6 and --max-word-len {max_word_len} 1 to 4"
                 )));
             }
-            if !(1..=lsubdiv_compiler::scheme::MAX_DEGREE).contains(&degree) {
+            if !(1..=lsubdiv::compiler::exact::scheme::MAX_DEGREE).contains(&degree) {
                 return Err(bad(format!(
                     "error: --degree {degree} must be 1 to {}",
-                    lsubdiv_compiler::scheme::MAX_DEGREE
+                    lsubdiv::compiler::exact::scheme::MAX_DEGREE
                 )));
             }
-            let opts = lsubdiv_compiler::explore::Search {
+            let opts = lsubdiv_explorer::Search {
                 symbols,
                 max_word_len,
                 rho_min: rho_min.map(|t| rational("--rho-min", &t)).transpose()?,
@@ -536,8 +539,8 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
                 limit,
                 degree,
             };
-            let bar = lsubdiv::progress::bar(0, "rule sets");
-            let found = lsubdiv_compiler::explore::search(&opts, &|done, total| {
+            let bar = lsubdiv_cli::progress::bar(0, "rule sets");
+            let found = lsubdiv_explorer::search(&opts, &|done, total| {
                 bar.set_length(total);
                 bar.set_position(done);
             })?;
@@ -558,7 +561,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
         }
         Some(Command::Render(args)) => render(&args),
         Some(Command::Schemes) => {
-            for n in lsubdiv::builtin_names() {
+            for n in lsubdiv_cli::builtin_names() {
                 println!("{n}");
             }
             Ok(())
@@ -680,9 +683,9 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             check_output(&output)?;
             let r = load(&scheme, degree)?;
             let in_name = input.display().to_string();
-            let stages = lsubdiv::progress::Stages::new(3);
+            let stages = lsubdiv_cli::progress::Stages::new(3);
             stages.next(format!("reading {in_name}"));
-            lsubdiv::limits::input(&input, limit.bytes()).map_err(bad)?;
+            lsubdiv_cli::limits::input(&input, limit.bytes()).map_err(bad)?;
             let text = std::fs::read_to_string(&input)
                 .map_err(|e| bad(format!("{in_name}: error: {e}")))?;
             let pts = points::parse(&in_name, &text).map_err(bad)?;
@@ -743,7 +746,7 @@ fn refine_cli<const D: usize>(
     let curve_err = |e: CurveError| bad(format!("error: {e}"));
     let t = lsubdiv::CurveScheme::tables(&generic);
     curve.check(&t).map_err(curve_err)?;
-    lsubdiv::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
+    lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
         .check(&job.what, job.max_memory)
         .map_err(bad)?;
     let generated = || -> Option<Result<Curve<D>, CurveError>> {
@@ -772,7 +775,7 @@ fn refine_cli<const D: usize>(
 }
 
 /// `lsubdiv plot`: refines a planar polygon (a closed hexagon without input) with the generic
-/// path and draws it ([`lsubdiv::plot`]).
+/// path and draws it ([`lsubdiv_cli::plot`]).
 #[allow(clippy::too_many_arguments)]
 fn plot(
     scheme: &str,
@@ -782,7 +785,7 @@ fn plot(
     polygon: PolygonArgs,
     size: &str,
 ) -> Result<(), Failure> {
-    use lsubdiv::picture;
+    use lsubdiv_cli::picture;
     let PolygonArgs {
         closed,
         labels,
@@ -797,7 +800,7 @@ fn plot(
     }
     let r = load(scheme, degree)?;
     let (pts, closed) = match input {
-        None => (lsubdiv::plot::hexagon(), true),
+        None => (lsubdiv_cli::plot::hexagon(), true),
         Some(path) => {
             let name = path.display().to_string();
             let text =
@@ -819,7 +822,7 @@ fn plot(
             r.ls.parse_word(&l)
                 .map_err(|e| bad(format!("error: --labels: {e}")))?;
     }
-    let pic = lsubdiv::plot::plot(generic, &curve, steps, size).map_err(bad)?;
+    let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size).map_err(bad)?;
     picture::save(&pic, output).map_err(bad)
 }
 
@@ -831,7 +834,7 @@ fn graph(
     output: Option<&std::path::Path>,
     size: Option<&str>,
 ) -> Result<(), Failure> {
-    use lsubdiv::picture;
+    use lsubdiv_cli::picture;
     let size = size.map(picture::parse_size).transpose().map_err(bad)?;
     if let (true, Some(o)) = (svg, output) {
         picture::format_of(o).map_err(bad)?;
@@ -840,9 +843,9 @@ fn graph(
     match (svg, output) {
         (false, None) => print!("{}", report::dot(&s)),
         (false, Some(o)) => write_atomic(o, report::dot(&s).as_bytes())?,
-        (true, None) => print!("{}", lsubdiv::graph_picture::picture(&s, size).svg()),
+        (true, None) => print!("{}", lsubdiv_cli::graph_picture::picture(&s, size).svg()),
         (true, Some(o)) => {
-            picture::save(&lsubdiv::graph_picture::picture(&s, size), o).map_err(bad)?
+            picture::save(&lsubdiv_cli::graph_picture::picture(&s, size), o).map_err(bad)?
         }
     }
     Ok(())
@@ -873,7 +876,7 @@ fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Failure> {
 fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
     let range = valences(valence)?;
     let s = build(&load(scheme, None)?)?;
-    let a = lsubdiv_compiler::ev::analyse(&s)?;
+    let a = lsubdiv::compiler::exact::ev::analyse(&s)?;
     let c = a.coefficients_f64();
     let mut rows = Vec::new();
     for n in range {
@@ -898,14 +901,14 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
 }
 
 /// `lsubdiv ev --characteristic-map`: finds the control net numerically, checks λ1 against
-/// the closed form, draws it ([`lsubdiv::charmap`]).
+/// the closed form, draws it ([`lsubdiv_cli::charmap`]).
 fn charmap(
     scheme: &str,
     valence: &str,
     output: &std::path::Path,
     size: &str,
 ) -> Result<(), Failure> {
-    use lsubdiv::picture;
+    use lsubdiv_cli::picture;
     picture::format_of(output).map_err(bad)?;
     let size = picture::parse_size(size).map_err(bad)?;
     let range = valences(valence)?;
@@ -926,7 +929,7 @@ fn charmap(
     let s = build(&load(scheme, None)?)?;
     let name = s.ls.name.clone();
     let rho = s.analysis.rho.to_f64();
-    let surface = lsubdiv_compiler::generic::GenericSurface::new(s)?;
+    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(s)?;
     let closed = surface
         .analysis()
         .coefficients_f64()
@@ -936,9 +939,10 @@ fn charmap(
     // Refine the net until its quads are about a quarter of the net's.
     let steps = (4f64.ln() / rho.ln()).ceil().max(1.0) as usize;
     let bar = indicatif::ProgressBar::new_spinner().with_message("power iteration");
-    let map =
-        lsubdiv::charmap::characteristic_map(&surface, n, steps, &|i| bar.set_position(i as u64))
-            .map_err(bad)?;
+    let map = lsubdiv_cli::charmap::characteristic_map(&surface, n, steps, &|i| {
+        bar.set_position(i as u64)
+    })
+    .map_err(bad)?;
     bar.finish_and_clear();
     println!(
         "{name}, valence {n}: lambda1 = {:.15} by power iteration on the {}-ring neighbourhood after {} steps ({} iterations, residual {:.1e}); closed form {:.15}",
@@ -954,7 +958,7 @@ fn charmap(
         });
     }
     picture::save(
-        &lsubdiv::charmap::picture(&name, &map, closed, size),
+        &lsubdiv_cli::charmap::picture(&name, &map, closed, size),
         output,
     )
     .map_err(bad)
@@ -974,7 +978,7 @@ fn subdivide(
     check_output(output)?;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
-    let stages = lsubdiv::progress::Stages::new(3);
+    let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
     let m = read_mesh(input, max_memory)?;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
@@ -990,7 +994,7 @@ fn subdivide(
     } else {
         mesh::to_obj(&fine)
     };
-    mesh::write_atomic(output, bytes.as_bytes())
+    write_atomic(output, bytes.as_bytes())
         .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
     Ok(())
 }
@@ -1001,7 +1005,7 @@ fn read_mesh(
     input: &std::path::Path,
     max_memory: u64,
 ) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
-    lsubdiv::limits::input(input, max_memory).map_err(bad)?;
+    lsubdiv_cli::limits::input(input, max_memory).map_err(bad)?;
     let (m, warnings) = lsubdiv::read_obj(input).map_err(bad)?;
     for w in warnings {
         eprintln!("{}: warning: {w}", input.display());
@@ -1021,8 +1025,8 @@ fn refine_mesh(
     max_memory: u64,
 ) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
-    let surface = lsubdiv_compiler::generic::GenericSurface::new(build(r)?)?;
-    lsubdiv::limits::surface(
+    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(build(r)?)?;
+    lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
         m,
@@ -1068,10 +1072,10 @@ fn refine_mesh(
 /// `lsubdiv render`: reads or builds the mesh, refines it if asked, draws it, writes the image
 /// atomically. Reports the curvature range on stderr.
 fn render(a: &RenderArgs) -> Result<(), Failure> {
-    use lsubdiv::render::{self, camera::View, image::Format};
+    use lsubdiv_cli::render::{self, camera::View, image::Format};
     let out_name = a.output.display().to_string();
     let format = Format::of(&a.output).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
-    let (width, height) = lsubdiv::picture::parse_size(&a.size).map_err(bad)?;
+    let (width, height) = lsubdiv_cli::picture::parse_size(&a.size).map_err(bad)?;
     let (width, height) = (width as usize, height as usize);
     let numbers = |flag: &str, text: &str, n| {
         render::parse_numbers(flag, text, n).map_err(|e| bad(format!("error: {e}")))
@@ -1106,10 +1110,10 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
             )));
         }
     }
-    let stages = lsubdiv::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
+    let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
     let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
-        lsubdiv::bench::mesh(&a.mesh).map_err(bad)?
+        lsubdiv_cli::bench::mesh(&a.mesh).map_err(bad)?
     } else {
         read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
     };
@@ -1166,8 +1170,7 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
         message: format!("internal error: {e}"),
     })?;
     stages.next(format!("writing {out_name}"));
-    lsubdiv::runtime::mesh::write_atomic(&a.output, &bytes)
-        .map_err(|e| bad(format!("{out_name}: error: {e}")))?;
+    write_atomic(&a.output, &bytes).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
     Ok(())
 }
 
@@ -1183,13 +1186,13 @@ fn bench(
     runs: usize,
     max_memory: u64,
 ) -> Result<(), Failure> {
-    use lsubdiv::bench;
     use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv_cli::bench;
     let m = bench::mesh(mesh).map_err(bad)?;
     let surface = bench::surface(scheme).map_err(|e| bad(format!("error: {e}")))?;
     let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &m, 4_200_000));
     let scalar = if f32 { 4 } else { 8 };
-    lsubdiv::limits::surface(
+    lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
         &m,
@@ -1262,8 +1265,10 @@ fn demo() -> Result<(), Failure> {
     }
     // A surface: the cube (eight 3-valent EVs), three Binary-Ternary steps, both paths.
     let cube = lsubdiv::runtime::generators::cube();
-    let surface =
-        lsubdiv_compiler::generic::GenericSurface::new(build(&load("binary-ternary", None)?)?)?;
+    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(build(&load(
+        "binary-ternary",
+        None,
+    )?)?)?;
     let generic = lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, &cube, 3, 2)
         .map_err(|e| bad(e.to_string()))?;
     let generated = lsubdiv::generated::subdivide::<f64>("binary-ternary", &cube, 3, 1)

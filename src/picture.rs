@@ -319,8 +319,7 @@ pub fn save(picture: &Picture, path: &Path) -> Result<(), String> {
         Format::Svg => picture.svg().into_bytes(),
         Format::Png => picture.png()?,
     };
-    lsubdiv_runtime::mesh::write_atomic(path, &bytes)
-        .map_err(|e| format!("{}: error: {e}", path.display()))
+    crate::output::write_atomic(path, &bytes).map_err(|e| format!("{}: error: {e}", path.display()))
 }
 
 /// A linear map from data coordinates to a pixel box, with equal scales on both axes

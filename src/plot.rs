@@ -10,8 +10,8 @@
 //! the first d again, whose spline is the closed one over one period.
 
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
-use lsubdiv_compiler::generic::GenericScheme;
-use lsubdiv_runtime::{refine, Curve, CurveScheme};
+use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::runtime::{refine, Curve, CurveScheme};
 
 /// Edges of the limit curve are at most this long in pixels.
 const PIXEL: f64 = 1.0;

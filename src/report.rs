@@ -1,10 +1,10 @@
 //! What `lsubdiv inspect` and `lsubdiv graph` print: a text report, a JSON object, DOT.
 
-use lsubdiv_compiler::field::Elem;
-use lsubdiv_compiler::lsystem::LSystem;
-use lsubdiv_compiler::symmetry::MAX_INVOLUTIONS;
-use lsubdiv_compiler::validity::{Analysis, LengthSource};
-use lsubdiv_compiler::Scheme;
+use lsubdiv::compiler::exact::field::Elem;
+use lsubdiv::compiler::exact::lsystem::LSystem;
+use lsubdiv::compiler::exact::symmetry::MAX_INVOLUTIONS;
+use lsubdiv::compiler::exact::validity::{Analysis, LengthSource};
+use lsubdiv::compiler::exact::Scheme;
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 
@@ -36,7 +36,7 @@ fn surface_json(ls: &LSystem, scheme: Option<&Scheme>) -> Value {
     let Some(s) = scheme else {
         return json!({ "ready": false, "reason": "no masks (invalid L-system or undetermined lengths)" });
     };
-    match lsubdiv_compiler::ev::analyse(s) {
+    match lsubdiv::compiler::exact::ev::analyse(s) {
         Ok(a) => json!({
             "ready": true,
                         "sigma": ls.symbols.iter().zip(&a.sigma)
@@ -212,7 +212,7 @@ pub fn text(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> String {
                 );
             }
         }
-        match lsubdiv_compiler::ev::analyse(sc) {
+        match lsubdiv::compiler::exact::ev::analyse(sc) {
             Ok(a) => {
                 let _ = writeln!(
                     w,
@@ -276,8 +276,8 @@ pub fn dot(s: &Scheme) -> String {
 /// stationary stencils and the spectrum per valence.
 pub fn ev_text(
     s: &Scheme,
-    a: &lsubdiv_compiler::ev::SurfaceAnalysis,
-    rows: &[lsubdiv_runtime::ev::Spectrum],
+    a: &lsubdiv::compiler::exact::ev::SurfaceAnalysis,
+    rows: &[lsubdiv::runtime::ev::Spectrum],
 ) -> String {
     let ls = &s.ls;
     let mut out = String::new();

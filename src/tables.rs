@@ -1,6 +1,6 @@
 //! Explorer output ([G] Appendix B columns): JSON (an array), CSV, Markdown and text tables.
 
-use lsubdiv_compiler::explore::Row;
+use lsubdiv_explorer::Row;
 use serde_json::{json, Value};
 
 /// Output formats of `enumerate` and `search`.

@@ -340,9 +340,11 @@ fn every_scheme_diagnostic_names_file_line_column_and_hint() {
 }
 
 /// The compiled generic tables of a shipped scheme.
-fn generic(name: &str) -> lsubdiv::compiler::generic::GenericScheme {
-    let r = lsubdiv::resolve(name).unwrap();
-    lsubdiv::compiler::generic::GenericScheme::new(lsubdiv::compiler::Scheme::build(r.ls).unwrap())
+fn generic(name: &str) -> lsubdiv::compiler::exact::generic::GenericScheme {
+    let r = lsubdiv_cli::resolve(name).unwrap();
+    lsubdiv::compiler::exact::generic::GenericScheme::new(
+        lsubdiv::compiler::exact::Scheme::build(r.ls).unwrap(),
+    )
 }
 
 #[test]
@@ -376,7 +378,7 @@ fn predicted_curve_sizes_are_exact() {
         let t = s.tables();
         for steps in 0..7 {
             let fine = lsubdiv::refine(s, c, steps).unwrap();
-            let p = lsubdiv::limits::curve(&t, &c.labels, c.closed, c.points.len(), 2, steps);
+            let p = lsubdiv_cli::limits::curve(&t, &c.labels, c.closed, c.points.len(), 2, steps);
             assert_eq!(
                 p.vertices,
                 fine.points.len() as u128,
@@ -394,8 +396,9 @@ fn predicted_surface_sizes_are_exact() {
     use lsubdiv::runtime::surface::SurfaceScheme;
     use lsubdiv::CurveScheme;
     for name in ["binary-ternary", "fibonacci", "uniform-binary"] {
-        let s = lsubdiv::compiler::generic::GenericSurface::new(
-            lsubdiv::compiler::Scheme::build(lsubdiv::resolve(name).unwrap().ls).unwrap(),
+        let s = lsubdiv::compiler::exact::generic::GenericSurface::new(
+            lsubdiv::compiler::exact::Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls)
+                .unwrap(),
         )
         .unwrap();
         for mesh in [cube(), star(), torus(3, 4)] {
@@ -403,7 +406,7 @@ fn predicted_surface_sizes_are_exact() {
                 let fine =
                     lsubdiv::runtime::patch::subdivide::<_, f64>(&s, &mesh, steps, 1).unwrap();
                 let t = s.tables();
-                let p = lsubdiv::limits::surface(
+                let p = lsubdiv_cli::limits::surface(
                     &t,
                     s.surface().contained_from,
                     &mesh,

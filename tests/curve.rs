@@ -4,10 +4,11 @@
 
 mod common;
 
-use common::spline::{de_boor, knots_and_points, max_dist, spline_distance};
-use lsubdiv::compiler::generic::GenericScheme;
-use lsubdiv::compiler::Scheme;
-use lsubdiv::{generated, resolve, Curve, CurveError, CurveScheme};
+use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::{generated, Curve, CurveError, CurveScheme};
+use lsubdiv_cli::resolve;
+use lsubdiv_testkit::spline::{de_boor, knots_and_points, max_dist, spline_distance};
 
 /// Deterministic pseudo-random numbers in [-1, 1).
 struct Lcg(u64);

@@ -1,9 +1,9 @@
 //! The fuzz corpora as tests, on stable Rust without cargo-fuzz: every kept input of each target
 //! of `fuzz/` (`tests/fuzz_corpus/<target>/`, crash inputs under `regressions/`) goes through
-//! the same check as the target ([`lsubdiv::fuzzing`]) and must not panic: it is processed
+//! the same check as the target ([`lsubdiv_testkit::fuzzing`]) and must not panic: it is processed
 //! (its invariants hold) or refused with an error.
 
-use lsubdiv::fuzzing::{check_obj, check_pipeline, check_scheme, Outcome};
+use lsubdiv_testkit::fuzzing::{check_obj, check_pipeline, check_scheme, Outcome};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 

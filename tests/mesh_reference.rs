@@ -2,9 +2,9 @@
 
 mod common;
 
-use common::catmull_clark::{catmull_clark, catmull_clark_steps};
-use lsubdiv_runtime::generators::{cube, torus};
-use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv::runtime::generators::{cube, torus};
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv_testkit::catmull_clark::{catmull_clark, catmull_clark_steps};
 use std::collections::HashMap;
 
 fn centroid(m: &QuadMesh) -> [f64; 3] {

@@ -5,8 +5,8 @@
 mod common;
 
 use common::cli::lsubdiv;
-use lsubdiv::compiler::generic::{GenericScheme, GenericSurface};
-use lsubdiv::compiler::Scheme;
+use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
+use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::{Curve, CurveScheme};
 use resvg::usvg;
 use std::collections::BTreeSet;
@@ -18,7 +18,7 @@ fn ok(o: &Output) {
 }
 
 fn scheme(name: &str) -> Scheme {
-    Scheme::build(lsubdiv::resolve(name).unwrap().ls).unwrap()
+    Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap()
 }
 
 /// Parses SVG text the way the PNG writer does and returns its size.
@@ -121,7 +121,7 @@ fn limit_curve_pieces_meet_at_the_knots() {
     let s = scheme("fibonacci-curve");
     let h: Vec<f64> = s.lengths.iter().map(|e| e.to_f64()).collect();
     let mut g = GenericScheme::new(s);
-    let curve = Curve::with_axiom(&g.tables(), lsubdiv::plot::hexagon(), true);
+    let curve = Curve::with_axiom(&g.tables(), lsubdiv_cli::plot::hexagon(), true);
     g.prepare(&curve);
     let last = lsubdiv::refine(&g, &curve, 3).unwrap();
     let (p, l, m) = (&last.points, &last.labels, last.points.len());
@@ -135,7 +135,7 @@ fn limit_curve_pieces_meet_at_the_knots() {
             ]
         })
         .collect();
-    let pieces = lsubdiv::plot::limit(&mut g, &last, 1e-3).unwrap();
+    let pieces = lsubdiv_cli::plot::limit(&mut g, &last, 1e-3).unwrap();
     assert_eq!(pieces.len(), m);
     for (i, piece) in pieces.iter().enumerate() {
         // The unrolled polygon's domain starts at interval d = 2: piece i is interval i + 2,
@@ -215,7 +215,7 @@ fn characteristic_map_is_the_closed_form_eigenvector_and_regular() {
     let surface = GenericSurface::new(s).unwrap();
     let c = surface.analysis().coefficients_f64();
     let n = 5;
-    let map = lsubdiv::charmap::characteristic_map(&surface, n, 1, &|_| {}).unwrap();
+    let map = lsubdiv_cli::charmap::characteristic_map(&surface, n, 1, &|_| {}).unwrap();
     let lambda = c.spectrum(n).unwrap().lambda1;
     assert!(
         (map.lambda - lambda).abs() < 1e-12,

@@ -4,14 +4,14 @@
 
 mod common;
 
-use common::spline::spline_distance;
-use lsubdiv::compiler::field::Elem;
-use lsubdiv::compiler::generic::GenericScheme;
-use lsubdiv::compiler::lsystem::LSystem;
-use lsubdiv::compiler::symmetry::{check_symmetry, involutions, is_symmetry};
-use lsubdiv::compiler::{scheme, validity, Scheme};
-use lsubdiv::fuzzing::{involution, SmallSystem};
+use lsubdiv::compiler::exact::field::Elem;
+use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::exact::lsystem::LSystem;
+use lsubdiv::compiler::exact::symmetry::{check_symmetry, involutions, is_symmetry};
+use lsubdiv::compiler::exact::{scheme, validity, Scheme};
 use lsubdiv::{Curve, CurveScheme};
+use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
+use lsubdiv_testkit::spline::spline_distance;
 use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;

@@ -2,10 +2,10 @@
 //! the others) of every shipped scheme, and of one generated source file. Reviewed and committed;
 //! insta never writes snapshots under CI.
 
-use lsubdiv::compiler::codegen::generate;
-use lsubdiv::compiler::validity::analyse;
-use lsubdiv::compiler::Scheme;
-use lsubdiv::{report, resolve};
+use lsubdiv::compiler::exact::codegen::generate;
+use lsubdiv::compiler::exact::validity::analyse;
+use lsubdiv::compiler::exact::Scheme;
+use lsubdiv_cli::{report, resolve};
 
 fn report_of(name: &str) -> String {
     let r = resolve(name).unwrap();
@@ -16,7 +16,7 @@ fn report_of(name: &str) -> String {
 
 #[test]
 fn exact_tables_of_shipped_schemes() {
-    for name in lsubdiv::builtin_names() {
+    for name in lsubdiv_cli::builtin_names() {
         insta::assert_snapshot!(format!("inspect_{name}"), report_of(name));
     }
 }
@@ -40,7 +40,7 @@ fn ev_tables_of_the_surface_schemes() {
     for name in ["binary-ternary", "fibonacci"] {
         let r = resolve(name).unwrap();
         let s = Scheme::build(r.ls).unwrap();
-        let a = lsubdiv::compiler::ev::analyse(&s).unwrap();
+        let a = lsubdiv::compiler::exact::ev::analyse(&s).unwrap();
         let c = a.coefficients_f64();
         let rows: Vec<_> = (3..=16)
             .chain([20, 25])

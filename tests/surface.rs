@@ -3,14 +3,15 @@
 
 mod common;
 
-use common::catmull_clark::catmull_clark_steps;
-use lsubdiv::compiler::generic::{GenericScheme, GenericSurface};
-use lsubdiv::compiler::Scheme;
+use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
+use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::runtime::generators::{cube, klein_bottle, prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, StepStats};
 use lsubdiv::runtime::topology::Topology;
-use lsubdiv::{generated, resolve, Curve, CurveScheme};
+use lsubdiv::{generated, Curve, CurveScheme};
+use lsubdiv_cli::resolve;
+use lsubdiv_testkit::catmull_clark::catmull_clark_steps;
 
 fn surface(name: &str) -> GenericSurface {
     let r = resolve(name).unwrap();

@@ -1,12 +1,12 @@
 //! Acceptance data of the spine issue: the papers' values are expectations here, never inputs.
 //! \[N\] = Nivoliers et al. 2012, \[G\] = Gérot & Ivrissimtzis 2023.
 
-use lsubdiv_compiler::field::{Elem, FieldRef};
-use lsubdiv_compiler::graph::reach;
-use lsubdiv_compiler::lsystem::LSystem;
-use lsubdiv_compiler::scheme;
-use lsubdiv_compiler::validity::analyse;
-use lsubdiv_compiler::Scheme;
+use lsubdiv_compiler::exact::field::{Elem, FieldRef};
+use lsubdiv_compiler::exact::graph::reach;
+use lsubdiv_compiler::exact::lsystem::LSystem;
+use lsubdiv_compiler::exact::scheme;
+use lsubdiv_compiler::exact::validity::analyse;
+use lsubdiv_compiler::exact::Scheme;
 use num_bigint::BigInt;
 
 fn shipped(name: &str) -> Scheme {

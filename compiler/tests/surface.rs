@@ -3,10 +3,10 @@
 //! and the refusals of §4.2. The DFT reduction is cross-checked against the full local
 //! subdivision matrix with nalgebra.
 
-use lsubdiv_compiler::ev::{analyse, SurfaceAnalysis};
-use lsubdiv_compiler::field::Elem;
-use lsubdiv_compiler::symmetry::{involutions, MAX_INVOLUTIONS};
-use lsubdiv_compiler::{scheme, Scheme};
+use lsubdiv_compiler::exact::ev::{analyse, SurfaceAnalysis};
+use lsubdiv_compiler::exact::field::Elem;
+use lsubdiv_compiler::exact::symmetry::{involutions, MAX_INVOLUTIONS};
+use lsubdiv_compiler::exact::{scheme, Scheme};
 use nalgebra::DMatrix;
 
 fn shipped(name: &str) -> Scheme {

@@ -2,5 +2,5 @@
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let _ = lsubdiv::fuzzing::check_obj(data);
+    let _ = lsubdiv_testkit::fuzzing::check_obj(data);
 });

@@ -2,5 +2,5 @@
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let _ = lsubdiv::fuzzing::check_pipeline(data);
+    let _ = lsubdiv_testkit::fuzzing::check_pipeline(data);
 });

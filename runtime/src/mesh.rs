@@ -1,16 +1,10 @@
 //! Closed quad meshes: the [`QuadMesh`] type, OBJ parsing with line-numbered errors, OBJ and PLY
-//! output, and atomic file writes.
+//! output.
 //!
 //! Validation of the connectivity (closed 2-manifold) lives in [`crate::topology`]; this module
 //! only checks what a file can get wrong on its own line.
 
-use std::ffi::OsString;
 use std::fmt::{self, Write as _};
-use std::fs;
-use std::io::{self, Write as _};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
 
 /// A polygonal mesh with quad faces (corner order as given in the file).
 #[derive(Clone, Debug, PartialEq)]
@@ -631,89 +625,6 @@ pub fn to_ply(mesh: &QuadMesh) -> String {
     s
 }
 
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Temporary files that [`write_atomic`] is writing, for [`remove_partial_files`].
-static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-
-fn pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
-    PENDING
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
-/// Removes the temporary files of writes still in progress: for a program interrupted by a
-/// signal (its handler calls this, then exits), so that no partial file is left behind. The
-/// outputs themselves are untouched: they are only ever replaced by a rename.
-pub fn remove_partial_files() {
-    for p in pending().drain(..) {
-        let _ = fs::remove_file(p);
-    }
-}
-
-/// Writes bytes to `path` atomically: a temporary file in the same directory (synced), then
-/// rename; on error the temporary file is removed and a previous file at `path` is intact. The
-/// permissions of a previous file are kept.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let name = path.file_name().ok_or_else(|| {
-        io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("{}: not a file path", path.display()),
-        )
-    })?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut attempt = 0;
-    let (tmp, mut file) = loop {
-        let mut tmp_name = OsString::from(".");
-        tmp_name.push(name);
-        tmp_name.push(format!(
-            ".{}.{}.tmp",
-            std::process::id(),
-            TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-        ));
-        let tmp = dir.join(tmp_name);
-        let mut list = pending();
-        match fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-        {
-            Ok(file) => {
-                list.push(tmp.clone());
-                break (tmp, file);
-            }
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempt < 100 => attempt += 1,
-            Err(e) => return Err(e),
-        }
-    };
-    let result = file
-        .write_all(bytes)
-        .and_then(|()| file.sync_all())
-        .and_then(|()| {
-            drop(file);
-            if let Ok(meta) = fs::metadata(path) {
-                if meta.is_file() {
-                    fs::set_permissions(&tmp, meta.permissions())?;
-                }
-            }
-            fs::rename(&tmp, path)
-        });
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    pending().retain(|p| *p != tmp);
-    result?;
-    #[cfg(unix)]
-    if let Ok(d) = fs::File::open(dir) {
-        // Best effort: make the rename durable.
-        let _ = d.sync_all();
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1080,61 +991,6 @@ mod tests {
             let xs: Vec<f64> = line.split(' ').map(|t| t.parse().unwrap()).collect();
             assert_eq!(xs, p.to_vec());
         }
-    }
-
-    fn scratch_dir(tag: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!(
-            "lsubdiv-mesh-{tag}-{}-{}",
-            std::process::id(),
-            TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
-    }
-
-    fn entries(dir: &Path) -> Vec<String> {
-        let mut v: Vec<String> = fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        v.sort();
-        v
-    }
-
-    #[test]
-    fn write_atomic_replaces_and_leaves_no_temp_file() {
-        let dir = scratch_dir("ok");
-        let path = dir.join("mesh.obj");
-        write_atomic(&path, b"first").unwrap();
-        assert_eq!(fs::read(&path).unwrap(), b"first");
-        write_atomic(&path, b"second, longer").unwrap();
-        assert_eq!(fs::read(&path).unwrap(), b"second, longer");
-        write_atomic(&path, b"").unwrap();
-        assert_eq!(fs::read(&path).unwrap(), b"");
-        assert_eq!(entries(&dir), vec!["mesh.obj"]);
-        fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn write_atomic_failure_keeps_previous_state() {
-        let dir = scratch_dir("fail");
-        // Target is a (non-empty) directory: the rename fails, the directory is intact.
-        let target = dir.join("out.obj");
-        fs::create_dir(&target).unwrap();
-        fs::write(target.join("keep"), b"kept").unwrap();
-        fs::write(dir.join("previous.obj"), b"previous").unwrap();
-        assert!(write_atomic(&target, b"new").is_err());
-        assert!(target.is_dir());
-        assert_eq!(fs::read(target.join("keep")).unwrap(), b"kept");
-        assert_eq!(entries(&dir), vec!["out.obj", "previous.obj"]);
-        // Missing parent directory: error, nothing created.
-        assert!(write_atomic(&dir.join("missing").join("x.obj"), b"new").is_err());
-        assert_eq!(entries(&dir), vec!["out.obj", "previous.obj"]);
-        // No file name.
-        assert!(write_atomic(Path::new("/"), b"new").is_err());
-        assert_eq!(fs::read(dir.join("previous.obj")).unwrap(), b"previous");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     /// Parsing and topology building never panic, whatever the input.

@@ -12,8 +12,8 @@
 //! so what the map shows at an extraordinary vertex is the surface, not the estimator.
 
 use super::surface::{cross, dot, normalize, sub};
-use crate::runtime::mesh::QuadMesh;
-use crate::runtime::topology::Topology;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::topology::Topology;
 use nalgebra::{Matrix5, Vector5};
 use rayon::prelude::*;
 
@@ -141,8 +141,8 @@ pub fn colour(t: f64) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::render::surface::{normalize, orient, scale};
-    use crate::runtime::generators::{cube, torus};
-    use crate::runtime::topology::Topology;
+    use lsubdiv::runtime::generators::{cube, torus};
+    use lsubdiv::runtime::topology::Topology;
 
     fn curvature(m: &QuadMesh) -> Vec<f64> {
         let t = Topology::build(m).unwrap();
@@ -153,7 +153,7 @@ mod tests {
     #[test]
     fn sphere_has_mean_curvature_one_over_radius() {
         // The cube refined 4 times (binary-ternary), pushed onto the sphere of radius 2.
-        let r = crate::generated::subdivide::<f64>("binary-ternary", &cube(), 4, 1)
+        let r = lsubdiv::generated::subdivide::<f64>("binary-ternary", &cube(), 4, 1)
             .unwrap()
             .unwrap();
         let m = QuadMesh {

@@ -14,10 +14,10 @@ pub mod raster;
 pub mod shade;
 pub mod surface;
 
-use crate::runtime::mesh::QuadMesh;
-use crate::runtime::topology::Topology;
 use camera::{Camera, View};
 use image::Image;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::topology::Topology;
 use raster::{clip, plane_value, ClipVertex, Frame, Vertex, EMPTY};
 use rayon::prelude::*;
 

@@ -9,7 +9,7 @@ use super::image::Image;
 use super::raster::{Frame, EMPTY};
 use super::surface::{cross, dot, normalize, quad_area_vector, scale, sub};
 use super::{curvature, Shading};
-use crate::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::mesh::QuadMesh;
 use rayon::prelude::*;
 
 const BACKGROUND: [f64; 3] = [1.0, 1.0, 1.0];

@@ -4,8 +4,8 @@
 //! Nothing assumes the file's windings agree: they are made consistent by a walk over the faces,
 //! and a non-orientable mesh (or a seam the walk cannot avoid) is reported, not hidden.
 
-use crate::runtime::mesh::QuadMesh;
-use crate::runtime::topology::Topology;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::topology::Topology;
 use rayon::prelude::*;
 
 /// Faces oriented consistently and vertex normals.
@@ -140,7 +140,8 @@ fn vertex_normals(mesh: &QuadMesh, topo: &Topology, flip: &[bool]) -> Vec<[f64; 
         .into_par_iter()
         .map(|v| {
             let rot = topo.rotation(v);
-            let turn = |w: &crate::runtime::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
+            let turn =
+                |w: &lsubdiv::runtime::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
             let first = rot.first().map(turn);
             let mut n = [0.0; 3];
             for w in rot {
@@ -156,7 +157,7 @@ fn vertex_normals(mesh: &QuadMesh, topo: &Topology, flip: &[bool]) -> Vec<[f64; 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::runtime::generators::{cube, klein_bottle, torus};
+    use lsubdiv::runtime::generators::{cube, klein_bottle, torus};
 
     fn oriented(m: &QuadMesh) -> Oriented {
         orient(m, &Topology::build(m).unwrap())

@@ -2,12 +2,12 @@
 //! for words the axiom never produces. It shares the driver of `lsubdiv_runtime` with the
 //! generated path, and the same nearest-f64 weights, so both give the same bits.
 
-use crate::codegen::{alpha_table, ring_weights};
 use crate::error::Error;
-use crate::ev::{self, SurfaceAnalysis};
-use crate::graph::reach_from;
-use crate::lsystem::{Part, Word};
-use crate::pipeline::Scheme;
+use crate::exact::codegen::{alpha_table, ring_weights};
+use crate::exact::ev::{self, SurfaceAnalysis};
+use crate::exact::graph::reach_from;
+use crate::exact::lsystem::{Part, Word};
+use crate::exact::pipeline::Scheme;
 use lsubdiv_runtime::ev::EvCoefficients;
 use lsubdiv_runtime::surface::{SurfaceScheme, SurfaceTables};
 use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};

@@ -6,7 +6,7 @@
 //! interval by bisection until the value's interval excludes zero (it must: a nonzero element of
 //! degree < d cannot vanish at ρ). No floating point is used except in [`Elem::to_f64`].
 
-use crate::poly::{refine_root, QPoly};
+use crate::exact::poly::{refine_root, QPoly};
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_rational::BigRational;
@@ -615,7 +615,7 @@ impl ExprParser<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::poly::isolate_real_roots;
+    use crate::exact::poly::isolate_real_roots;
 
     fn field(coeffs: &[i64]) -> FieldRef {
         let p = QPoly::from_ints(coeffs);

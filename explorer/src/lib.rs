@@ -3,17 +3,17 @@
 //! (ratio ρ, number of masks).
 //!
 //! Counting rule (\[G\] §5.2): the masks of a degree-d scheme are the (d+1)-words in F_s for some
-//! s, F_0 being the (d+1)-factors of the axiom repeated ([`crate::graph`]); a word and its mirror
+//! s, F_0 being the (d+1)-factors of the axiom repeated ([`lsubdiv_compiler::exact::graph`]); a word and its mirror
 //! σ̄(w) count once ("we count as one each pair of symmetric words"). `words` is the raw count.
 
-use crate::error::Error;
-use crate::ev;
-use crate::field::FieldRef;
-use crate::graph::reach;
-use crate::lsystem::{LSystem, Source, Sym, Word};
-use crate::pipeline::Scheme;
-use crate::symmetry::involutions;
-use crate::validity::analyse;
+use lsubdiv_compiler::exact::ev;
+use lsubdiv_compiler::exact::field::FieldRef;
+use lsubdiv_compiler::exact::graph::reach;
+use lsubdiv_compiler::exact::lsystem::{LSystem, Source, Sym, Word};
+use lsubdiv_compiler::exact::pipeline::Scheme;
+use lsubdiv_compiler::exact::symmetry::involutions;
+use lsubdiv_compiler::exact::validity::analyse;
+use lsubdiv_compiler::Error;
 use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::BTreeSet;
@@ -108,7 +108,11 @@ fn words_up_to(letters: &[Sym], k: usize) -> Vec<Word> {
 
 /// The number of masks: reachable words with w and σ̄(w) counted once (every word alone
 /// without σ).
-fn mask_count(ls: &LSystem, graph: &crate::graph::Reach, sigma: Option<&[Sym]>) -> usize {
+fn mask_count(
+    ls: &LSystem,
+    graph: &lsubdiv_compiler::exact::graph::Reach,
+    sigma: Option<&[Sym]>,
+) -> usize {
     match sigma {
         Some(s) => graph
             .words
@@ -616,8 +620,9 @@ pub fn search(opts: &Search, progress: &(dyn Fn(u64, u64) + Sync)) -> Result<Fou
             let integer = rho
                 .as_rational()
                 .is_some_and(num_rational::BigRational::is_integer);
-            let bound =
-                |r: &num_rational::BigRational| crate::field::Elem::rational(&a.field, r.clone());
+            let bound = |r: &num_rational::BigRational| {
+                lsubdiv_compiler::exact::field::Elem::rational(&a.field, r.clone())
+            };
             let below = matches!(&opts.rho_min, Some(m) if rho.cmp_exact(&bound(m)).is_lt());
             let above = matches!(&opts.rho_max, Some(m) if rho.cmp_exact(&bound(m)).is_gt());
             let keep = a.valid && (opts.include_integer || !integer) && !below && !above;
@@ -671,6 +676,6 @@ pub fn scheme_toml(row: &Row) -> String {
         row.rho_f64(),
         row.minimal_polynomial().join(", "),
         row.masks,
-        crate::scheme::to_toml(&ls)
+        lsubdiv_compiler::exact::scheme::to_toml(&ls)
     )
 }

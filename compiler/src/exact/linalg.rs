@@ -1,6 +1,6 @@
 //! Exact linear algebra over Q(ρ): null spaces by Gauss–Jordan elimination.
 
-use crate::field::{Elem, FieldRef};
+use crate::exact::field::{Elem, FieldRef};
 
 /// A basis of the null space of the r×c matrix `a` (rows of `Elem`), in reduced form: basis
 /// vector j has a 1 at the j-th free column and 0 at the other free columns.

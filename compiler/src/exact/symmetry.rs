@@ -2,7 +2,7 @@
 //! symmetric axiom (Proposition 4.2).
 
 use crate::error::Error;
-use crate::lsystem::{LSystem, Part, Sym};
+use crate::exact::lsystem::{LSystem, Part, Sym};
 
 /// True when σ makes the L-system symmetric (Proposition 4.2).
 pub fn is_symmetry(ls: &LSystem, sigma: &[Sym]) -> bool {

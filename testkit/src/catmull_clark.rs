@@ -11,7 +11,7 @@
 //! face. Face (a, b, c, d) becomes (a', e_ab, f, e_da), (b', e_bc, f, e_ab), (c', e_cd, f, e_bc),
 //! (d', e_da, f, e_cd).
 
-use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv::runtime::mesh::QuadMesh;
 use std::collections::HashMap;
 
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

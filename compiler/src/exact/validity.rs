@@ -7,10 +7,10 @@
 //! (no edge leaving them) — Berman & Plemmons, Nonnegative Matrices, Thm 2.3.10.
 
 use crate::error::Error;
-use crate::field::{parse_expr, Elem, Field, FieldRef};
-use crate::linalg::{null_space, shifted, transpose};
-use crate::lsystem::{LSystem, Part};
-use crate::poly::{char_poly, factor, isolate_real_roots, QPoly, Sturm};
+use crate::exact::field::{parse_expr, Elem, Field, FieldRef};
+use crate::exact::linalg::{null_space, shifted, transpose};
+use crate::exact::lsystem::{LSystem, Part};
+use crate::exact::poly::{char_poly, factor, isolate_real_roots, QPoly, Sturm};
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
 

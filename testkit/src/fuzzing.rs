@@ -6,14 +6,15 @@
 //! error, or a bound on the work so that the fuzzer keeps exploring instead of timing out). An
 //! invariant that fails is a bug and panics, so the fuzzer reports it.
 
-use crate::compiler::generic::{GenericScheme, GenericSurface};
-use crate::compiler::lsystem::{LSystem, Source};
-use crate::compiler::{scheme, symmetry, validity, Error, Scheme};
-use crate::runtime::mesh::parse_obj;
-use crate::runtime::topology::Topology;
-use crate::runtime::{generators, patch};
-use crate::{refine, Curve, CurveScheme};
 use arbitrary::{Arbitrary, Unstructured};
+use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
+use lsubdiv::compiler::exact::lsystem::{LSystem, Source};
+use lsubdiv::compiler::exact::{scheme, symmetry, validity, Scheme};
+use lsubdiv::compiler::Error;
+use lsubdiv::runtime::mesh::parse_obj;
+use lsubdiv::runtime::topology::Topology;
+use lsubdiv::runtime::{generators, patch};
+use lsubdiv::{refine, Curve, CurveScheme};
 
 /// File name the checks give the scheme parser (errors must name it).
 pub const SCHEME_FILE: &str = "fuzz.toml";

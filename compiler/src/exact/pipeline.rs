@@ -2,12 +2,12 @@
 //! make compilation fail when an identity that must hold exactly does not.
 
 use crate::error::Error;
-use crate::field::Elem;
-use crate::graph::{reach, Reach};
-use crate::lsystem::{LSystem, Part, Sym, Word};
-use crate::masks::{mask, Mask};
-use crate::symmetry::check_symmetry;
-use crate::validity::{analyse, Analysis};
+use crate::exact::field::Elem;
+use crate::exact::graph::{reach, Reach};
+use crate::exact::lsystem::{LSystem, Part, Sym, Word};
+use crate::exact::masks::{mask, Mask};
+use crate::exact::symmetry::check_symmetry;
+use crate::exact::validity::{analyse, Analysis};
 
 /// A compiled scheme: every reachable mask, exact.
 #[derive(Clone, Debug)]
@@ -134,7 +134,7 @@ impl Scheme {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scheme;
+    use crate::exact::scheme;
 
     fn binary_ternary() -> Scheme {
         let text = "name = \"bt\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nC = \"LCR\"\nR = \"CR\"\n[symmetry]\nL = \"R\"\n";

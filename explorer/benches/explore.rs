@@ -1,7 +1,7 @@
 //! Explorer timings: the full enumeration of the four [G] §5.2 families at K = 3 (target: under
 //! 10 s in release mode on 2 cores), and an exhaustive search on three symbols.
 
-use lsubdiv::compiler::explore::{enumerate, search, Enumeration, Family, Search};
+use lsubdiv_explorer::{enumerate, search, Enumeration, Family, Search};
 use std::time::Instant;
 
 fn main() {

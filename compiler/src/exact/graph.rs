@@ -6,7 +6,7 @@
 //! *recurring* when it is reachable from a cycle (then it lies in F_s for infinitely many s);
 //! the others are *transitional*: they form a DAG, so they appear only in the first steps.
 
-use crate::lsystem::{LSystem, Word};
+use crate::exact::lsystem::{LSystem, Word};
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::{DiGraph, NodeIndex};
 use std::collections::{BTreeSet, HashMap};

@@ -3,8 +3,8 @@
 //! Counting rule (see `explore`): masks are the reachable (d+1)-words, F_0 the factors of the
 //! axiom repeated, a word and its mirror under the family's σ counted once.
 
-use lsubdiv_compiler::explore::{describe, enumerate, Enumeration, Family, Row};
-use lsubdiv_compiler::lsystem::{LSystem, Source};
+use lsubdiv_compiler::exact::lsystem::{LSystem, Source};
+use lsubdiv_explorer::{describe, enumerate, Enumeration, Family, Row};
 
 fn rows(f: Family) -> Vec<Row> {
     enumerate(f, Enumeration::default()).unwrap()
@@ -120,7 +120,7 @@ fn lcr_has_one_non_integer_system() {
 
 fn system(symbols: &[&str], rules: &[&str], axiom: &str) -> LSystem {
     let symbols: Vec<String> = symbols.iter().map(|s| s.to_string()).collect();
-    let parse = |w: &str| lsubdiv_compiler::lsystem::parse_word(&symbols, w).unwrap();
+    let parse = |w: &str| lsubdiv_compiler::exact::lsystem::parse_word(&symbols, w).unwrap();
     LSystem {
         name: "test".into(),
         degree: 3,
@@ -172,8 +172,8 @@ fn surface_verdicts_follow_section_4_2() {
     assert!(r.iter().all(|r| r.sigma.is_some()));
 }
 
-fn small_search(require_surface: bool, asymmetric: bool) -> lsubdiv_compiler::explore::Found {
-    use lsubdiv_compiler::explore::{search, Search};
+fn small_search(require_surface: bool, asymmetric: bool) -> lsubdiv_explorer::Found {
+    use lsubdiv_explorer::{search, Search};
     let opts = Search {
         symbols: 3,
         max_word_len: 2,
@@ -205,8 +205,8 @@ fn search_front_is_a_pareto_front_and_round_trips_through_scheme_files() {
     }
     for r in front {
         assert!(r.valid.is_ok() && !r.integer);
-        let text = lsubdiv_compiler::explore::scheme_toml(r);
-        let ls = lsubdiv_compiler::scheme::parse("found.toml", &text).unwrap();
+        let text = lsubdiv_explorer::scheme_toml(r);
+        let ls = lsubdiv_compiler::exact::scheme::parse("found.toml", &text).unwrap();
         let again = describe("search", ls, String::new(), vec![], None).unwrap();
         assert_eq!(again.masks, r.masks, "{text}");
         assert_eq!(again.minimal_polynomial(), r.minimal_polynomial(), "{text}");

@@ -8,8 +8,8 @@
 //! Lengths are those of the refined level (ℓ, not ℓ/ρ): by \[N\] eq. (3) the old knots are exactly
 //! the refined knots at rule boundaries, so ρ never appears and nothing depends on the step.
 
-use crate::field::Elem;
-use crate::lsystem::{LSystem, Sym, Word};
+use crate::exact::field::Elem;
+use crate::exact::lsystem::{LSystem, Sym, Word};
 
 /// The weight an old point gives to one new point.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -2,7 +2,7 @@
 //! `[lengths]`. Parsing keeps byte spans so that every error names file, line and column.
 
 use crate::error::{Error, Location};
-use crate::lsystem::{parse_word, LSystem, Source, Sym, Word, WordError};
+use crate::exact::lsystem::{parse_word, LSystem, Source, Sym, Word, WordError};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml_edit::{ImDocument, Item, TableLike};

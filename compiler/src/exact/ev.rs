@@ -7,10 +7,10 @@
 //! labels (\[G\] §2.2.2: "the labels of edges beyond the EV are … the symmetric symbols").
 
 use crate::error::Error;
-use crate::field::Elem;
-use crate::lsystem::{LSystem, Part, Sym, Word};
-use crate::pipeline::Scheme;
-use crate::symmetry::{involutions, is_symmetry};
+use crate::exact::field::Elem;
+use crate::exact::lsystem::{LSystem, Part, Sym, Word};
+use crate::exact::pipeline::Scheme;
+use crate::exact::symmetry::{involutions, is_symmetry};
 use lsubdiv_runtime::ev::EvCoefficients;
 
 /// The EV configuration at one step.
@@ -57,7 +57,7 @@ pub struct SurfaceAnalysis {
     /// Whether σ was declared in the scheme file (else found).
     pub declared: bool,
     /// Every involution that makes the system symmetric (Remark 4.5), the first
-    /// [`MAX_INVOLUTIONS`](crate::symmetry::MAX_INVOLUTIONS) when there are more.
+    /// [`MAX_INVOLUTIONS`](crate::exact::symmetry::MAX_INVOLUTIONS) when there are more.
     pub involutions: Vec<Vec<Sym>>,
     /// Steps 0 ..= `stationary_from`.
     pub steps: Vec<StepInfo>,
