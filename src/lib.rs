@@ -51,12 +51,12 @@ pub fn resolve(arg: &str) -> Result<Resolved, Error> {
             ls: scheme::parse(file, text)?,
             builtin: true,
         }),
-        None => Err(Error::Io {
-            path: arg.to_string(),
-            message: format!(
+        None => Err(Error::in_file(
+            arg,
+            format!(
                 "no such scheme file, and no shipped scheme of that name (shipped: {})",
                 builtin_names().join(", ")
             ),
-        }),
+        )),
     }
 }

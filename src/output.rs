@@ -19,10 +19,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     writing().push(path.to_path_buf());
     let result = lsubdiv::compiler::write_atomic(path, bytes);
     writing().retain(|p| p != path);
-    result.map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })
+    result.map_err(|e| Error::io(path, &e))
 }
 
 /// Removes the temporary files of the writes in progress (for a signal handler, which then

@@ -1,7 +1,7 @@
 //! The build-script API, in the style of `prost_build::Config`: compile scheme files into
 //! `OUT_DIR` (or any directory).
 
-use crate::error::Error;
+use crate::error::{Error, Location};
 use crate::exact::codegen::{generate_registry, generate_with, module_name};
 use crate::exact::ev;
 use crate::exact::pipeline::Scheme;
@@ -38,9 +38,9 @@ impl Config {
     pub fn compile(&self, paths: &[impl AsRef<Path>]) -> Result<Vec<String>, Error> {
         let out_dir = match &self.out_dir {
             Some(d) => d.clone(),
-            None => PathBuf::from(std::env::var_os("OUT_DIR").ok_or_else(|| Error::Io {
-                path: "OUT_DIR".into(),
-                message: "not set: call from a build script or set Config::out_dir".into(),
+            None => PathBuf::from(std::env::var_os("OUT_DIR").ok_or_else(|| {
+                Error::input("OUT_DIR is not set")
+                    .with_hint("call from a build script, or set Config::out_dir")
             })?),
         };
         let mut names = Vec::new();
@@ -51,11 +51,11 @@ impl Config {
             let ls = scheme::load(p)?;
             let compiled = Scheme::build(ls)?;
             if names.contains(&compiled.ls.name) {
-                return Err(Error::scheme(
-                    &p.display().to_string(),
+                return Err(Error::at(
+                    Location::file(&p.display().to_string()),
                     format!("a scheme named `{}` was already compiled", compiled.ls.name),
-                    Some("give each scheme file a distinct `name`".into()),
-                ));
+                )
+                .with_hint("give each scheme file a distinct `name`"));
             }
             let file = out_dir.join(format!("{}.rs", module_name(&compiled.ls.name)));
             let surface = ev::analyse(&compiled).ok();
@@ -83,8 +83,5 @@ fn write_if_changed(path: &Path, text: &str) -> Result<(), Error> {
     if std::fs::read_to_string(path).is_ok_and(|old| old == text) {
         return Ok(());
     }
-    crate::output::write_atomic(path, text.as_bytes()).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })
+    crate::output::write_atomic(path, text.as_bytes()).map_err(|e| Error::io(path, &e))
 }

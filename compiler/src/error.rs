@@ -1,16 +1,20 @@
-//! Errors as values: every one names its place (file, line, column) and what is wrong.
+//! The one diagnostic type of lsubdiv: every reader and argument check (scheme files here, meshes
+//! and points in the facade, flags in the CLI) says where, what is wrong, and how to fix it; the
+//! program at the edge renders it once, lalrpop-style: `file:line:col: error: message` and an
+//! indented `hint:` line.
 
 use std::fmt;
+use std::path::Path;
 
-/// A place in a source file (1-based line and column, columns counted in characters).
+/// A place in an input: a file, optionally a 1-based line and column (columns in characters).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Location {
-    /// File name as given by the caller.
+    /// File name as given by the caller (or a flag such as `--labels`).
     pub file: String,
-    /// 1-based line.
-    pub line: usize,
-    /// 1-based column.
-    pub column: usize,
+    /// 1-based line, when the problem is on one.
+    pub line: Option<usize>,
+    /// 1-based column, when known.
+    pub column: Option<usize>,
 }
 
 impl Location {
@@ -26,92 +30,152 @@ impl Location {
         let column = before[line_start..].chars().count() + 1;
         Location {
             file: file.to_string(),
-            line,
-            column,
+            line: Some(line),
+            column: Some(column),
         }
     }
 
-    /// The start of a file (for problems that concern the whole scheme).
+    /// The start of a file (for problems that concern the whole file).
     pub fn file(file: &str) -> Location {
         Location {
             file: file.to_string(),
-            line: 1,
-            column: 1,
+            line: Some(1),
+            column: Some(1),
+        }
+    }
+
+    /// A file as a whole (no line): for I/O failures and problems found after reading.
+    pub fn whole(file: impl fmt::Display) -> Location {
+        Location {
+            file: file.to_string(),
+            line: None,
+            column: None,
+        }
+    }
+
+    /// Line `line` of `file`, without a column.
+    pub fn line(file: impl fmt::Display, line: usize) -> Location {
+        Location {
+            file: file.to_string(),
+            line: Some(line),
+            column: None,
         }
     }
 }
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}", self.file, self.line, self.column)
+        write!(f, "{}", self.file)?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+            if let Some(c) = self.column {
+                write!(f, ":{c}")?;
+            }
+        }
+        Ok(())
     }
 }
 
-/// Everything that can go wrong in the compiler.
+/// Whose fault a diagnostic is: the input's (exit status 2) or lsubdiv's (1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Bad input: a file, a flag, an unusable L-system, a file that cannot be read or written.
+    Input,
+    /// An identity that must hold exactly does not: a bug in lsubdiv, not in the input.
+    Internal,
+}
+
+/// A diagnostic: where (if anywhere in particular), what is wrong, and how to fix it.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Error {
-    /// A file could not be read or written.
-    Io {
-        /// The path.
-        path: String,
-        /// The operating system's message.
-        message: String,
-    },
-    /// A scheme file is malformed or describes an unusable L-system.
-    Scheme {
-        /// Where.
-        at: Location,
-        /// What is wrong.
-        message: String,
-        /// How to fix it.
-        hint: Option<String>,
-    },
-    /// Input other than a scheme file (labels, polygons) is unusable.
-    Input(String),
-    /// An identity that must hold exactly does not: a bug in the compiler, not in the input.
-    Internal(String),
+pub struct Error {
+    /// Input or internal.
+    pub kind: Kind,
+    /// Where: a file, line and column; `None` for problems of no file (a flag's value).
+    pub at: Option<Location>,
+    /// What is wrong (one line, no `error:` prefix).
+    pub message: String,
+    /// How to fix it.
+    pub hint: Option<String>,
 }
 
 impl Error {
-    /// Whether the error is in the input (exit status 2) rather than in lsubdiv (1).
+    /// Bad input at `at`.
+    pub fn at(at: Location, message: impl Into<String>) -> Error {
+        Error {
+            kind: Kind::Input,
+            at: Some(at),
+            message: message.into(),
+            hint: None,
+        }
+    }
+
+    /// Bad input in `file` as a whole.
+    pub fn in_file(file: impl fmt::Display, message: impl Into<String>) -> Error {
+        Error::at(Location::whole(file), message)
+    }
+
+    /// A file that could not be read or written.
+    pub fn io(path: &Path, e: &std::io::Error) -> Error {
+        Error::in_file(path.display(), e.to_string())
+    }
+
+    /// Bad input of no file (a flag, an option of the API).
+    pub fn input(message: impl Into<String>) -> Error {
+        Error {
+            kind: Kind::Input,
+            at: None,
+            message: message.into(),
+            hint: None,
+        }
+    }
+
+    /// A bug in lsubdiv, placed at the input it concerns when there is one.
+    pub fn internal(at: Option<Location>, message: impl Into<String>) -> Error {
+        Error {
+            kind: Kind::Internal,
+            at,
+            message: message.into(),
+            hint: None,
+        }
+    }
+
+    /// The same diagnostic with a hint.
+    pub fn with_hint(mut self, hint: impl Into<String>) -> Error {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    /// The same diagnostic with an optional hint.
+    pub fn with_hint_opt(mut self, hint: Option<String>) -> Error {
+        self.hint = hint;
+        self
+    }
+
+    /// Whether the error is lsubdiv's (exit status 1) rather than the input's (2).
     pub fn is_internal(&self) -> bool {
-        matches!(self, Error::Internal(_))
+        self.kind == Kind::Internal
     }
 
-    /// A scheme-level error located at the start of the file.
-    pub fn scheme(file: &str, message: String, hint: Option<String>) -> Error {
-        Error::Scheme {
-            at: Location::file(file),
-            message,
-            hint,
-        }
-    }
-}
-
-impl Error {
     /// What is wrong, without the location or hint (for tables and JSON fields).
-    pub fn message(&self) -> String {
-        match self {
-            Error::Io { message, .. } | Error::Scheme { message, .. } => message.clone(),
-            Error::Input(m) | Error::Internal(m) => m.clone(),
-        }
+    pub fn message(&self) -> &str {
+        &self.message
     }
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Error::Io { path, message } => write!(f, "{path}: error: {message}"),
-            Error::Scheme { at, message, hint } => {
-                write!(f, "{at}: error: {message}")?;
-                if let Some(h) = hint {
-                    write!(f, "\n  hint: {h}")?;
-                }
-                Ok(())
-            }
-            Error::Input(m) => write!(f, "error: {m}"),
-            Error::Internal(m) => write!(f, "internal error: {m}"),
+        if let Some(at) = &self.at {
+            write!(f, "{at}: ")?;
         }
+        let what = match self.kind {
+            Kind::Input => "error",
+            Kind::Internal => "internal error",
+        };
+        write!(f, "{what}: {}", self.message)?;
+        if let Some(h) = &self.hint {
+            write!(f, "\n  hint: {h}")?;
+        }
+        Ok(())
     }
 }
 

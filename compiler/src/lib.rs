@@ -10,5 +10,5 @@ pub mod exact;
 mod output;
 
 pub use config::{compile, Config};
-pub use error::{Error, Location};
+pub use error::{Error, Kind, Location};
 pub use output::{temporary_files, write_atomic};

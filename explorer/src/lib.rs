@@ -161,7 +161,7 @@ pub fn describe(
             Scheme::build(ls.clone())
                 .and_then(|scheme| ev::analyse(&scheme))
                 .map(|a| (a.stationary_from, a.contained_from))
-                .map_err(|e| e.message())
+                .map_err(|e| e.message)
         }
     };
     Ok(Row {

@@ -29,10 +29,11 @@ const MAX_ANALYSED_SYMBOLS: usize = 16;
 /// A compiler error, after checking that it names the scheme file at a line of the text.
 fn scheme_error(e: Error, text: &str) -> String {
     let shown = e.to_string();
-    if let Error::Scheme { at, .. } = &e {
+    if let (false, Some(at)) = (e.is_internal(), &e.at) {
         assert_eq!(at.file, SCHEME_FILE, "{shown}");
+        let line = at.line.expect("scheme errors name a line");
         assert!(
-            at.line >= 1 && at.line <= text.lines().count().max(1) + 1,
+            line >= 1 && line <= text.lines().count().max(1) + 1,
             "line out of the text: {shown}"
         );
     }

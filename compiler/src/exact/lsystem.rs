@@ -94,11 +94,7 @@ impl LSystem {
 
     /// A scheme error at a part of this L-system.
     pub fn error(&self, part: Part, message: String, hint: Option<String>) -> Error {
-        Error::Scheme {
-            at: self.locate(part),
-            message,
-            hint,
-        }
+        Error::at(self.locate(part), message).with_hint_opt(hint)
     }
 
     /// Number of symbols n.

@@ -60,7 +60,7 @@ impl Scheme {
 
     /// A failed certificate: a bug in the compiler, reported with the scheme it concerns.
     fn internal(&self, message: String) -> Error {
-        Error::Internal(format!("{}: {message}", self.ls.locate(Part::Rules)))
+        Error::internal(Some(self.ls.locate(Part::Rules)), message)
     }
 
     /// Every new point's incoming weights sum to exactly 1, for every reachable neighbourhood.

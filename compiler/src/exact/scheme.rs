@@ -12,10 +12,7 @@ pub const MAX_DEGREE: usize = 15;
 
 /// The scheme files (`*.toml`) of a folder, sorted.
 pub fn scheme_files(dir: &Path) -> Result<Vec<PathBuf>, Error> {
-    let io = |e: std::io::Error| Error::Io {
-        path: dir.display().to_string(),
-        message: e.to_string(),
-    };
+    let io = |e: std::io::Error| Error::io(dir, &e);
     let mut files = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(io)? {
         let p = entry.map_err(io)?.path();
@@ -29,10 +26,7 @@ pub fn scheme_files(dir: &Path) -> Result<Vec<PathBuf>, Error> {
 
 /// Reads and parses a scheme file.
 pub fn load(path: &Path) -> Result<LSystem, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    })?;
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
     parse(&path.display().to_string(), &text)
 }
 
@@ -72,7 +66,7 @@ pub fn parse(file: &str, text: &str) -> Result<LSystem, Error> {
     let cx = Cx { file, text };
     let doc = ImDocument::parse(text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
-        let message = e.message().trim().to_string();
+        let message = toml_edit::TomlError::message(&e).trim().to_string();
         let hint = if message.starts_with("duplicate key") {
             "each key appears once per table (one rule per symbol): delete or merge the repeated line"
         } else {
@@ -234,11 +228,7 @@ impl Cx<'_> {
     }
 
     fn err(&self, span: Range<usize>, message: String, hint: Option<String>) -> Error {
-        Error::Scheme {
-            at: self.loc(span),
-            message,
-            hint,
-        }
+        Error::at(self.loc(span), message).with_hint_opt(hint)
     }
 
     fn span_of_key(&self, t: &dyn TableLike, key: &str) -> Range<usize> {

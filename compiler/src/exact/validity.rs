@@ -121,10 +121,10 @@ pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
     let n = ls.n();
     let cp = char_poly(&m);
     let field = perron_field(&cp).map_err(|e| {
-        Error::Internal(format!(
-            "{}: the Perron root of M: {e}",
-            ls.locate(Part::Rules)
-        ))
+        Error::internal(
+            Some(ls.locate(Part::Rules)),
+            format!("the Perron root of M: {e}"),
+        )
     })?;
     let rho = field.rho();
     let one = Elem::one(&field);
