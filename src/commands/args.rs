@@ -1,0 +1,94 @@
+//! Arguments shared by several commands.
+
+use crate::commands::{bad, Failure};
+use clap::ValueEnum;
+use lsubdiv_cli::output::write_atomic;
+use lsubdiv_cli::tables;
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BenchPath {
+    Generated,
+    Generic,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PathChoice {
+    Auto,
+    Generated,
+    Generic,
+}
+
+/// How `curve` and `plot` read a polygon: open or closed, its labels, the scheme's degree.
+#[derive(clap::Args)]
+pub struct PolygonArgs {
+    /// The polygon is closed (cyclic).
+    #[arg(long)]
+    pub closed: bool,
+    /// Interval labels (a word: m + d symbols for an open polygon of m points, m if closed);
+    /// default: the axiom repeated from the first interval on.
+    #[arg(long)]
+    pub labels: Option<String>,
+    /// Override the scheme's degree.
+    #[arg(long)]
+    pub degree: Option<usize>,
+}
+
+/// `--max-memory`, for the commands that refine.
+#[derive(clap::Args)]
+pub struct MemoryLimit {
+    /// Refuse, before refining, a run whose predicted peak memory exceeds this: bytes, or a
+    /// number with K, M, G or T (powers of 1024). Default: half of the machine's memory
+    /// (`MemTotal` of /proc/meminfo; 8 GiB where that cannot be read).
+    #[arg(long, value_parser = lsubdiv_cli::limits::parse_size)]
+    pub max_memory: Option<u64>,
+}
+
+impl MemoryLimit {
+    pub fn bytes(&self) -> u64 {
+        self.max_memory
+            .unwrap_or_else(lsubdiv_cli::limits::default_max_memory)
+    }
+}
+
+/// Output options shared by `enumerate` and `search`.
+#[derive(clap::Args)]
+pub struct TableArgs {
+    /// A JSON array.
+    #[arg(long, group = "format")]
+    json: bool,
+    /// CSV with a header.
+    #[arg(long, group = "format")]
+    csv: bool,
+    /// A Markdown table (the default).
+    #[arg(long, group = "format")]
+    markdown: bool,
+    /// Also write every listed system as a scheme file into this directory.
+    #[arg(long)]
+    pub emit_scheme: Option<std::path::PathBuf>,
+}
+
+impl TableArgs {
+    pub fn format(&self) -> tables::Format {
+        if self.json {
+            tables::Format::Json
+        } else if self.csv {
+            tables::Format::Csv
+        } else {
+            tables::Format::Markdown
+        }
+    }
+
+    /// Prints the rows and writes the scheme files.
+    pub fn emit(&self, rows: &[lsubdiv_explorer::Row]) -> Result<(), Failure> {
+        print!("{}", tables::render(rows, self.format()));
+        if let Some(dir) = &self.emit_scheme {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| bad(format!("{}: error: {e}", dir.display())))?;
+            for r in rows {
+                let path = dir.join(format!("{}.toml", r.ls.name));
+                write_atomic(&path, lsubdiv_explorer::scheme_toml(r).as_bytes())?;
+            }
+        }
+        Ok(())
+    }
+}

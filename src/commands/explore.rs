@@ -1,0 +1,192 @@
+//! `lsubdiv enumerate` and `lsubdiv search`: the explorer's [G] §5.2 families and the Pareto
+//! search ([`lsubdiv_explorer`]).
+
+use crate::commands::args::TableArgs;
+use crate::commands::{bad, Failure};
+
+/// Arguments of `lsubdiv enumerate`.
+#[derive(clap::Args)]
+pub struct EnumerateArgs {
+    /// lcr (eq. 44), slcr (45), lcdr (46), slcdr (47), or all.
+    #[arg(long)]
+    family: String,
+    /// Longest π(C).
+    #[arg(long, default_value_t = 3)]
+    max_word_len: usize,
+    /// Lift the paper's constraints on π(C) (symmetry, first and last letters; S allowed).
+    #[arg(long)]
+    unconstrained: bool,
+    /// Keep integer ratios (Remark 5.5 leaves them out).
+    #[arg(long)]
+    include_integer: bool,
+    /// Spline degree.
+    #[arg(long, default_value_t = 3)]
+    degree: usize,
+    #[command(flatten)]
+    out: TableArgs,
+}
+
+/// Arguments of `lsubdiv search`.
+#[derive(clap::Args)]
+pub struct SearchArgs {
+    /// Alphabet size (2 to 6).
+    #[arg(long)]
+    symbols: usize,
+    /// Longest rule (1 to 4).
+    #[arg(long)]
+    max_word_len: usize,
+    /// Smallest ρ, exact (an integer, a fraction a/b or a decimal).
+    #[arg(long)]
+    rho_min: Option<String>,
+    /// Largest ρ, exact.
+    #[arg(long)]
+    rho_max: Option<String>,
+    /// Most masks (mirror pairs counted once).
+    #[arg(long)]
+    max_masks: Option<usize>,
+    /// Keep only surface schemes ([G] §4.2: stationary and contained).
+    #[arg(long)]
+    require_surface: bool,
+    /// Keep integer ratios.
+    #[arg(long)]
+    include_integer: bool,
+    /// Also examine rule sets without an involution (curve schemes only).
+    #[arg(long)]
+    asymmetric: bool,
+    /// Most rule sets examined (the whole space when smaller, else a deterministic sample).
+    #[arg(long, default_value_t = 300_000)]
+    limit: u64,
+    /// Spline degree.
+    #[arg(long, default_value_t = 3)]
+    degree: usize,
+    #[command(flatten)]
+    out: TableArgs,
+}
+
+/// Lists the L-systems of the family (or all families).
+pub fn enumerate(a: EnumerateArgs) -> Result<(), Failure> {
+    let EnumerateArgs {
+        family,
+        max_word_len,
+        unconstrained,
+        include_integer,
+        degree,
+        out,
+    } = a;
+    use lsubdiv_explorer::{enumerate, Enumeration, Family};
+    let families = match family.as_str() {
+        "all" => Family::ALL.to_vec(),
+        f => vec![Family::parse(f).ok_or_else(|| {
+            bad(format!(
+                "error: --family {f}: expected lcr, slcr, lcdr, slcdr or all"
+            ))
+        })?],
+    };
+    if !(1..=6).contains(&max_word_len)
+        || !(1..=lsubdiv::compiler::exact::scheme::MAX_DEGREE).contains(&degree)
+    {
+        return Err(bad(format!(
+            "error: --max-word-len {max_word_len} must be 1 to 6 and --degree {degree} 1 to {}",
+            lsubdiv::compiler::exact::scheme::MAX_DEGREE
+        )));
+    }
+    let opts = Enumeration {
+        max_word_len,
+        unconstrained,
+        include_integer,
+        degree,
+    };
+    let mut rows = Vec::new();
+    for f in families {
+        rows.extend(enumerate(f, opts)?);
+    }
+    out.emit(&rows)
+}
+
+/// Prints the Pareto front of (ρ, masks) and a summary of the search on stderr.
+pub fn search(a: SearchArgs) -> Result<(), Failure> {
+    let SearchArgs {
+        symbols,
+        max_word_len,
+        rho_min,
+        rho_max,
+        max_masks,
+        require_surface,
+        include_integer,
+        asymmetric,
+        limit,
+        degree,
+        out,
+    } = a;
+    if !(2..=6).contains(&symbols) || !(1..=4).contains(&max_word_len) {
+        return Err(bad(format!(
+            "error: --symbols {symbols} must be 2 to 6 and --max-word-len {max_word_len} 1 to 4"
+        )));
+    }
+    if !(1..=lsubdiv::compiler::exact::scheme::MAX_DEGREE).contains(&degree) {
+        return Err(bad(format!(
+            "error: --degree {degree} must be 1 to {}",
+            lsubdiv::compiler::exact::scheme::MAX_DEGREE
+        )));
+    }
+    let opts = lsubdiv_explorer::Search {
+        symbols,
+        max_word_len,
+        rho_min: rho_min.map(|t| rational("--rho-min", &t)).transpose()?,
+        rho_max: rho_max.map(|t| rational("--rho-max", &t)).transpose()?,
+        max_masks,
+        require_surface,
+        include_integer,
+        asymmetric,
+        limit,
+        degree,
+    };
+    let bar = lsubdiv_cli::progress::bar(0, "rule sets");
+    let found = lsubdiv_explorer::search(&opts, &|done, total| {
+        bar.set_length(total);
+        bar.set_position(done);
+    })?;
+    bar.finish_and_clear();
+    eprintln!(
+        "searched {} of {} rule sets ({}); {} distinct candidates; {} on the Pareto front",
+        found.examined,
+        found.space,
+        if u128::from(found.examined) == found.space {
+            "all"
+        } else {
+            "a deterministic sample"
+        },
+        found.candidates,
+        found.front.len()
+    );
+    out.emit(&found.front)
+}
+
+/// An exact rational from `3`, `7/2` or `1.45`.
+pub fn rational(flag: &str, text: &str) -> Result<num_rational::BigRational, Failure> {
+    let fail = || {
+        bad(format!(
+            "error: {flag} {text}: expected an integer, a fraction a/b or a decimal"
+        ))
+    };
+    let int = |t: &str| t.trim().parse::<num_bigint::BigInt>().map_err(|_| fail());
+    if let Some((a, b)) = text.split_once('/') {
+        let b = int(b)?;
+        if b == num_bigint::BigInt::from(0) {
+            return Err(fail());
+        }
+        return Ok(num_rational::BigRational::new(int(a)?, b));
+    }
+    let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
+    if frac.starts_with(['-', '+']) || whole.is_empty() && frac.is_empty() {
+        return Err(fail());
+    }
+    let digits = int(&format!("{whole}{frac}").replace("-", "").replace("+", ""))?;
+    let sign = if text.trim_start().starts_with('-') {
+        -1
+    } else {
+        1
+    };
+    let scale = num_bigint::BigInt::from(10).pow(frac.len() as u32);
+    Ok(num_rational::BigRational::new(digits * sign, scale))
+}

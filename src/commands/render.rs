@@ -1,0 +1,155 @@
+//! `lsubdiv render`: draws a closed quad mesh with the software renderer ([G] Fig. 6).
+
+use crate::commands::args::{MemoryLimit, PathChoice};
+use crate::commands::subdivide::{read_mesh, refine_mesh};
+use crate::commands::{bad, load, Failure};
+use lsubdiv_cli::output::write_atomic;
+
+/// Arguments of `lsubdiv render`.
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// An OBJ file, or a built-in mesh: `cube` (3-valent EVs), `star` (EVs of valence 3, 5, 9),
+    /// `torus:R:C`.
+    mesh: String,
+    /// Output image, `.png` or `.ppm` (written whole or not at all).
+    #[arg(short, long)]
+    output: std::path::PathBuf,
+    /// Image size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600")]
+    size: String,
+    #[arg(long, value_enum, default_value_t = lsubdiv_cli::render::Shading::Smooth)]
+    shading: lsubdiv_cli::render::Shading,
+    /// Draw the quad edges on top.
+    #[arg(long)]
+    wireframe: bool,
+    /// `azimuth,elevation[,distance]`: degrees about +z from +x, degrees above the xy-plane,
+    /// distance in bounding-sphere radii (default 35,25 and the whole mesh in view).
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "eye")]
+    camera: Option<String>,
+    /// Camera position `x,y,z` instead of --camera.
+    #[arg(long, allow_hyphen_values = true)]
+    eye: Option<String>,
+    /// Point looked at from --eye, `x,y,z` (default: the centre of the bounding box).
+    #[arg(long, allow_hyphen_values = true, requires = "eye")]
+    target: Option<String>,
+    /// Refine the mesh with this scheme first (as `subdivide` does).
+    #[arg(long, requires = "steps")]
+    scheme: Option<String>,
+    /// Subdivision steps before drawing.
+    #[arg(long, requires = "scheme")]
+    steps: Option<usize>,
+    /// Curvature colours span [−R, R] (default: the 98th percentile of |H| over the vertices of
+    /// the faces in view).
+    #[arg(long)]
+    curvature_range: Option<f64>,
+    /// Worker threads for the refinement; default: all cores.
+    #[arg(long)]
+    threads: Option<usize>,
+    #[command(flatten)]
+    limit: MemoryLimit,
+}
+
+/// `lsubdiv render`: reads or builds the mesh, refines it if asked, draws it, writes the image
+/// atomically. Reports the curvature range on stderr.
+pub fn run(a: &RenderArgs) -> Result<(), Failure> {
+    use lsubdiv_cli::render::{self, camera::View, image::Format};
+    let out_name = a.output.display().to_string();
+    let format = Format::of(&a.output).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
+    let (width, height) = lsubdiv_cli::picture::parse_size(&a.size).map_err(bad)?;
+    let (width, height) = (width as usize, height as usize);
+    let numbers = |flag: &str, text: &str, n| {
+        render::parse_numbers(flag, text, n).map_err(|e| bad(format!("error: {e}")))
+    };
+    let view = match (&a.camera, &a.eye) {
+        (_, Some(eye)) => {
+            let eye = numbers("--eye", eye, 3..=3)?;
+            let target = a
+                .target
+                .as_deref()
+                .map(|t| numbers("--target", t, 3..=3))
+                .transpose()?;
+            View::LookAt {
+                eye: [eye[0], eye[1], eye[2]],
+                target: target.map(|t| [t[0], t[1], t[2]]),
+            }
+        }
+        (Some(c), None) => {
+            let v = numbers("--camera", c, 2..=3)?;
+            View::Orbit {
+                azimuth: v[0],
+                elevation: v[1],
+                distance: v.get(2).copied(),
+            }
+        }
+        (None, None) => View::default(),
+    };
+    if let Some(r) = a.curvature_range {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(bad(format!(
+                "error: --curvature-range {r}: expected a positive number"
+            )));
+        }
+    }
+    let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
+    stages.next(format!("reading {}", a.mesh));
+    let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
+        lsubdiv_cli::bench::mesh(&a.mesh).map_err(bad)?
+    } else {
+        read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
+    };
+    let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
+    let mesh = match (&a.scheme, a.steps) {
+        (Some(scheme), Some(steps)) => {
+            stages.next(format!("refining: {steps} steps of {scheme}"));
+            let threads = a.threads.unwrap_or_else(|| {
+                std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+            });
+            refine_mesh(
+                &load(scheme, None)?,
+                &mesh,
+                &a.mesh,
+                steps,
+                PathChoice::Auto,
+                threads,
+                a.limit.bytes(),
+            )?
+        }
+        _ => mesh,
+    };
+    stages.next(format!("drawing {} quads", mesh.faces.len()));
+    let scene = render::Scene::new(&mesh).map_err(scene_error)?;
+    let opts = render::Options {
+        width,
+        height,
+        view,
+        shading: a.shading,
+        wireframe: a.wireframe,
+        curvature_range: a.curvature_range,
+    };
+    let rendered = scene
+        .render(&opts)
+        .map_err(|e| bad(format!("error: {e}")))?;
+    if let Some(r) = rendered.curvature {
+        if !scene.orientable() {
+            stages.note(&format!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh));
+        }
+        stages.note(&format!(
+            "mean curvature H in view from {:.4} to {:.4}; colours span ±{:.4} ({})",
+            r.min,
+            r.max,
+            r.span,
+            if r.percentile {
+                "98th percentile of |H| over the vertices in view"
+            } else {
+                "--curvature-range"
+            }
+        ));
+    }
+    let bytes = rendered.image.encode(format).map_err(|e| Failure {
+        code: 1,
+        message: format!("internal error: {e}"),
+    })?;
+    stages.next(format!("writing {out_name}"));
+    write_atomic(&a.output, &bytes).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
+    Ok(())
+}
