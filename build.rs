@@ -27,8 +27,11 @@ fn main() {
     }
     out.push_str("];\n");
     let dest = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR")).join("builtin.rs");
+    // Rewritten only when it changes (so that the crate is not rebuilt for nothing), and then
+    // whole or not at all (temporary file and rename): an interrupted build leaves no partial
+    // file behind.
     if std::fs::read_to_string(&dest).ok().as_deref() != Some(out.as_str()) {
-        std::fs::write(&dest, out).unwrap_or_else(|e| {
+        lsubdiv_compiler::write_atomic(&dest, out.as_bytes()).unwrap_or_else(|e| {
             eprintln!("{}: {e}", dest.display());
             std::process::exit(1)
         });

@@ -14,7 +14,6 @@ use std::process::Command;
 fn run(args: &[String]) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
         .arg("bench")
-        .arg("--json")
         .args(args)
         .output()
         .expect("lsubdiv bench runs");

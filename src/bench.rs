@@ -1,8 +1,10 @@
 //! The benchmark behind `lsubdiv bench`: standard meshes, refined with a scheme by one path at a
 //! thread count, timed (median of repeated runs, refinement only, no I/O).
 
+use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::generic::GenericSurface;
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::compiler::Error;
 use lsubdiv::runtime::generators::{cube, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
@@ -15,7 +17,7 @@ use std::time::Instant;
 pub const MAX_TORUS_FACES: usize = 1 << 24;
 
 /// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ file.
-pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
+pub fn mesh(spec: &str) -> Result<QuadMesh, Error> {
     let parts: Vec<&str> = spec.split(':').collect();
     match parts.as_slice() {
         ["torus", r, c] => {
@@ -26,28 +28,21 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, String> {
             };
             match (p(r), p(c)) {
                 (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => Ok(torus(r, c)),
-                (Some(r), Some(c)) => Err(format!(
-                    "error: `{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
+                (Some(r), Some(c)) => Err(Error::input(format!(
+                    "`{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
                     r * c
-                )),
-                _ => Err(format!(
-                    "error: `{spec}`: torus sizes are integers from 3 to 100000"
-                )),
+                ))),
+                _ => Err(Error::input(format!(
+                    "`{spec}`: torus sizes are integers from 3 to 100000"
+                ))),
             }
         }
         ["cube"] => Ok(cube()),
         ["star"] => Ok(star()),
-        _ => lsubdiv::read_obj(std::path::Path::new(spec)).map(|(m, _)| m),
+        _ => lsubdiv::read_obj(std::path::Path::new(spec))
+            .map(|(m, _)| m)
+            .map_err(crate::located),
     }
-}
-
-/// Which implementation refines.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Path {
-    /// The generated, specialised kernels.
-    Generated,
-    /// The generic table-driven kernels.
-    Generic,
 }
 
 /// One measurement.
@@ -125,7 +120,7 @@ pub fn measure<T: Real>(
     scheme: &str,
     surface: &GenericSurface,
     mesh: &QuadMesh,
-    path: Path,
+    path: Implementation,
     threads: usize,
     steps: usize,
     runs: usize,
@@ -138,9 +133,9 @@ pub fn measure<T: Real>(
         _scalar: std::marker::PhantomData,
     };
     let mut m = match path {
-        Path::Generated => lsubdiv::generated::visit_surface(scheme, timed)
+        Implementation::Generated => lsubdiv::generated::visit_surface(scheme, timed)
             .ok_or_else(|| format!("`{scheme}` has no generated surface code"))??,
-        Path::Generic => timed.visit(surface)?,
+        Implementation::Generic => timed.visit(surface)?,
     };
     let ls = &surface.scheme().ls;
     let v = mesh.positions.len();

@@ -18,8 +18,10 @@
 //! the eigenvector of λ1, the largest eigenvalue there. λ1 must equal the closed form of the
 //! 2×2 Fourier block (`EvCoefficients::block`), which the command checks.
 
+use crate::input_error;
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
 use lsubdiv::compiler::exact::generic::GenericSurface;
+use lsubdiv::compiler::Error;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
 use lsubdiv::runtime::topology::Topology;
@@ -65,9 +67,9 @@ pub struct Rings {
 }
 
 impl Rings {
-    /// Walks the quad grid of each sector around `v` out to k rings. Fails when the grid is not
-    /// regular there (another extraordinary vertex within k rings).
-    pub fn around(topo: &Topology, v: u32, k: usize) -> Result<Rings, String> {
+    /// Walks the quad grid of each sector around `v` out to k rings; None when the grid is not
+    /// regular there (another extraordinary vertex within k rings, sectors that do not join).
+    pub fn around(topo: &Topology, v: u32, k: usize) -> Option<Rings> {
         let mut grid = Vec::new();
         for wedge in topo.rotation(v) {
             let (f, c) = (wedge.face, wedge.corner);
@@ -119,9 +121,7 @@ impl Rings {
                     for (corner, p) in [(next_to(ga, gb), na), (next_to(gb, ga), nb)] {
                         let vid = topo.vertex(g, corner);
                         if *at.entry(vid).or_insert(p) != p {
-                            return Err(format!(
-                                "the quad grid around vertex {v} is not regular within {k} rings"
-                            ));
+                            return None;
                         }
                     }
                     seen.insert(g);
@@ -133,17 +133,12 @@ impl Rings {
                 g[i as usize][j as usize] = vid;
             }
             if at.len() != (k + 1) * (k + 1) || g.iter().flatten().any(|&x| x == u32::MAX) {
-                return Err(format!(
-                    "the quad grid around vertex {v} is not regular within {k} rings"
-                ));
+                return None;
             }
             for (i, row) in g.iter().enumerate().take(k) {
                 for (j, &vid) in row.iter().enumerate().take(k) {
                     if (i, j) != (0, 0) && topo.valence(vid) != 4 {
-                        return Err(format!(
-                            "vertex {vid}, within {k} rings of vertex {v}, has valence {}",
-                            topo.valence(vid)
-                        ));
+                        return None;
                     }
                 }
             }
@@ -153,10 +148,10 @@ impl Rings {
         for m in 0..rings.grid.len() {
             let next = &rings.grid[(m + 1) % rings.grid.len()];
             if (0..=k).any(|t| rings.grid[m][0][t] != next[t][0]) {
-                return Err(format!("the sectors around vertex {v} do not join up"));
+                return None;
             }
         }
-        Ok(rings)
+        Some(rings)
     }
 
     /// Every (sector, i, j) with its vertex.
@@ -221,9 +216,9 @@ fn apply(
     from: &Rings,
     to: &Rings,
     v: &[[f64; 2]],
-) -> Result<Option<Vec<[f64; 2]>>, String> {
+) -> Result<Option<Vec<[f64; 2]>>, Error> {
     place(&mut mesh.mesh.positions, from, v);
-    let (next, _) = refine_surface(surface, mesh, 1).map_err(|e| format!("error: {e}"))?;
+    let (next, _) = refine_surface(surface, mesh, 1).map_err(input_error)?;
     let out = planar(to, &next.mesh.positions);
     Ok(out.iter().flatten().all(|x| x.is_finite()).then_some(out))
 }
@@ -258,17 +253,18 @@ fn dot(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
 /// north pole in both; None when the grid is not regular or the net depends on more than k rings.
 type Stage = (LabelledMesh, Rings, Rings, Vec<[f64; 2]>);
 
-fn stage(surface: &GenericSurface, n: usize, s: usize, k: usize) -> Result<Option<Stage>, String> {
+fn stage(surface: &GenericSurface, n: usize, s: usize, k: usize) -> Result<Option<Stage>, Error> {
     let start = LabelledMesh::with_axiom(
         &lsubdiv::runtime::CurveScheme::tables(surface),
         trapezohedron(n),
     )
-    .map_err(|e| format!("error: {e}"))?;
-    let (mut mesh, _) = refine_surface(surface, &start, s).map_err(|e| format!("error: {e}"))?;
-    let (next, _) = refine_surface(surface, &mesh, 1).map_err(|e| format!("error: {e}"))?;
-    let topo =
-        |m: &LabelledMesh| Topology::build(&m.mesh).map_err(|e| format!("internal error: {e}"));
-    let (Ok(from), Ok(to)) = (
+    .map_err(input_error)?;
+    let (mut mesh, _) = refine_surface(surface, &start, s).map_err(input_error)?;
+    let (next, _) = refine_surface(surface, &mesh, 1).map_err(input_error)?;
+    let topo = |m: &LabelledMesh| {
+        Topology::build(&m.mesh).map_err(|e| Error::internal(None, e.to_string()))
+    };
+    let (Some(from), Some(to)) = (
         Rings::around(&topo(&mesh)?, 0, k),
         Rings::around(&topo(&next)?, 0, k),
     ) else {
@@ -288,11 +284,11 @@ pub fn characteristic_map(
     n: usize,
     refine: usize,
     progress: &dyn Fn(usize),
-) -> Result<CharacteristicMap, String> {
+) -> Result<CharacteristicMap, Error> {
     if n < 3 {
-        return Err(format!(
-            "error: valence {n}: extraordinary vertices have valence ≥ 3"
-        ));
+        return Err(Error::input(format!(
+            "valence {n}: extraordinary vertices have valence ≥ 3"
+        )));
     }
     let a = surface.analysis();
     let from = a.stationary_from.max(a.contained_from);
@@ -307,16 +303,17 @@ pub fn characteristic_map(
         }
     }
     let (step, k, (mut mesh, rings, next_rings, mut v)) = found.ok_or_else(|| {
-        format!(
-            "error: no stationary neighbourhood of at most {MAX_RINGS} rings found at valence {n}"
-        )
+        Error::input(format!(
+            "no stationary neighbourhood of at most {MAX_RINGS} rings found at valence {n}"
+        ))
     })?;
     let norm = dot(&v, &v).sqrt();
     v.iter_mut().for_each(|p| *p = [p[0] / norm, p[1] / norm]);
     let (mut lambda, mut residual, mut iterations) = (f64::NAN, f64::INFINITY, 0);
     while iterations < MAX_ITERATIONS {
-        let mut av = apply(surface, &mut mesh, &rings, &next_rings, &v)?
-            .ok_or("internal error: the neighbourhood stopped being self-contained")?;
+        let mut av = apply(surface, &mut mesh, &rings, &next_rings, &v)?.ok_or_else(|| {
+            Error::internal(None, "the neighbourhood stopped being self-contained")
+        })?;
         // Rounding leaves a trace of the translations (eigenvalue 1, Fourier index 0), which
         // power iteration would amplify: take the EV child's position off every point.
         let ev = av[0];
@@ -358,7 +355,7 @@ pub fn characteristic_map(
     }
     // The refined net: the net alone in the mesh (NaN elsewhere), refined by the scheme.
     place(&mut mesh.mesh.positions, &rings, &normal);
-    let (fine, _) = refine_surface(surface, &mesh, refine).map_err(|e| format!("error: {e}"))?;
+    let (fine, _) = refine_surface(surface, &mesh, refine).map_err(input_error)?;
     let pos = &fine.mesh.positions;
     let refined = fine
         .mesh

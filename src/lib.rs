@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod charmap;
 pub mod graph_picture;
+pub mod implementation;
 pub mod limits;
 pub mod output;
 pub mod picture;
@@ -30,6 +31,27 @@ pub struct Resolved {
     pub ls: LSystem,
     /// True for a shipped scheme given by name.
     pub builtin: bool,
+}
+
+/// A refinement or analysis that the input made fail (labels the scheme lacks, too few points,
+/// a valence out of range), as a diagnostic of no file.
+pub fn input_error(e: impl std::fmt::Display) -> Error {
+    Error::input(e.to_string())
+}
+
+/// Transitional, until [`lsubdiv::read_obj`] returns an [`Error`]: reads the place back out of
+/// its `FILE[:LINE]: error: MESSAGE` text.
+pub fn located(text: String) -> Error {
+    let Some((place, message)) = text.split_once(": error: ") else {
+        return Error::input(text);
+    };
+    match place.rsplit_once(':') {
+        Some((file, line)) if line.parse::<usize>().is_ok() => Error::at(
+            lsubdiv::compiler::Location::line(file, line.parse().unwrap_or(0)),
+            message,
+        ),
+        _ => Error::in_file(place, message),
+    }
 }
 
 /// Names of the shipped schemes.

@@ -8,6 +8,7 @@
 //! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input, the
 //! driver's buffers, the output, and the output file text (built in memory, then written).
 
+use lsubdiv::compiler::Error;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::output_counts;
 use lsubdiv::CurveTables;
@@ -77,7 +78,7 @@ pub struct Prediction {
 impl Prediction {
     /// Refuses a prediction over `max` bytes; `what` says what was asked, e.g. `4 steps of
     /// binary-ternary on cube.obj`.
-    pub fn check(&self, what: &str, max: u64) -> Result<(), String> {
+    pub fn check(&self, what: &str, max: u64) -> Result<(), Error> {
         if self.bytes <= u128::from(max) {
             return Ok(());
         }
@@ -85,18 +86,18 @@ impl Prediction {
             Some(q) => format!("{} vertices, {} quads", count(self.vertices), count(q)),
             None => format!("{} points", count(self.vertices)),
         };
-        Err(format!(
-            "error: {what} would make {made}, {}; --max-memory is {}; use fewer steps or raise --max-memory",
+        Err(Error::input(format!(
+            "{what} would make {made}, {}; --max-memory is {}; use fewer steps or raise --max-memory",
             size(self.bytes),
             size(u128::from(max))
-        ))
+        )))
     }
 }
 
 /// Refuses an input file whose reading could exceed `max` bytes: its text plus what is parsed
 /// from it, at most 4 bytes per byte of text (`0 0 0\n`, 6 bytes, parses to 24), so 5 times
 /// its size.
-pub fn input(path: &std::path::Path, max: u64) -> Result<(), String> {
+pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
     let Ok(meta) = std::fs::metadata(path) else {
         return Ok(()); // reading it reports the problem
     };
@@ -104,12 +105,14 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), String> {
     if bytes <= u128::from(max) {
         return Ok(());
     }
-    Err(format!(
-        "{}: error: the file has {}, and reading it may hold {}; --max-memory is {}; raise --max-memory",
+    Err(Error::in_file(
         path.display(),
-        size(u128::from(meta.len())),
-        size(bytes),
-        size(u128::from(max))
+        format!(
+            "the file has {}, and reading it may hold {}; --max-memory is {}; raise --max-memory",
+            size(u128::from(meta.len())),
+            size(bytes),
+            size(u128::from(max))
+        ),
     ))
 }
 

@@ -6,8 +6,8 @@ mod commands;
 use clap::{Parser, Subcommand};
 use commands::{
     bench, codegen, curve, demo, ev, explore, graph, inspect, plot, render, schemes, subdivide,
-    Failure,
 };
+use lsubdiv::compiler::Error;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -61,14 +61,14 @@ fn main() -> ExitCode {
     });
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(f) => {
-            eprintln!("{}", f.message);
-            ExitCode::from(f.code)
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::from(if e.is_internal() { 1 } else { 2 })
         }
     }
 }
 
-fn run(command: Option<Command>) -> Result<(), Failure> {
+fn run(command: Option<Command>) -> Result<(), Error> {
     match command {
         None => demo::run(),
         Some(Command::Inspect(a)) => inspect::run(a),

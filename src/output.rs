@@ -31,3 +31,57 @@ pub fn remove_partial_files() {
         }
     }
 }
+
+/// `path`'s extension, in lower case.
+pub fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+/// The format that `path`'s extension names (any case) among `formats` (extension without the
+/// dot, format); `what` names the kind of file in the error (`picture`, `image`).
+pub fn format_by_extension<F: Copy>(
+    path: &Path,
+    what: &str,
+    formats: &[(&str, F)],
+) -> Result<F, Error> {
+    let ext = extension(path);
+    if let Some(&(_, f)) = formats.iter().find(|(e, _)| Some(*e) == ext.as_deref()) {
+        return Ok(f);
+    }
+    let names: Vec<String> = formats.iter().map(|(e, _)| format!(".{e}")).collect();
+    let expected = match names.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    let problem = match ext {
+        Some(e) => format!("unknown {what} format `.{e}`"),
+        None => format!("no {what} format"),
+    };
+    Err(Error::in_file(
+        path.display(),
+        format!("{problem}; the file name must end in {expected}"),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_come_from_the_extension_in_any_case() {
+        let formats = [("svg", 1), ("png", 2)];
+        let of = |p: &str| format_by_extension(Path::new(p), "picture", &formats);
+        assert_eq!(of("a/b.SVG"), Ok(1));
+        assert_eq!(of("b.png"), Ok(2));
+        assert_eq!(
+            of("b.jpg").unwrap_err().to_string(),
+            "b.jpg: error: unknown picture format `.jpg`; the file name must end in .svg or .png"
+        );
+        assert_eq!(
+            of("b").unwrap_err().to_string(),
+            "b: error: no picture format; the file name must end in .svg or .png"
+        );
+    }
+}

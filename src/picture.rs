@@ -2,6 +2,8 @@
 //! as SVG text, written as SVG or rasterised to PNG by resvg. PNG text uses DejaVu Sans,
 //! embedded in the binary (the `dejavu` crate), so that no system font is needed.
 
+use crate::output::{format_by_extension, write_atomic};
+use lsubdiv::compiler::Error;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -249,7 +251,7 @@ impl Picture {
     }
 
     /// The picture rasterised by resvg (text in the embedded font): premultiplied RGBA.
-    pub fn pixmap(&self) -> Result<resvg::tiny_skia::Pixmap, String> {
+    pub fn pixmap(&self) -> Result<resvg::tiny_skia::Pixmap, Error> {
         use resvg::{tiny_skia, usvg};
         let mut opt = usvg::Options {
             font_family: FONT.into(),
@@ -258,18 +260,22 @@ impl Picture {
         opt.fontdb_mut()
             .load_font_data(dejavu::sans::regular().to_vec());
         let tree = usvg::Tree::from_str(&self.svg(), &opt)
-            .map_err(|e| format!("internal error: the picture is not valid SVG: {e}"))?;
-        let mut pixmap = tiny_skia::Pixmap::new(self.width, self.height)
-            .ok_or_else(|| format!("cannot allocate a {}x{} image", self.width, self.height))?;
+            .map_err(|e| Error::internal(None, format!("the picture is not valid SVG: {e}")))?;
+        let mut pixmap = tiny_skia::Pixmap::new(self.width, self.height).ok_or_else(|| {
+            Error::input(format!(
+                "cannot allocate a {}x{} image",
+                self.width, self.height
+            ))
+        })?;
         resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
         Ok(pixmap)
     }
 
     /// The picture rasterised to PNG.
-    pub fn png(&self) -> Result<Vec<u8>, String> {
+    pub fn png(&self) -> Result<Vec<u8>, Error> {
         self.pixmap()?
             .encode_png()
-            .map_err(|e| format!("internal error: PNG encoding failed: {e}"))
+            .map_err(|e| Error::internal(None, format!("PNG encoding failed: {e}")))
     }
 }
 
@@ -283,26 +289,20 @@ pub enum Format {
 }
 
 /// The format of `path` from its extension (`.svg` or `.png`, any case).
-pub fn format_of(path: &Path) -> Result<Format, String> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("svg") => Ok(Format::Svg),
-        Some("png") => Ok(Format::Png),
-        _ => Err(format!(
-            "{}: error: unknown picture format; the file name must end in .svg or .png",
-            path.display()
-        )),
-    }
+pub fn format_of(path: &Path) -> Result<Format, Error> {
+    format_by_extension(
+        path,
+        "picture",
+        &[("svg", Format::Svg), ("png", Format::Png)],
+    )
 }
 
-/// Parses `WxH` (pixels, each 16 to 10000).
-pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+/// Parses `--size WxH` (pixels, each 16 to 10000).
+pub fn parse_size(text: &str) -> Result<(u32, u32), Error> {
     let fail = || {
-        format!("error: --size `{text}`: expected WxH in pixels, e.g. 800x600, each 16 to 10000")
+        Error::input(format!(
+            "--size `{text}`: expected WxH in pixels, e.g. 800x600, each 16 to 10000"
+        ))
     };
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(fail)?;
     let parse = |t: &str| t.trim().parse::<u32>().map_err(|_| fail());
@@ -314,12 +314,12 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
 }
 
 /// Writes the picture to `path` in the format its extension names, whole or not at all.
-pub fn save(picture: &Picture, path: &Path) -> Result<(), String> {
+pub fn save(picture: &Picture, path: &Path) -> Result<(), Error> {
     let bytes = match format_of(path)? {
         Format::Svg => picture.svg().into_bytes(),
         Format::Png => picture.png()?,
     };
-    crate::output::write_atomic(path, &bytes).map_err(|e| format!("{}: error: {e}", path.display()))
+    write_atomic(path, &bytes)
 }
 
 /// A linear map from data coordinates to a pixel box, with equal scales on both axes
@@ -408,6 +408,7 @@ mod tests {
         assert_eq!(format_of(Path::new("a.png")), Ok(Format::Png));
         assert!(format_of(Path::new("a.jpg"))
             .unwrap_err()
+            .message
             .contains(".svg or .png"));
     }
 

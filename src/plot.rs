@@ -9,8 +9,10 @@
 //! abscissa. A closed polygon is refined for this as the open polygon of its points followed by
 //! the first d again, whose spline is the closed one over one period.
 
+use crate::input_error;
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
 use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::Error;
 use lsubdiv::runtime::{refine, Curve, CurveScheme};
 
 /// Edges of the limit curve are at most this long in pixels.
@@ -43,11 +45,10 @@ pub struct Piece {
 }
 
 /// The polygon after 0..=steps steps.
-fn levels(scheme: &GenericScheme, curve: &Curve<2>, steps: usize) -> Result<Vec<Curve<2>>, String> {
+fn levels(scheme: &GenericScheme, curve: &Curve<2>, steps: usize) -> Result<Vec<Curve<2>>, Error> {
     let mut out = vec![curve.clone()];
     for _ in 0..steps {
-        let next =
-            refine(scheme, out.last().expect("non-empty"), 1).map_err(|e| format!("error: {e}"))?;
+        let next = refine(scheme, out.last().expect("non-empty"), 1).map_err(input_error)?;
         out.push(next);
     }
     Ok(out)
@@ -59,7 +60,7 @@ pub fn limit(
     scheme: &mut GenericScheme,
     last: &Curve<2>,
     max_edge: f64,
-) -> Result<Vec<Piece>, String> {
+) -> Result<Vec<Piece>, Error> {
     let d = scheme.tables().degree;
     let lengths: Vec<f64> = scheme.scheme().lengths.iter().map(|e| e.to_f64()).collect();
     let (points, labels): (Vec<[f64; 2]>, Vec<u8>) = if last.closed {
@@ -97,7 +98,7 @@ pub fn limit(
         if longest <= max_edge || fine.points.len() > MAX_POINTS {
             break;
         }
-        fine = refine(scheme, &fine, 1).map_err(|e| format!("error: {e}"))?;
+        fine = refine(scheme, &fine, 1).map_err(input_error)?;
     }
     // Cut the fine polygon where its parameter crosses a knot of `last`, over the spline's
     // domain [t_d, t_m] (m points; one period for the unrolled closed polygon).
@@ -201,7 +202,7 @@ pub fn plot(
     curve: &Curve<2>,
     steps: usize,
     size: (u32, u32),
-) -> Result<Picture, String> {
+) -> Result<Picture, Error> {
     scheme.prepare(curve);
     let all = levels(&scheme, curve, steps)?;
     let s = scheme.scheme();

@@ -453,7 +453,7 @@ fn too_large_requests_are_refused_before_refining() {
             "would make 10 088 vertices, 10 086 quads, ~1.4 MiB; --max-memory is ~1.0 MiB; use fewer steps or raise --max-memory",
         ),
         (
-            vec!["bench", "--mesh", "cube", "--scheme", "uniform-binary", "--steps", "40", "--json"],
+            vec!["bench", "--mesh", "cube", "--scheme", "uniform-binary", "--steps", "40"],
             "40 steps of uniform-binary on cube would make",
         ),
         // Inputs too large to read under the limit are refused unread (5 bytes held per byte).
@@ -670,9 +670,7 @@ fn every_mesh_error_names_its_line_or_element() {
                 "-o",
                 &out_s,
             ],
-            vec![
-                "bench", "--mesh", &f, "--steps", "1", "--runs", "1", "--json",
-            ],
+            vec!["bench", "--mesh", &f, "--steps", "1", "--runs", "1"],
         ] {
             let o = lsubdiv(&args);
             let e = stderr(&o);

@@ -150,7 +150,7 @@ fn curve_rejects_bad_points_and_labels() {
     let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &bad, "-o", &out_s]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        stderr(&o).contains("bad.txt:2: error: `x` is not a number"),
+        stderr(&o).contains("bad.txt:2:3: error: `x` is not a number"),
         "{}",
         stderr(&o)
     );
@@ -204,10 +204,14 @@ fn graph_dot_and_codegen() {
 }
 
 #[test]
-fn default_job_runs() {
+fn default_job_prints_a_short_summary() {
     let o = lsubdiv(&[]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(String::from_utf8_lossy(&o.stdout).contains("agree bit for bit"));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(out.matches("agree bit for bit").count(), 2, "{out}");
+    assert!(out.contains("every weight exact in Q(√5)"), "{out}");
+    assert!(out.contains("what to try next:"), "{out}");
+    assert!(out.lines().count() <= 20, "{out}");
 }
 
 const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nvn 0 0 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
@@ -357,7 +361,6 @@ fn bench_json_has_the_documented_fields() {
         "2",
         "--runs",
         "1",
-        "--json",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();

@@ -1,6 +1,7 @@
 //! Point files: one point per line, coordinates separated by white space (2 or 3 of them).
 //! Blank lines and lines starting with `#` are skipped on input; output has nothing else in it.
 
+use lsubdiv_compiler::{Error, Location};
 use std::fmt::Write as _;
 
 /// Points of dimension 2 or 3.
@@ -12,36 +13,48 @@ pub enum Points {
     D3(Vec<[f64; 3]>),
 }
 
-/// Parses a point file; `file` names it in errors (`file:line: ...`).
-pub fn parse(file: &str, text: &str) -> Result<Points, String> {
+/// Parses a point file; `file` names it in errors (`file:line:column: error: …`, the column of
+/// the offending coordinate when there is one).
+pub fn parse(file: &str, text: &str) -> Result<Points, Error> {
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut dim = None;
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.trim();
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
-        let at = format!("{file}:{}", i + 1);
+        let at = || Location::line(file, i + 1);
         let row = line
             .split_whitespace()
-            .map(|t| match t.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(x),
-                Ok(_) => Err(format!("{at}: error: coordinate `{t}` is not finite")),
-                Err(_) => Err(format!("{at}: error: `{t}` is not a number")),
+            .map(|t| {
+                // `t` is a slice of `raw`: its byte offset gives the column.
+                let offset = t.as_ptr() as usize - raw.as_ptr() as usize;
+                let at_token = Location {
+                    column: Some(raw[..offset].chars().count() + 1),
+                    ..at()
+                };
+                match t.parse::<f64>() {
+                    Ok(x) if x.is_finite() => Ok(x),
+                    Ok(_) => Err(Error::at(
+                        at_token,
+                        format!("coordinate `{t}` is not finite"),
+                    )),
+                    Err(_) => Err(Error::at(at_token, format!("`{t}` is not a number"))),
+                }
             })
-            .collect::<Result<Vec<f64>, String>>()?;
+            .collect::<Result<Vec<f64>, Error>>()?;
         match dim {
             None if row.len() == 2 || row.len() == 3 => dim = Some(row.len()),
             None => {
-                return Err(format!(
-                    "{at}: error: {} coordinates; points have 2 or 3",
-                    row.len()
+                return Err(Error::at(
+                    at(),
+                    format!("{} coordinates; points have 2 or 3", row.len()),
                 ))
             }
             Some(d) if d != row.len() => {
-                return Err(format!(
-                    "{at}: error: {} coordinates, but earlier points have {d}",
-                    row.len()
+                return Err(Error::at(
+                    at(),
+                    format!("{} coordinates, but earlier points have {d}", row.len()),
                 ))
             }
             Some(_) => {}
@@ -49,7 +62,7 @@ pub fn parse(file: &str, text: &str) -> Result<Points, String> {
         rows.push(row);
     }
     match dim {
-        None => Err(format!("{file}: error: no points")),
+        None => Err(Error::in_file(file, "no points")),
         Some(2) => Ok(Points::D2(rows.iter().map(|r| [r[0], r[1]]).collect())),
         Some(_) => Ok(Points::D3(
             rows.iter().map(|r| [r[0], r[1], r[2]]).collect(),

@@ -1,21 +1,27 @@
 //! Arguments shared by several commands.
 
-use crate::commands::{bad, Failure};
-use clap::ValueEnum;
+use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::Error;
+use lsubdiv::points::Points;
+use lsubdiv::Curve;
+use lsubdiv_cli::implementation::PathChoice;
 use lsubdiv_cli::output::write_atomic;
-use lsubdiv_cli::tables;
+use lsubdiv_cli::{tables, Resolved};
 
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum BenchPath {
-    Generated,
-    Generic,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum PathChoice {
-    Auto,
-    Generated,
-    Generic,
+/// What `curve` and `subdivide` share: the scheme, the steps, the implementation and the size
+/// guard.
+#[derive(clap::Args)]
+pub struct RefineArgs {
+    pub scheme: String,
+    /// Number of subdivision steps.
+    #[arg(long)]
+    pub steps: usize,
+    /// Which implementation refines: the generated kernels of a shipped scheme, the generic
+    /// table-driven path, or `auto` (generated when available).
+    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
+    pub path: PathChoice,
+    #[command(flatten)]
+    pub limit: MemoryLimit,
 }
 
 /// How `curve` and `plot` read a polygon: open or closed, its labels, the scheme's degree.
@@ -79,11 +85,10 @@ impl TableArgs {
     }
 
     /// Prints the rows and writes the scheme files.
-    pub fn emit(&self, rows: &[lsubdiv_explorer::Row]) -> Result<(), Failure> {
+    pub fn emit(&self, rows: &[lsubdiv_explorer::Row]) -> Result<(), Error> {
         print!("{}", tables::render(rows, self.format()));
         if let Some(dir) = &self.emit_scheme {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| bad(format!("{}: error: {e}", dir.display())))?;
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;
             for r in rows {
                 let path = dir.join(format!("{}.toml", r.ls.name));
                 write_atomic(&path, lsubdiv_explorer::scheme_toml(r).as_bytes())?;
@@ -91,4 +96,28 @@ impl TableArgs {
         }
         Ok(())
     }
+}
+
+/// The control polygon of `points` for `generic` (the scheme `r`), labelled by `--labels` or,
+/// by default, the axiom repeated.
+pub fn polygon<const D: usize>(
+    r: &Resolved,
+    generic: &GenericScheme,
+    points: Vec<[f64; D]>,
+    closed: bool,
+    labels: Option<&str>,
+) -> Result<Curve<D>, Error> {
+    let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(generic), points, closed);
+    if let Some(l) = labels {
+        curve.labels =
+            r.ls.parse_word(l)
+                .map_err(|e| Error::input(format!("--labels: {e}")))?;
+    }
+    Ok(curve)
+}
+
+/// Reads a points file (2 or 3 coordinates per line).
+pub fn read_points(path: &std::path::Path) -> Result<Points, Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    lsubdiv::points::parse(&path.display().to_string(), &text)
 }

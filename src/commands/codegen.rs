@@ -1,7 +1,8 @@
 //! `lsubdiv codegen`: the generated Rust source of a scheme.
 
-use crate::commands::{build, load, Failure};
+use crate::commands::{build, load};
 use lsubdiv::compiler::exact::codegen::generate;
+use lsubdiv::compiler::Error;
 use lsubdiv_cli::output::write_atomic;
 
 /// Arguments of `lsubdiv codegen`.
@@ -16,7 +17,7 @@ pub struct CodegenArgs {
 }
 
 /// Writes the generated source, whole or not at all.
-pub fn run(a: CodegenArgs) -> Result<(), Failure> {
+pub fn run(a: CodegenArgs) -> Result<(), Error> {
     let s = build(&load(&a.scheme, a.degree)?)?;
     write_atomic(&a.output, generate(&s).as_bytes())?;
     Ok(())

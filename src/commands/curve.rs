@@ -1,20 +1,20 @@
 //! `lsubdiv curve`: refines a control polygon read from a points file.
 
-use crate::commands::args::{MemoryLimit, PathChoice, PolygonArgs};
-use crate::commands::{bad, build, check_output, load, Failure};
+use crate::commands::args::{polygon, read_points, PolygonArgs, RefineArgs};
+use crate::commands::{build, check_output, load};
 use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::compiler::Error;
 use lsubdiv::points::{self, Points};
-use lsubdiv::{Curve, CurveError};
+use lsubdiv::CurveError;
+use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::write_atomic;
-use lsubdiv_cli::Resolved;
+use lsubdiv_cli::{input_error, Resolved};
 
 /// Arguments of `lsubdiv curve`.
 #[derive(clap::Args)]
 pub struct CurveArgs {
-    scheme: String,
-    /// Number of subdivision steps.
-    #[arg(long)]
-    steps: usize,
+    #[command(flatten)]
+    refine: RefineArgs,
     /// Input points.
     input: std::path::PathBuf,
     /// Output points, full f64 precision.
@@ -22,116 +22,85 @@ pub struct CurveArgs {
     output: std::path::PathBuf,
     #[command(flatten)]
     polygon: PolygonArgs,
-    /// Which implementation refines: the generated kernels of a shipped scheme, the generic
-    /// table-driven path, or `auto` (generated when available).
-    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
-    path: PathChoice,
-    #[command(flatten)]
-    limit: MemoryLimit,
 }
 
 /// Reads the points, refines them, writes them at full f64 precision.
-pub fn run(a: CurveArgs) -> Result<(), Failure> {
+pub fn run(a: CurveArgs) -> Result<(), Error> {
     let CurveArgs {
-        scheme,
-        steps,
+        refine,
         input,
         output,
-        polygon: PolygonArgs {
-            closed,
-            labels,
-            degree,
-        },
-        path,
-        limit,
+        polygon,
     } = a;
     check_output(&output)?;
-    let r = load(&scheme, degree)?;
+    let r = load(&refine.scheme, polygon.degree)?;
+    let implementation = refine.path.pick(&r, Geometry::Curve)?;
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    lsubdiv_cli::limits::input(&input, limit.bytes()).map_err(bad)?;
-    let text =
-        std::fs::read_to_string(&input).map_err(|e| bad(format!("{in_name}: error: {e}")))?;
-    let pts = points::parse(&in_name, &text).map_err(bad)?;
-    drop(text);
+    lsubdiv_cli::limits::input(&input, refine.limit.bytes())?;
+    let pts = read_points(&input)?;
+    let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = CurveJob {
         what: format!("{steps} steps of {} on {in_name}", r.ls.name),
-        closed,
-        labels,
+        polygon: &polygon,
         steps,
-        path,
-        max_memory: limit.bytes(),
+        path: refine.path,
+        implementation,
+        max_memory: refine.limit.bytes(),
     };
     let out = match pts {
-        Points::D2(p) => points::format(&refine_cli(&r, p, job)?),
-        Points::D3(p) => points::format(&refine_cli(&r, p, job)?),
+        Points::D2(p) => points::format(&refine_cli(&r, p, &job)?),
+        Points::D3(p) => points::format(&refine_cli(&r, p, &job)?),
     };
     stages.next(format!("writing {}", output.display()));
-    write_atomic(&output, out.as_bytes())?;
-    Ok(())
+    write_atomic(&output, out.as_bytes())
 }
 
 /// What `lsubdiv curve` was asked to do, apart from the points.
-struct CurveJob {
+struct CurveJob<'a> {
     /// `N steps of SCHEME on FILE`, for the size guard's message.
     what: String,
-    closed: bool,
-    labels: Option<String>,
+    polygon: &'a PolygonArgs,
     steps: usize,
     path: PathChoice,
+    implementation: Implementation,
     max_memory: u64,
 }
 
-/// Refines with the requested path; `auto` uses the generated kernels for shipped schemes and
-/// the generic path otherwise (or when the labels make words the generated tables lack).
-/// Refuses, before refining, a result predicted to need more than `--max-memory`.
+/// Refines by the picked implementation; under `auto`, labels that make words the generated
+/// tables lack go to the generic path. Refuses, before refining, a result predicted to need
+/// more than `--max-memory`.
 fn refine_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
-    job: CurveJob,
-) -> Result<Vec<[f64; D]>, Failure> {
-    let CurveJob {
-        closed,
-        steps,
-        path,
-        ..
-    } = job;
-    let scheme = build(r)?;
-    let mut generic = GenericScheme::new(scheme);
-    let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), points, closed);
-    if let Some(l) = job.labels {
-        curve.labels =
-            r.ls.parse_word(&l)
-                .map_err(|e| bad(format!("error: --labels: {e}")))?;
-    }
-    let curve_err = |e: CurveError| bad(format!("error: {e}"));
+    job: &CurveJob,
+) -> Result<Vec<[f64; D]>, Error> {
+    let steps = job.steps;
+    let mut generic = GenericScheme::new(build(r)?);
+    let closed = job.polygon.closed;
+    let curve = polygon(r, &generic, points, closed, job.polygon.labels.as_deref())?;
     let t = lsubdiv::CurveScheme::tables(&generic);
-    curve.check(&t).map_err(curve_err)?;
+    curve.check(&t).map_err(input_error)?;
     lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
-        .check(&job.what, job.max_memory)
-        .map_err(bad)?;
-    let generated = || -> Option<Result<Curve<D>, CurveError>> {
-        r.builtin
-            .then(|| lsubdiv::generated::refine_curve(&r.ls.name, &curve, steps))
-            .flatten()
-    };
-    let refined = match path {
-        PathChoice::Generated => generated()
-            .ok_or_else(|| bad(format!("error: `{}` has no generated code (only shipped schemes at their own degree do)", r.ls.name)))?
-            .map_err(curve_err)?,
-        PathChoice::Auto => match generated() {
-            Some(Ok(c)) => c,
-            Some(Err(CurveError::UnknownWord(_))) | None => {
-                generic.prepare(&curve);
-                lsubdiv::refine(&generic, &curve, steps).map_err(curve_err)?
+        .check(&job.what, job.max_memory)?;
+    let generated = match job.implementation {
+        Implementation::Generated => {
+            match lsubdiv::generated::refine_curve(&r.ls.name, &curve, steps).ok_or_else(|| {
+                Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
+            })? {
+                Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => None,
+                c => Some(c.map_err(input_error)?),
             }
-            Some(Err(e)) => return Err(curve_err(e)),
-        },
-        PathChoice::Generic => {
+        }
+        Implementation::Generic => None,
+    };
+    let refined = match generated {
+        Some(c) => c,
+        None => {
             generic.prepare(&curve);
-            lsubdiv::refine(&generic, &curve, steps).map_err(curve_err)?
+            lsubdiv::refine(&generic, &curve, steps).map_err(input_error)?
         }
     };
     Ok(refined.points)

@@ -1,7 +1,9 @@
 //! `lsubdiv ev`: α and the spectrum at extraordinary vertices ([G] §4.2.3), and the
 //! characteristic map ([G] Fig. 4).
 
-use crate::commands::{bad, build, load, Failure};
+use crate::commands::{build, load};
+use lsubdiv::compiler::Error;
+use lsubdiv_cli::input_error;
 use lsubdiv_cli::report;
 
 /// Arguments of `lsubdiv ev`.
@@ -26,7 +28,7 @@ pub struct EvArgs {
 }
 
 /// The spectrum per valence, or the characteristic map's picture.
-pub fn run(a: EvArgs) -> Result<(), Failure> {
+pub fn run(a: EvArgs) -> Result<(), Error> {
     match a.output {
         Some(out) if a.characteristic_map => charmap(&a.scheme, &a.valence, &out, &a.size),
         _ => ev_report(&a.scheme, &a.valence, a.json),
@@ -34,10 +36,10 @@ pub fn run(a: EvArgs) -> Result<(), Failure> {
 }
 
 /// Parses `n`, `a..b` or `a..=b` (both inclusive).
-fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Failure> {
+fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Error> {
     let bad_range = || {
-        bad(format!(
-            "error: --valence `{text}`: expected `n` or `a..b` with 3 ≤ a ≤ b"
+        Error::input(format!(
+            "--valence `{text}`: expected `n` or `a..b` with 3 ≤ a ≤ b"
         ))
     };
     let parse = |s: &str| s.trim().parse::<usize>().map_err(|_| bad_range());
@@ -55,14 +57,14 @@ fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Failure> {
 }
 
 /// `lsubdiv ev`: α, λ1, λ2, μ0 and the EV normalisation per valence.
-fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
+fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Error> {
     let range = valences(valence)?;
     let s = build(&load(scheme, None)?)?;
     let a = lsubdiv::compiler::exact::ev::analyse(&s)?;
     let c = a.coefficients_f64();
     let mut rows = Vec::new();
     for n in range {
-        let sp = c.spectrum(n).map_err(|e| bad(format!("error: {e}")))?;
+        let sp = c.spectrum(n).map_err(input_error)?;
         rows.push(sp);
     }
     if json {
@@ -84,28 +86,23 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Failure> {
 
 /// `lsubdiv ev --characteristic-map`: finds the control net numerically, checks λ1 against
 /// the closed form, draws it ([`lsubdiv_cli::charmap`]).
-fn charmap(
-    scheme: &str,
-    valence: &str,
-    output: &std::path::Path,
-    size: &str,
-) -> Result<(), Failure> {
+fn charmap(scheme: &str, valence: &str, output: &std::path::Path, size: &str) -> Result<(), Error> {
     use lsubdiv_cli::picture;
-    picture::format_of(output).map_err(bad)?;
-    let size = picture::parse_size(size).map_err(bad)?;
+    picture::format_of(output)?;
+    let size = picture::parse_size(size)?;
     let range = valences(valence)?;
     let n = *range.start();
     if range.end() != range.start() {
-        return Err(bad(format!(
-            "error: --characteristic-map draws one valence; --valence {valence} is a range"
+        return Err(Error::input(format!(
+            "--characteristic-map draws one valence; --valence {valence} is a range"
         )));
     }
     // The power iteration's net grows with n (about 0.4 s per valence unit in debug builds);
     // beyond this the picture's n-fold sectors are thinner than its lines anyway.
     const MAX_MAP_VALENCE: usize = 100;
     if n > MAX_MAP_VALENCE {
-        return Err(bad(format!(
-            "error: --characteristic-map draws valences 3 to {MAX_MAP_VALENCE}; --valence {n} is beyond"
+        return Err(Error::input(format!(
+            "--characteristic-map draws valences 3 to {MAX_MAP_VALENCE}; --valence {n} is beyond"
         )));
     }
     let s = build(&load(scheme, None)?)?;
@@ -116,32 +113,30 @@ fn charmap(
         .analysis()
         .coefficients_f64()
         .spectrum(n)
-        .map_err(|e| bad(format!("error: {e}")))?
+        .map_err(input_error)?
         .lambda1;
     // Refine the net until its quads are about a quarter of the net's.
     let steps = (4f64.ln() / rho.ln()).ceil().max(1.0) as usize;
     let bar = indicatif::ProgressBar::new_spinner().with_message("power iteration");
     let map = lsubdiv_cli::charmap::characteristic_map(&surface, n, steps, &|i| {
         bar.set_position(i as u64)
-    })
-    .map_err(bad)?;
+    })?;
     bar.finish_and_clear();
     println!(
         "{name}, valence {n}: lambda1 = {:.15} by power iteration on the {}-ring neighbourhood after {} steps ({} iterations, residual {:.1e}); closed form {:.15}",
         map.lambda, map.k, map.step, map.iterations, map.residual, closed
     );
     if (map.lambda - closed).abs() > 1e-9 * closed.abs() {
-        return Err(Failure {
-            code: 1,
-            message: format!(
-                "internal error: the numeric subdominant eigenvalue {} differs from the closed form {closed}",
+        return Err(Error::internal(
+            None,
+            format!(
+                "the numeric subdominant eigenvalue {} differs from the closed form {closed}",
                 map.lambda
             ),
-        });
+        ));
     }
     picture::save(
         &lsubdiv_cli::charmap::picture(&name, &map, closed, size),
         output,
     )
-    .map_err(bad)
 }

@@ -2,7 +2,8 @@
 //! search ([`lsubdiv_explorer`]).
 
 use crate::commands::args::TableArgs;
-use crate::commands::{bad, Failure};
+use crate::commands::check_degree;
+use lsubdiv::compiler::Error;
 
 /// Arguments of `lsubdiv enumerate`.
 #[derive(clap::Args)]
@@ -26,9 +27,9 @@ pub struct EnumerateArgs {
     out: TableArgs,
 }
 
-/// Arguments of `lsubdiv search`.
+/// The explorer's search options ([`lsubdiv_explorer::Search`]) as flags.
 #[derive(clap::Args)]
-pub struct SearchArgs {
+pub struct SearchOptions {
     /// Alphabet size (2 to 6).
     #[arg(long)]
     symbols: usize,
@@ -59,12 +60,46 @@ pub struct SearchArgs {
     /// Spline degree.
     #[arg(long, default_value_t = 3)]
     degree: usize,
+}
+
+/// Arguments of `lsubdiv search`.
+#[derive(clap::Args)]
+pub struct SearchArgs {
+    #[command(flatten)]
+    search: SearchOptions,
     #[command(flatten)]
     out: TableArgs,
 }
 
+impl SearchOptions {
+    /// The checked options, ρ bounds exact.
+    fn to_search(&self) -> Result<lsubdiv_explorer::Search, Error> {
+        let (symbols, max_word_len) = (self.symbols, self.max_word_len);
+        if !(2..=6).contains(&symbols) || !(1..=4).contains(&max_word_len) {
+            return Err(Error::input(format!(
+                "--symbols {symbols} must be 2 to 6 and --max-word-len {max_word_len} 1 to 4"
+            )));
+        }
+        check_degree(self.degree)?;
+        let rho =
+            |flag: &str, t: &Option<String>| t.as_deref().map(|t| rational(flag, t)).transpose();
+        Ok(lsubdiv_explorer::Search {
+            symbols,
+            max_word_len,
+            rho_min: rho("--rho-min", &self.rho_min)?,
+            rho_max: rho("--rho-max", &self.rho_max)?,
+            max_masks: self.max_masks,
+            require_surface: self.require_surface,
+            include_integer: self.include_integer,
+            asymmetric: self.asymmetric,
+            limit: self.limit,
+            degree: self.degree,
+        })
+    }
+}
+
 /// Lists the L-systems of the family (or all families).
-pub fn enumerate(a: EnumerateArgs) -> Result<(), Failure> {
+pub fn enumerate(a: EnumerateArgs) -> Result<(), Error> {
     let EnumerateArgs {
         family,
         max_word_len,
@@ -77,19 +112,17 @@ pub fn enumerate(a: EnumerateArgs) -> Result<(), Failure> {
     let families = match family.as_str() {
         "all" => Family::ALL.to_vec(),
         f => vec![Family::parse(f).ok_or_else(|| {
-            bad(format!(
-                "error: --family {f}: expected lcr, slcr, lcdr, slcdr or all"
+            Error::input(format!(
+                "--family {f}: expected lcr, slcr, lcdr, slcdr or all"
             ))
         })?],
     };
-    if !(1..=6).contains(&max_word_len)
-        || !(1..=lsubdiv::compiler::exact::scheme::MAX_DEGREE).contains(&degree)
-    {
-        return Err(bad(format!(
-            "error: --max-word-len {max_word_len} must be 1 to 6 and --degree {degree} 1 to {}",
-            lsubdiv::compiler::exact::scheme::MAX_DEGREE
+    if !(1..=6).contains(&max_word_len) {
+        return Err(Error::input(format!(
+            "--max-word-len {max_word_len} must be 1 to 6"
         )));
     }
+    check_degree(degree)?;
     let opts = Enumeration {
         max_word_len,
         unconstrained,
@@ -104,43 +137,8 @@ pub fn enumerate(a: EnumerateArgs) -> Result<(), Failure> {
 }
 
 /// Prints the Pareto front of (ρ, masks) and a summary of the search on stderr.
-pub fn search(a: SearchArgs) -> Result<(), Failure> {
-    let SearchArgs {
-        symbols,
-        max_word_len,
-        rho_min,
-        rho_max,
-        max_masks,
-        require_surface,
-        include_integer,
-        asymmetric,
-        limit,
-        degree,
-        out,
-    } = a;
-    if !(2..=6).contains(&symbols) || !(1..=4).contains(&max_word_len) {
-        return Err(bad(format!(
-            "error: --symbols {symbols} must be 2 to 6 and --max-word-len {max_word_len} 1 to 4"
-        )));
-    }
-    if !(1..=lsubdiv::compiler::exact::scheme::MAX_DEGREE).contains(&degree) {
-        return Err(bad(format!(
-            "error: --degree {degree} must be 1 to {}",
-            lsubdiv::compiler::exact::scheme::MAX_DEGREE
-        )));
-    }
-    let opts = lsubdiv_explorer::Search {
-        symbols,
-        max_word_len,
-        rho_min: rho_min.map(|t| rational("--rho-min", &t)).transpose()?,
-        rho_max: rho_max.map(|t| rational("--rho-max", &t)).transpose()?,
-        max_masks,
-        require_surface,
-        include_integer,
-        asymmetric,
-        limit,
-        degree,
-    };
+pub fn search(a: SearchArgs) -> Result<(), Error> {
+    let opts = a.search.to_search()?;
     let bar = lsubdiv_cli::progress::bar(0, "rule sets");
     let found = lsubdiv_explorer::search(&opts, &|done, total| {
         bar.set_length(total);
@@ -159,14 +157,14 @@ pub fn search(a: SearchArgs) -> Result<(), Failure> {
         found.candidates,
         found.front.len()
     );
-    out.emit(&found.front)
+    a.out.emit(&found.front)
 }
 
 /// An exact rational from `3`, `7/2` or `1.45`.
-pub fn rational(flag: &str, text: &str) -> Result<num_rational::BigRational, Failure> {
+fn rational(flag: &str, text: &str) -> Result<num_rational::BigRational, Error> {
     let fail = || {
-        bad(format!(
-            "error: {flag} {text}: expected an integer, a fraction a/b or a decimal"
+        Error::input(format!(
+            "{flag} {text}: expected an integer, a fraction a/b or a decimal"
         ))
     };
     let int = |t: &str| t.trim().parse::<num_bigint::BigInt>().map_err(|_| fail());

@@ -1,6 +1,7 @@
 //! `lsubdiv graph`: the transition graph between (d+1)-words ([N] Fig. 3).
 
-use crate::commands::{bad, build, load, Failure};
+use crate::commands::{build, load};
+use lsubdiv::compiler::Error;
 use lsubdiv_cli::output::write_atomic;
 use lsubdiv_cli::report;
 
@@ -26,7 +27,7 @@ pub struct GraphArgs {
 }
 
 /// DOT or a picture of the transition graph, to a file or standard output.
-pub fn run(a: GraphArgs) -> Result<(), Failure> {
+pub fn run(a: GraphArgs) -> Result<(), Error> {
     use lsubdiv_cli::picture;
     let GraphArgs {
         scheme,
@@ -36,22 +37,16 @@ pub fn run(a: GraphArgs) -> Result<(), Failure> {
         size,
         ..
     } = a;
-    let size = size
-        .as_deref()
-        .map(picture::parse_size)
-        .transpose()
-        .map_err(bad)?;
+    let size = size.as_deref().map(picture::parse_size).transpose()?;
     if let (true, Some(o)) = (svg, &output) {
-        picture::format_of(o).map_err(bad)?;
+        picture::format_of(o)?;
     }
     let s = build(&load(&scheme, degree)?)?;
     match (svg, output) {
         (false, None) => print!("{}", report::dot(&s)),
         (false, Some(o)) => write_atomic(&o, report::dot(&s).as_bytes())?,
         (true, None) => print!("{}", lsubdiv_cli::graph_picture::picture(&s, size).svg()),
-        (true, Some(o)) => {
-            picture::save(&lsubdiv_cli::graph_picture::picture(&s, size), &o).map_err(bad)?
-        }
+        (true, Some(o)) => picture::save(&lsubdiv_cli::graph_picture::picture(&s, size), &o)?,
     }
     Ok(())
 }

@@ -1,7 +1,8 @@
 //! `lsubdiv inspect`: validity, M, ρ, lengths, eigenvectors, masks, SCCs, transitional steps.
 
-use crate::commands::{build, load, Failure};
+use crate::commands::{build, load};
 use lsubdiv::compiler::exact::validity::analyse;
+use lsubdiv::compiler::Error;
 use lsubdiv_cli::report;
 
 /// Arguments of `lsubdiv inspect`.
@@ -18,7 +19,7 @@ pub struct InspectArgs {
 }
 
 /// Prints the report (text or JSON); an invalid scheme is reported, then refused.
-pub fn run(a: InspectArgs) -> Result<(), Failure> {
+pub fn run(a: InspectArgs) -> Result<(), Error> {
     let InspectArgs {
         scheme,
         degree,
@@ -36,8 +37,5 @@ pub fn run(a: InspectArgs) -> Result<(), Failure> {
     } else {
         print!("{}", report::text(&r.ls, &a, compiled.as_ref()));
     }
-    match a.invalid_error(&r.ls) {
-        Some(e) => Err(e.into()),
-        None => Ok(()),
-    }
+    a.invalid_error(&r.ls).map_or(Ok(()), Err)
 }

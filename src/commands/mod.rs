@@ -1,5 +1,6 @@
 //! One module per command (or command family) of the `lsubdiv` binary, and what they share:
-//! the failure type, scheme loading and the output check.
+//! scheme loading, flag checks and the output check. Every command returns the one diagnostic
+//! type, [`Error`], which `main` renders.
 
 pub mod args;
 pub mod bench;
@@ -15,33 +16,15 @@ pub mod render;
 pub mod schemes;
 pub mod subdivide;
 
+use lsubdiv::compiler::exact::scheme::MAX_DEGREE;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::compiler::Error;
 use lsubdiv_cli::{resolve, Resolved};
 
-/// A failure and its exit status.
-pub struct Failure {
-    pub code: u8,
-    pub message: String,
-}
-
-impl From<Error> for Failure {
-    fn from(e: Error) -> Self {
-        Failure {
-            code: if e.is_internal() { 1 } else { 2 },
-            message: e.to_string(),
-        }
-    }
-}
-
-pub fn bad(message: String) -> Failure {
-    Failure { code: 2, message }
-}
-
 /// Refuses, before any work, an output path that cannot be written: its folder must exist and
 /// it must not be a folder itself (the write itself may still fail, leaving nothing behind).
-pub fn check_output(path: &std::path::Path) -> Result<(), Failure> {
-    let fail = |what: &str| bad(format!("{}: error: {what}", path.display()));
+pub fn check_output(path: &std::path::Path) -> Result<(), Error> {
+    let fail = |what: &str| Error::in_file(path.display(), what);
     if path.is_dir() {
         return Err(fail("is a directory; give a file name"));
     }
@@ -53,15 +36,22 @@ pub fn check_output(path: &std::path::Path) -> Result<(), Failure> {
     }
 }
 
-pub fn load(scheme: &str, degree: Option<usize>) -> Result<Resolved, Failure> {
+/// Checks `--degree`: 1 to [`MAX_DEGREE`].
+pub fn check_degree(d: usize) -> Result<(), Error> {
+    if d == 0 || d > MAX_DEGREE {
+        return Err(Error::input(format!(
+            "--degree {d} is out of range (1 to {MAX_DEGREE})"
+        )));
+    }
+    Ok(())
+}
+
+/// The scheme named on the command line, at `--degree` when given (then no generated code
+/// applies unless it is the file's own degree).
+pub fn load(scheme: &str, degree: Option<usize>) -> Result<Resolved, Error> {
     let mut r = resolve(scheme)?;
     if let Some(d) = degree {
-        if d == 0 || d > lsubdiv::compiler::exact::scheme::MAX_DEGREE {
-            return Err(bad(format!(
-                "error: --degree {d} is out of range (1 to {})",
-                lsubdiv::compiler::exact::scheme::MAX_DEGREE
-            )));
-        }
+        check_degree(d)?;
         if d != r.ls.degree {
             r.ls.degree = d;
             r.builtin = false; // the generated tables are for the file's degree
@@ -70,6 +60,14 @@ pub fn load(scheme: &str, degree: Option<usize>) -> Result<Resolved, Failure> {
     Ok(r)
 }
 
-pub fn build(r: &Resolved) -> Result<Scheme, Failure> {
-    Ok(Scheme::build(r.ls.clone())?)
+/// The exact, certified scheme.
+pub fn build(r: &Resolved) -> Result<Scheme, Error> {
+    Scheme::build(r.ls.clone())
+}
+
+/// `--threads`, or all cores.
+pub fn threads(flag: Option<usize>) -> usize {
+    flag.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    })
 }

@@ -1,10 +1,10 @@
 //! `lsubdiv plot`: control polygons of successive steps and the limit curve ([N] Fig. 2).
 
-use crate::commands::args::PolygonArgs;
-use crate::commands::{bad, build, load, Failure};
+use crate::commands::args::{polygon, read_points, PolygonArgs};
+use crate::commands::{build, load};
 use lsubdiv::compiler::exact::generic::GenericScheme;
-use lsubdiv::points::{self, Points};
-use lsubdiv::Curve;
+use lsubdiv::compiler::Error;
+use lsubdiv::points::Points;
 
 /// Arguments of `lsubdiv plot`.
 #[derive(clap::Args)]
@@ -28,7 +28,7 @@ pub struct PlotArgs {
 
 /// Refines a planar polygon (a closed hexagon without input) with the generic path and draws
 /// it ([`lsubdiv_cli::plot`]).
-pub fn run(a: PlotArgs) -> Result<(), Failure> {
+pub fn run(a: PlotArgs) -> Result<(), Error> {
     use lsubdiv_cli::picture;
     let PlotArgs {
         scheme,
@@ -42,37 +42,28 @@ pub fn run(a: PlotArgs) -> Result<(), Failure> {
         },
         size,
     } = a;
-    picture::format_of(&output).map_err(bad)?;
-    let size = picture::parse_size(&size).map_err(bad)?;
+    picture::format_of(&output)?;
+    let size = picture::parse_size(&size)?;
     if steps > 12 {
-        return Err(bad(format!(
-            "error: --steps {steps}: plot draws at most 12 steps"
+        return Err(Error::input(format!(
+            "--steps {steps}: plot draws at most 12 steps"
         )));
     }
     let r = load(&scheme, degree)?;
     let (pts, closed) = match input {
         None => (lsubdiv_cli::plot::hexagon(), true),
-        Some(path) => {
-            let name = path.display().to_string();
-            let text =
-                std::fs::read_to_string(path).map_err(|e| bad(format!("{name}: error: {e}")))?;
-            match points::parse(&name, &text).map_err(bad)? {
-                Points::D2(p) => (p, closed),
-                Points::D3(_) => {
-                    return Err(bad(format!(
-                        "{name}: error: plot draws planar polygons; give 2 coordinates per point"
-                    )))
-                }
+        Some(path) => match read_points(&path)? {
+            Points::D2(p) => (p, closed),
+            Points::D3(_) => {
+                return Err(Error::in_file(
+                    path.display(),
+                    "plot draws planar polygons; give 2 coordinates per point",
+                ))
             }
-        }
+        },
     };
     let generic = GenericScheme::new(build(&r)?);
-    let mut curve = Curve::with_axiom(&lsubdiv::CurveScheme::tables(&generic), pts, closed);
-    if let Some(l) = labels {
-        curve.labels =
-            r.ls.parse_word(&l)
-                .map_err(|e| bad(format!("error: --labels: {e}")))?;
-    }
-    let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size).map_err(bad)?;
-    picture::save(&pic, &output).map_err(bad)
+    let curve = polygon(&r, &generic, pts, closed, labels.as_deref())?;
+    let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size)?;
+    picture::save(&pic, &output)
 }

@@ -1,9 +1,11 @@
 //! `lsubdiv render`: draws a closed quad mesh with the software renderer ([G] Fig. 6).
 
-use crate::commands::args::{MemoryLimit, PathChoice};
-use crate::commands::subdivide::{read_mesh, refine_mesh};
-use crate::commands::{bad, load, Failure};
-use lsubdiv_cli::output::write_atomic;
+use crate::commands::args::MemoryLimit;
+use crate::commands::subdivide::{read_mesh, refine_mesh, MeshJob};
+use crate::commands::{load, threads};
+use lsubdiv::compiler::Error;
+use lsubdiv_cli::implementation::PathChoice;
+use lsubdiv_cli::output::{format_by_extension, write_atomic};
 
 /// Arguments of `lsubdiv render`.
 #[derive(clap::Args)]
@@ -51,15 +53,18 @@ pub struct RenderArgs {
 
 /// `lsubdiv render`: reads or builds the mesh, refines it if asked, draws it, writes the image
 /// atomically. Reports the curvature range on stderr.
-pub fn run(a: &RenderArgs) -> Result<(), Failure> {
+pub fn run(a: &RenderArgs) -> Result<(), Error> {
     use lsubdiv_cli::render::{self, camera::View, image::Format};
     let out_name = a.output.display().to_string();
-    let format = Format::of(&a.output).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
-    let (width, height) = lsubdiv_cli::picture::parse_size(&a.size).map_err(bad)?;
+    let format = format_by_extension(
+        &a.output,
+        "image",
+        &[("png", Format::Png), ("ppm", Format::Ppm)],
+    )?;
+    let (width, height) = lsubdiv_cli::picture::parse_size(&a.size)?;
     let (width, height) = (width as usize, height as usize);
-    let numbers = |flag: &str, text: &str, n| {
-        render::parse_numbers(flag, text, n).map_err(|e| bad(format!("error: {e}")))
-    };
+    let numbers =
+        |flag: &str, text: &str, n| render::parse_numbers(flag, text, n).map_err(Error::input);
     let view = match (&a.camera, &a.eye) {
         (_, Some(eye)) => {
             let eye = numbers("--eye", eye, 3..=3)?;
@@ -85,39 +90,34 @@ pub fn run(a: &RenderArgs) -> Result<(), Failure> {
     };
     if let Some(r) = a.curvature_range {
         if !(r > 0.0 && r.is_finite()) {
-            return Err(bad(format!(
-                "error: --curvature-range {r}: expected a positive number"
+            return Err(Error::input(format!(
+                "--curvature-range {r}: expected a positive number"
             )));
         }
     }
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
     let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
-        lsubdiv_cli::bench::mesh(&a.mesh).map_err(bad)?
+        lsubdiv_cli::bench::mesh(&a.mesh)?
     } else {
         read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
     };
-    let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
     let mesh = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));
-            let threads = a.threads.unwrap_or_else(|| {
-                std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
-            });
-            refine_mesh(
-                &load(scheme, None)?,
-                &mesh,
-                &a.mesh,
+            let job = MeshJob {
+                name: &a.mesh,
                 steps,
-                PathChoice::Auto,
-                threads,
-                a.limit.bytes(),
-            )?
+                path: PathChoice::Auto,
+                threads: threads(a.threads),
+                max_memory: a.limit.bytes(),
+            };
+            refine_mesh(&load(scheme, None)?, &mesh, &job)?
         }
         _ => mesh,
     };
     stages.next(format!("drawing {} quads", mesh.faces.len()));
-    let scene = render::Scene::new(&mesh).map_err(scene_error)?;
+    let scene = render::Scene::new(&mesh).map_err(|e| Error::in_file(&a.mesh, e))?;
     let opts = render::Options {
         width,
         height,
@@ -126,9 +126,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Failure> {
         wireframe: a.wireframe,
         curvature_range: a.curvature_range,
     };
-    let rendered = scene
-        .render(&opts)
-        .map_err(|e| bad(format!("error: {e}")))?;
+    let rendered = scene.render(&opts).map_err(Error::input)?;
     if let Some(r) = rendered.curvature {
         if !scene.orientable() {
             stages.note(&format!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh));
@@ -145,11 +143,10 @@ pub fn run(a: &RenderArgs) -> Result<(), Failure> {
             }
         ));
     }
-    let bytes = rendered.image.encode(format).map_err(|e| Failure {
-        code: 1,
-        message: format!("internal error: {e}"),
-    })?;
+    let bytes = rendered
+        .image
+        .encode(format)
+        .map_err(|e| Error::internal(None, e))?;
     stages.next(format!("writing {out_name}"));
-    write_atomic(&a.output, &bytes).map_err(|e| bad(format!("{out_name}: error: {e}")))?;
-    Ok(())
+    write_atomic(&a.output, &bytes)
 }

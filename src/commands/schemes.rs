@@ -1,9 +1,9 @@
 //! `lsubdiv schemes`: the shipped schemes.
 
-use crate::commands::Failure;
+use lsubdiv::compiler::Error;
 
 /// Prints one name per line.
-pub fn run() -> Result<(), Failure> {
+pub fn run() -> Result<(), Error> {
     for n in lsubdiv_cli::builtin_names() {
         println!("{n}");
     }

@@ -1,110 +1,98 @@
 //! `lsubdiv subdivide`: refines a closed quad mesh read from an OBJ file; the mesh reading and
 //! refining that `render` shares.
 
-use crate::commands::args::{MemoryLimit, PathChoice};
-use crate::commands::{bad, build, check_output, load, Failure};
-use lsubdiv_cli::output::write_atomic;
+use crate::commands::args::RefineArgs;
+use crate::commands::{build, check_output, load, threads};
+use lsubdiv::compiler::Error;
+use lsubdiv::runtime::mesh::{self, QuadMesh};
+use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
+use lsubdiv_cli::output::{extension, write_atomic};
 use lsubdiv_cli::Resolved;
 
 /// Arguments of `lsubdiv subdivide`.
 #[derive(clap::Args)]
 pub struct SubdivideArgs {
-    scheme: String,
-    /// Number of subdivision steps.
-    #[arg(long)]
-    steps: usize,
+    #[command(flatten)]
+    refine: RefineArgs,
     /// Input mesh (OBJ).
     input: std::path::PathBuf,
     /// Output mesh: OBJ, or PLY when the name ends in `.ply` (written whole or not at all).
     #[arg(short, long)]
     output: std::path::PathBuf,
-    /// Which implementation refines (as for `curve`).
-    #[arg(long, value_enum, default_value_t = PathChoice::Auto)]
-    path: PathChoice,
     /// Worker threads (the result does not depend on it); default: all cores.
     #[arg(long)]
     threads: Option<usize>,
-    #[command(flatten)]
-    limit: MemoryLimit,
 }
 
-/// Reads, refines, writes.
-pub fn run(a: SubdivideArgs) -> Result<(), Failure> {
-    let threads = a.threads.unwrap_or_else(|| {
-        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
-    });
-    subdivide(
-        &a.scheme,
-        a.steps,
-        &a.input,
-        &a.output,
-        a.path,
-        threads,
-        a.limit.bytes(),
-    )
-}
-
-/// `lsubdiv subdivide`: reads an OBJ, refines (patch path), writes OBJ or PLY atomically.
-fn subdivide(
-    scheme: &str,
-    steps: usize,
-    input: &std::path::Path,
-    output: &std::path::Path,
-    path: PathChoice,
-    threads: usize,
-    max_memory: u64,
-) -> Result<(), Failure> {
-    use lsubdiv::runtime::mesh;
-    check_output(output)?;
-    let r = load(scheme, None)?;
+/// Reads an OBJ, refines it (patch path), writes OBJ or PLY atomically.
+pub fn run(a: SubdivideArgs) -> Result<(), Error> {
+    let SubdivideArgs {
+        refine,
+        input,
+        output,
+        threads: t,
+    } = a;
+    check_output(&output)?;
+    let r = load(&refine.scheme, None)?;
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let m = read_mesh(input, max_memory)?;
+    let m = read_mesh(&input, refine.limit.bytes())?;
+    let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
-    let fine = refine_mesh(&r, &m, &in_name, steps, path, threads, max_memory)?;
+    let job = MeshJob {
+        name: &in_name,
+        steps,
+        path: refine.path,
+        threads: threads(t),
+        max_memory: refine.limit.bytes(),
+    };
+    let fine = refine_mesh(&r, &m, &job)?;
     stages.next(format!(
         "writing {} vertices, {} quads to {}",
         fine.positions.len(),
         fine.faces.len(),
         output.display()
     ));
-    let bytes = if output.extension().is_some_and(|e| e == "ply") {
+    let bytes = if extension(&output).as_deref() == Some("ply") {
         mesh::to_ply(&fine)
     } else {
         mesh::to_obj(&fine)
     };
-    write_atomic(output, bytes.as_bytes())
-        .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
-    Ok(())
+    write_atomic(&output, bytes.as_bytes())
 }
 
 /// Reads a closed quad mesh from an OBJ file (refused unread when reading it could exceed
 /// `max_memory`): errors name the file's line, vertex or edge; warnings go to stderr.
-pub fn read_mesh(
-    input: &std::path::Path,
-    max_memory: u64,
-) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
-    lsubdiv_cli::limits::input(input, max_memory).map_err(bad)?;
-    let (m, warnings) = lsubdiv::read_obj(input).map_err(bad)?;
+pub fn read_mesh(input: &std::path::Path, max_memory: u64) -> Result<QuadMesh, Error> {
+    lsubdiv_cli::limits::input(input, max_memory)?;
+    let (m, warnings) = lsubdiv::read_obj(input).map_err(lsubdiv_cli::located)?;
     for w in warnings {
         eprintln!("{}: warning: {w}", input.display());
     }
     Ok(m)
 }
 
-/// Refines a closed quad mesh (already validated; `name` says where it came from) by the
-/// requested path, after the size guard (`--max-memory`) has accepted the prediction.
-pub fn refine_mesh(
-    r: &Resolved,
-    m: &lsubdiv::runtime::mesh::QuadMesh,
-    name: &str,
-    steps: usize,
-    path: PathChoice,
-    threads: usize,
-    max_memory: u64,
-) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
+/// How `subdivide` and `render` refine a mesh.
+pub struct MeshJob<'a> {
+    /// Where the mesh came from (a file or a built-in mesh), for messages.
+    pub name: &'a str,
+    pub steps: usize,
+    pub path: PathChoice,
+    pub threads: usize,
+    pub max_memory: u64,
+}
+
+/// Refines a closed quad mesh (already validated) by the picked implementation, after the size
+/// guard (`--max-memory`) has accepted the prediction.
+pub fn refine_mesh(r: &Resolved, m: &QuadMesh, job: &MeshJob) -> Result<QuadMesh, Error> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+    let MeshJob {
+        name,
+        steps,
+        threads,
+        ..
+    } = *job;
     let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(build(r)?)?;
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
@@ -117,33 +105,25 @@ pub fn refine_mesh(
     )
     .check(
         &format!("{steps} steps of {} on {name}", r.ls.name),
-        max_memory,
-    )
-    .map_err(bad)?;
-    let generated = if path == PathChoice::Generic || !r.builtin {
-        None
-    } else {
-        lsubdiv::generated::subdivide::<f64>(&r.ls.name, m, steps, threads)
-    };
-    let result = match (path, generated) {
-        (_, Some(res)) => res,
-        (PathChoice::Generated, None) => {
-            return Err(bad(format!(
-                "error: `{}` has no generated surface code",
-                r.ls.name
-            )))
+        job.max_memory,
+    )?;
+    let result = match job.path.pick(r, Geometry::Surface)? {
+        Implementation::Generated => lsubdiv::generated::subdivide::<f64>(
+            &r.ls.name, m, steps, threads,
+        )
+        .ok_or_else(|| Error::internal(None, format!("`{}` is not in the registry", r.ls.name)))?,
+        Implementation::Generic => {
+            lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, m, steps, threads)
         }
-        (_, None) => lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, m, steps, threads),
     };
     let fine = result.map_err(|e| match e {
-        SurfaceError::Mesh(e) => bad(format!("{name}: error: {e}")),
-        SurfaceError::Ev(e) => bad(format!("{name}: error: {e}")),
-        e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => Failure {
-            code: 1,
-            message: format!("internal error: {e}"),
-        },
+        SurfaceError::Mesh(e) => Error::in_file(name, e.to_string()),
+        SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
+        e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
+            Error::internal(None, e.to_string())
+        }
     })?;
-    Ok(lsubdiv::runtime::mesh::QuadMesh {
+    Ok(QuadMesh {
         positions: fine.positions,
         faces: fine.faces,
     })

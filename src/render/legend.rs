@@ -75,7 +75,7 @@ pub fn bar(img: &mut Image, span: f64) -> Result<(), String> {
     if !fits(w, h) {
         return Ok(());
     }
-    let pixmap = picture(h, span).pixmap()?;
+    let pixmap = picture(h, span).pixmap().map_err(|e| e.message)?;
     // The picture's background is opaque white, so its premultiplied pixels are the colours.
     for (y, row) in pixmap.pixels().chunks_exact(WIDTH).enumerate() {
         for (x, px) in row.iter().enumerate() {

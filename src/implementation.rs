@@ -1,0 +1,67 @@
+//! Which implementation refines: the generated kernels of a shipped scheme (`lsubdiv-generated`)
+//! or the generic table-driven path. Decided here only, for curves and surfaces alike.
+
+use crate::Resolved;
+use lsubdiv::compiler::Error;
+
+/// The `--path` flag: what the user asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PathChoice {
+    /// The generated code when there is one, else the generic path.
+    Auto,
+    /// The generated code; an error when there is none.
+    Generated,
+    /// The generic table-driven path.
+    Generic,
+}
+
+/// What refines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Implementation {
+    /// The generated, specialised kernels (a shipped scheme at its own degree).
+    Generated,
+    /// The generic table-driven kernels.
+    Generic,
+}
+
+impl Implementation {
+    /// `generated` or `generic`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Implementation::Generated => "generated",
+            Implementation::Generic => "generic",
+        }
+    }
+}
+
+/// What is refined: a curve, or a quad mesh (which needs a surface-capable scheme, [G] §4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Geometry {
+    /// A control polygon.
+    Curve,
+    /// A closed quad mesh.
+    Surface,
+}
+
+impl PathChoice {
+    /// The implementation this choice picks for `r`. Generated code exists for the shipped
+    /// schemes given by name at their own degree (`Resolved::builtin`), and for surfaces only
+    /// for the surface-capable ones.
+    pub fn pick(self, r: &Resolved, geometry: Geometry) -> Result<Implementation, Error> {
+        let generated = lsubdiv::generated::NAMES.contains(&r.ls.name.as_str())
+            && (geometry == Geometry::Curve
+                || lsubdiv::generated::SURFACE_NAMES.contains(&r.ls.name.as_str()));
+        match self {
+            PathChoice::Generic => Ok(Implementation::Generic),
+            _ if r.builtin && generated => Ok(Implementation::Generated),
+            PathChoice::Auto => Ok(Implementation::Generic),
+            PathChoice::Generated => Err(Error::input(match geometry {
+                Geometry::Curve => format!(
+                    "`{}` has no generated code (only shipped schemes at their own degree do)",
+                    r.ls.name
+                ),
+                Geometry::Surface => format!("`{}` has no generated surface code", r.ls.name),
+            })),
+        }
+    }
+}
