@@ -4,14 +4,17 @@
 use crate::Resolved;
 use lsubdiv::compiler::Error;
 
-/// The `--path` flag: what the user asked for.
+/// The `--path` flag: what the user asked for. `auto`: the generated code when there is one,
+/// else the generic path; `generated`: the generated code, an error when there is none;
+/// `generic`: the generic table-driven path. (Plain comments on the variants: doc comments
+/// would turn `--help` into its long form.)
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum PathChoice {
-    /// The generated code when there is one, else the generic path.
+    // Generated when there is one, else generic.
     Auto,
-    /// The generated code; an error when there is none.
+    // Generated, or an error.
     Generated,
-    /// The generic table-driven path.
+    // Generic.
     Generic,
 }
 

@@ -1,6 +1,7 @@
-//! The internals of the `lsubdiv` command line: one module per command family, the pictures
-//! and the software renderer, the benchmark harness and the size guard. Not a public API: a
-//! program that uses lsubdiv depends on the facade `lsubdiv` instead.
+//! The internals of the `lsubdiv` command line (the commands themselves are in the binary,
+//! `src/commands/`): reports and tables, the pictures and the software renderer, the benchmark
+//! harness, the size guard, the choice of implementation and the output writer. Not a public
+//! API: a program that uses lsubdiv depends on the facade `lsubdiv` instead.
 
 pub mod bench;
 pub mod charmap;

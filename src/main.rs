@@ -1,5 +1,6 @@
-//! The `lsubdiv` command line. Exit status: 0 ok, 2 bad input (scheme, points, labels), 1
-//! internal error.
+//! The `lsubdiv` command line: parses the arguments (clap) and dispatches to one module per
+//! command (`commands/`). Every failure is one diagnostic ([`Error`]), rendered here only.
+//! Exit status: 0 ok, 2 bad input (scheme, points, labels, flags), 1 internal error.
 
 mod commands;
 
