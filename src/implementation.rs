@@ -68,3 +68,58 @@ impl PathChoice {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generated_code_is_picked_for_shipped_schemes_at_their_own_degree() {
+        let fib = crate::resolve("fibonacci").unwrap();
+        let curve_only = crate::resolve("fibonacci-curve").unwrap();
+        let mut other_degree = fib.clone();
+        other_degree.builtin = false;
+        use Implementation::{Generated, Generic};
+        for (choice, r, geometry, expect) in [
+            (PathChoice::Auto, &fib, Geometry::Curve, Ok(Generated)),
+            (PathChoice::Auto, &fib, Geometry::Surface, Ok(Generated)),
+            (PathChoice::Generic, &fib, Geometry::Curve, Ok(Generic)),
+            (
+                PathChoice::Auto,
+                &other_degree,
+                Geometry::Curve,
+                Ok(Generic),
+            ),
+            (
+                PathChoice::Generated,
+                &other_degree,
+                Geometry::Curve,
+                Err("no generated code"),
+            ),
+            (
+                PathChoice::Auto,
+                &curve_only,
+                Geometry::Curve,
+                Ok(Generated),
+            ),
+            (
+                PathChoice::Auto,
+                &curve_only,
+                Geometry::Surface,
+                Ok(Generic),
+            ),
+            (
+                PathChoice::Generated,
+                &curve_only,
+                Geometry::Surface,
+                Err("no generated surface code"),
+            ),
+        ] {
+            match (choice.pick(r, geometry), expect) {
+                (Ok(got), Ok(want)) => assert_eq!(got, want),
+                (Err(e), Err(want)) => assert!(e.message.contains(want), "{e}"),
+                (got, want) => panic!("{choice:?} {geometry:?}: {got:?}, expected {want:?}"),
+            }
+        }
+    }
+}

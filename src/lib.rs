@@ -83,3 +83,20 @@ pub fn resolve(arg: &str) -> Result<Resolved, Error> {
         )),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn located_reads_the_place_back() {
+        let e = located("a.obj:5: error: `x` is not a number".into());
+        assert_eq!(e.to_string(), "a.obj:5: error: `x` is not a number");
+        assert_eq!(e.at.and_then(|a| a.line), Some(5));
+        let e = located("a.obj: error: no faces".into());
+        assert_eq!(
+            (e.at.map(|a| a.file), e.message),
+            (Some("a.obj".into()), "no faces".into())
+        );
+    }
+}
