@@ -67,6 +67,9 @@
 //! surface analysis, the one [`exact::Tables`] value, code generation), for the `lsubdiv` facade,
 //! the command line and the explorer. A build script needs none of it.
 
+// The quick start shows a build script, whose `main` is the point.
+#![allow(clippy::needless_doctest_main)]
+
 mod config;
 mod error;
 pub mod exact;
