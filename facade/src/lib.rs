@@ -55,13 +55,7 @@ pub mod points;
 #[macro_export]
 macro_rules! include_scheme {
     ($name:ident) => {
-#[allow(clippy::all, clippy::pedantic, missing_docs)]
-        #[rustfmt::skip]
-        pub mod $name {
-            #[allow(unused_imports)]
-            use $crate::runtime as lsubdiv_runtime;
-            include!(concat!(env!("OUT_DIR"), "/", stringify!($name), ".rs"));
-        }
+        $crate::runtime::include_scheme!($name, runtime = $crate::runtime);
     };
 }
 

@@ -72,14 +72,22 @@ pub use gather::CurveContexts;
 /// lsubdiv_runtime::include_scheme!(my_scheme);
 /// let fine = lsubdiv_runtime::refine(&my_scheme::Scheme, &coarse, 3)?;
 /// ```
+///
+/// `include_scheme!(name, runtime = path)` names the runtime `path` instead (how
+/// `lsubdiv::include_scheme!` passes `lsubdiv::runtime`).
 #[macro_export]
 macro_rules! include_scheme {
     ($name:ident) => {
-#[allow(clippy::all, clippy::pedantic, missing_docs)]
+        $crate::include_scheme!($name, runtime = $crate);
+    };
+    // For crates that re-export the runtime (the `lsubdiv` facade): the path by which the
+    // module names it.
+    ($name:ident, runtime = $($runtime:tt)+) => {
+        #[allow(clippy::all, clippy::pedantic, missing_docs)]
         #[rustfmt::skip]
         pub mod $name {
             #[allow(unused_imports)]
-            use $crate as lsubdiv_runtime;
+            use $($runtime)+ as lsubdiv_runtime;
             include!(concat!(env!("OUT_DIR"), "/", stringify!($name), ".rs"));
         }
     };

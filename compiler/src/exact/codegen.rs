@@ -359,14 +359,9 @@ impl Codegen {
                     CONTEXTS
                 }
 
+                // The signature of `CurveScheme::gather`.
                 #[inline]
-                fn gather<const D: usize>(
-                    &self,
-                    c: u32,
-                    p: &[[f64; D]],
-                    k: usize,
-                    emit: &mut impl FnMut([f64; D]),
-                ) -> bool {
+                fn gather<const D: usize>(&self, c: u32, p: &[[f64; D]], k: usize, emit: &mut impl FnMut([f64; D])) -> bool {
                     use #rt::gather::lin;
                     match c {
                         #(#arms)*
