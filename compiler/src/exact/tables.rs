@@ -208,3 +208,65 @@ impl Tables {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::exact::scheme;
+
+    fn tables(text: &str) -> Tables {
+        Tables::new(Scheme::build(scheme::parse("t.toml", text).unwrap()).unwrap())
+    }
+
+    /// Every view stays in step with the masks, also after words the axiom never makes.
+    fn check(t: &Tables) {
+        let c = t.curve();
+        let n = c.word_count();
+        assert_eq!(c.words.len(), n * (c.degree + 1));
+        assert_eq!(c.mask_children.len(), n);
+        assert_eq!(
+            *c.mask_offsets.last().unwrap() as usize,
+            c.mask_weights.len()
+        );
+        for (e, &w) in c.mask_weights.iter().enumerate() {
+            assert_eq!(t.exact_weight(e).to_f64().to_bits(), w.to_bits());
+        }
+        for i in 0..n {
+            let m = t.scheme().mask_of(c.word(i));
+            let got: Vec<&[u8]> = c
+                .mask_range(i)
+                .map(|e| c.word(c.mask_words[e] as usize))
+                .collect();
+            let want: Vec<&[u8]> = m.contributions.iter().map(|x| &x.word[..]).collect();
+            assert_eq!(got, want, "mask {i}");
+            assert_eq!(t.word_index(c.word(i)), Some(i as u32));
+        }
+        if let Some(s) = t.surface() {
+            assert_eq!(s.ring_weights.len(), n);
+        }
+    }
+
+    #[test]
+    fn surface_tables_grow_with_the_masks() {
+        let mut t = tables("name = \"bt\"\ndegree = 3\naxiom = \"C\"\n[rules]\nL = \"LC\"\nC = \"LCR\"\nR = \"CR\"\n[symmetry]\nL = \"R\"\n");
+        assert!(t.curves_only().is_none() && t.surface().is_some());
+        check(&t);
+        let n = t.curve().word_count();
+        assert_eq!(t.first_step(0), Some(0));
+        // LLLL: never made from the axiom.
+        assert_eq!(t.word_index(&[0; 4]), None);
+        t.add_reachable(vec![vec![0; 4]]);
+        assert!(t.curve().word_count() > n);
+        assert_eq!(t.first_step(n), None);
+        check(&t);
+    }
+
+    #[test]
+    fn a_curve_scheme_says_why_it_has_no_surface_tables() {
+        let t = tables("name = \"q\"\ndegree = 2\naxiom = \"A\"\n[rules]\nA = \"AB\"\nB = \"A\"\n");
+        assert!(t.surface().is_none() && t.surface_analysis().is_none());
+        let e = t.curves_only().expect("degree 2");
+        assert!(e.message.contains("surfaces need degree 3"), "{e}");
+        check(&t);
+    }
+}
