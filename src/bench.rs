@@ -2,9 +2,9 @@
 //! thread count, timed (median of repeated runs, refinement only, no I/O).
 
 use crate::implementation::Implementation;
-use lsubdiv::compiler::exact::generic::GenericSurface;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::generators::{cube, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};

@@ -20,8 +20,8 @@
 
 use crate::input_error;
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
-use lsubdiv::compiler::exact::generic::GenericSurface;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
 use lsubdiv::runtime::topology::Topology;

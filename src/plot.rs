@@ -11,8 +11,8 @@
 
 use crate::input_error;
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::runtime::{refine, Curve, CurveScheme};
 
 /// Edges of the limit curve are at most this long in pixels.

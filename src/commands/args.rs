@@ -1,7 +1,7 @@
 //! Arguments shared by several commands.
 
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::Points;
 use lsubdiv::Curve;
 use lsubdiv_cli::implementation::PathChoice;

@@ -2,8 +2,8 @@
 
 use crate::commands::args::MemoryLimit;
 use crate::commands::{build, load};
-use lsubdiv::compiler::exact::generic::GenericSurface;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::surface::SurfaceScheme;
 use lsubdiv_cli::bench;
 use lsubdiv_cli::implementation::{Geometry, PathChoice};

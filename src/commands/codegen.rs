@@ -2,6 +2,7 @@
 
 use crate::commands::{build, load};
 use lsubdiv::compiler::exact::codegen::generate;
+use lsubdiv::compiler::exact::Tables;
 use lsubdiv::compiler::Error;
 use lsubdiv_cli::output::write_atomic;
 
@@ -19,6 +20,6 @@ pub struct CodegenArgs {
 /// Writes the generated source, whole or not at all.
 pub fn run(a: CodegenArgs) -> Result<(), Error> {
     let s = build(&load(&a.scheme, a.degree)?)?;
-    write_atomic(&a.output, generate(&s).as_bytes())?;
+    write_atomic(&a.output, generate(&Tables::new(s)).as_bytes())?;
     Ok(())
 }

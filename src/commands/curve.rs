@@ -2,8 +2,8 @@
 
 use crate::commands::args::{polygon, read_points, PolygonArgs, RefineArgs};
 use crate::commands::{build, check_output, load};
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::{self, Points};
 use lsubdiv::CurveError;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};

@@ -4,9 +4,9 @@
 
 use crate::commands::args::polygon;
 use crate::commands::{build, load};
-use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::{GenericScheme, GenericSurface};
 use lsubdiv_cli::implementation::{Geometry, PathChoice};
 use lsubdiv_cli::input_error;
 use std::time::Instant;

@@ -108,7 +108,7 @@ fn charmap(scheme: &str, valence: &str, output: &std::path::Path, size: &str) ->
     let s = build(&load(scheme, None)?)?;
     let name = s.ls.name.clone();
     let rho = s.analysis.rho.to_f64();
-    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(s)?;
+    let surface = lsubdiv::generic::GenericSurface::new(s)?;
     let closed = surface
         .analysis()
         .coefficients_f64()

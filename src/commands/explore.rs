@@ -3,6 +3,7 @@
 
 use crate::commands::args::TableArgs;
 use crate::commands::check_degree;
+use lsubdiv::compiler::exact::scheme::parse_rational;
 use lsubdiv::compiler::Error;
 
 /// Arguments of `lsubdiv enumerate`.
@@ -160,31 +161,7 @@ pub fn search(a: SearchArgs) -> Result<(), Error> {
     a.out.emit(&found.front)
 }
 
-/// An exact rational from `3`, `7/2` or `1.45`.
+/// An exact rational from `3`, `7/2` or `1.45` (the compiler's one parser).
 fn rational(flag: &str, text: &str) -> Result<num_rational::BigRational, Error> {
-    let fail = || {
-        Error::input(format!(
-            "{flag} {text}: expected an integer, a fraction a/b or a decimal"
-        ))
-    };
-    let int = |t: &str| t.trim().parse::<num_bigint::BigInt>().map_err(|_| fail());
-    if let Some((a, b)) = text.split_once('/') {
-        let b = int(b)?;
-        if b == num_bigint::BigInt::from(0) {
-            return Err(fail());
-        }
-        return Ok(num_rational::BigRational::new(int(a)?, b));
-    }
-    let (whole, frac) = text.split_once('.').unwrap_or((text, ""));
-    if frac.starts_with(['-', '+']) || whole.is_empty() && frac.is_empty() {
-        return Err(fail());
-    }
-    let digits = int(&format!("{whole}{frac}").replace("-", "").replace("+", ""))?;
-    let sign = if text.trim_start().starts_with('-') {
-        -1
-    } else {
-        1
-    };
-    let scale = num_bigint::BigInt::from(10).pow(frac.len() as u32);
-    Ok(num_rational::BigRational::new(digits * sign, scale))
+    parse_rational(text).map_err(|e| Error::input(format!("{flag} {e}")))
 }

@@ -2,8 +2,8 @@
 
 use crate::commands::args::{polygon, read_points, PolygonArgs};
 use crate::commands::{build, load};
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::Points;
 
 /// Arguments of `lsubdiv plot`.

@@ -93,7 +93,7 @@ pub fn refine_mesh(r: &Resolved, m: &QuadMesh, job: &MeshJob) -> Result<QuadMesh
         threads,
         ..
     } = *job;
-    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(build(r)?)?;
+    let surface = lsubdiv::generic::GenericSurface::new(build(r)?)?;
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
