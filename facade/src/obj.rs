@@ -439,7 +439,6 @@ pub fn format(mesh: &QuadMesh) -> String {
     s
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

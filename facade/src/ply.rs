@@ -23,7 +23,6 @@ pub fn format(mesh: &QuadMesh) -> String {
     s
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -30,7 +30,9 @@ use crate::curve::{rewrite, CurveTables};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::real::{axpy_slab, Real};
-use crate::surface::{refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme};
+use crate::surface::{
+    refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme, SurfaceVisitor,
+};
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
@@ -564,11 +566,7 @@ impl Numbering {
             let (cx, cy) = corner_at(l, n, n);
             let (dx, dy) = TOWARD_NEXT[l as usize];
             for t in 1..n {
-                put(
-                    cx + t * dx,
-                    cy + t * dy,
-                    first + along_edge(t, n, forward),
-                );
+                put(cx + t * dx, cy + t * dy, first + along_edge(t, n, forward));
             }
         }
         // The ring along the four edges.
@@ -1256,6 +1254,27 @@ pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
         positions: r.into_positions(),
         faces,
     })
+}
+
+/// [`subdivide_with`] as a [`SurfaceVisitor`]: for a scheme known only by name (the generated
+/// registry's `visit_surface`) as for one at hand (`job.visit(&scheme)`).
+#[derive(Clone, Copy, Debug)]
+pub struct Subdivide<'m> {
+    /// The mesh.
+    pub mesh: &'m QuadMesh,
+    /// Its topology.
+    pub topology: &'m Topology,
+    /// Refinement steps.
+    pub steps: usize,
+    /// Worker threads (the result does not depend on it).
+    pub threads: usize,
+}
+
+impl SurfaceVisitor for Subdivide<'_> {
+    type Output = Result<QuadMesh, SurfaceError>;
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
+        subdivide_with(scheme, self.mesh, self.topology, self.steps, self.threads)
+    }
 }
 
 /// The level of a mesh refined `k` times by the reference driver, in the numbering `num`. Its
