@@ -691,6 +691,33 @@ mod tests {
     }
 
     #[test]
+    fn topology_errors_are_placed_at_the_lines_read() {
+        // Comments, blank lines and a skipped directive shift the lines of `v` and `f`.
+        let text = "# square\n\nv 0 0 0\nvt 0 0\nv 1 0 0\nv 1 1 0\n\nv 0 1 0\nv 5 5 5\n# face\nf 1 2 3 4\n";
+        let p = parse("t.obj", text).unwrap();
+        assert_eq!(p.lines.vertices, vec![3, 5, 6, 8, 9]);
+        assert_eq!(p.lines.faces, vec![11]);
+        let e = Topology::build(&p.mesh).expect_err("open");
+        assert_eq!(
+            p.lines.locate("t.obj", &e).to_string(),
+            "t.obj:11: error: edge 1–2 of this face has no other face (open boundary; lsubdiv refines closed meshes)"
+        );
+        let isolated = TopologyError::IsolatedVertex { vertex: 4 };
+        assert_eq!(
+            p.lines.locate("t.obj", &isolated).to_string(),
+            "t.obj:9: error: vertex 5 is used by no face (isolated vertex)"
+        );
+        let duplicate = TopologyError::DuplicateFaces {
+            first: 0,
+            second: 0,
+        };
+        assert_eq!(
+            p.lines.locate("t.obj", &duplicate).to_string(),
+            "t.obj:11: error: duplicate face: the face at line 11 has the same vertices"
+        );
+    }
+
+    #[test]
     fn long_tokens_are_shortened_in_messages() {
         let long = "y".repeat(1000);
         let e = err(&format!("v 0 0 {long}\n"));

@@ -723,7 +723,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 first = s + 1;
             }
         }
-        let start_num = Numbering::new(&base.topo, words[first].len() as i64);
+        let start_num = Numbering::new(base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
         // Every face's start patch as indices, x-major ([`load`]).
         let m = ring_layout(start_num.n, 1, true);
