@@ -3,8 +3,8 @@
 //! against the memory-bandwidth bound. Prints the ratios measured in this run.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::{Curve, CurveRefiner, CurveScheme};
 use lsubdiv_cli::resolve;
 use std::time::{Duration, Instant};

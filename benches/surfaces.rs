@@ -39,15 +39,12 @@ fn compile_times() {
     for name in lsubdiv_cli::builtin_names() {
         let mut times: Vec<f64> = (0..5)
             .map(|_| {
-                let t = std::time::Instant::now();
+                let start = std::time::Instant::now();
                 let r = lsubdiv_cli::resolve(name).expect("shipped scheme");
                 let s = lsubdiv::compiler::exact::Scheme::build(r.ls).expect("compiles");
-                let surface = lsubdiv::compiler::exact::ev::analyse(&s).ok();
-                std::hint::black_box(lsubdiv::compiler::exact::codegen::generate_with(
-                    &s,
-                    surface.as_ref(),
-                ));
-                t.elapsed().as_secs_f64() * 1e3
+                let t = lsubdiv::compiler::exact::Tables::new(s);
+                std::hint::black_box(lsubdiv::compiler::exact::codegen::generate(&t));
+                start.elapsed().as_secs_f64() * 1e3
             })
             .collect();
         times.sort_by(f64::total_cmp);

@@ -1,8 +1,8 @@
 //! The benchmark behind `lsubdiv bench`: standard meshes, refined with a scheme by one path at a
 //! thread count, timed (median of repeated runs, refinement only, no I/O).
 
-use lsubdiv::compiler::exact::generic::GenericSurface;
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::generators::{cube, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};

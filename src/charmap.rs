@@ -19,7 +19,7 @@
 //! 2×2 Fourier block (`EvCoefficients::block`), which the command checks.
 
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
-use lsubdiv::compiler::exact::generic::GenericSurface;
+use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
 use lsubdiv::runtime::topology::Topology;

@@ -3,10 +3,11 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use lsubdiv::compiler::exact::codegen::generate;
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::exact::validity::analyse;
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::compiler::exact::Tables;
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::{self, Points};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::topology::Topology;
@@ -657,7 +658,7 @@ fn run(command: Option<Command>) -> Result<(), Failure> {
             output,
         }) => {
             let s = build(&load(&scheme, degree)?)?;
-            write_atomic(&output, generate(&s).as_bytes())?;
+            write_atomic(&output, generate(&Tables::new(s)).as_bytes())?;
             Ok(())
         }
         Some(Command::Plot {
@@ -931,7 +932,7 @@ fn charmap(
     let s = build(&load(scheme, None)?)?;
     let name = s.ls.name.clone();
     let rho = s.analysis.rho.to_f64();
-    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(s)?;
+    let surface = lsubdiv::generic::GenericSurface::new(s)?;
     let closed = surface
         .analysis()
         .coefficients_f64()
@@ -1028,7 +1029,7 @@ fn refine_mesh(
     max_memory: u64,
 ) -> Result<QuadMesh, Failure> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
-    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(build(r)?)?;
+    let surface = lsubdiv::generic::GenericSurface::new(build(r)?)?;
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
@@ -1277,10 +1278,7 @@ fn demo() -> Result<(), Failure> {
     }
     // A surface: the cube (eight 3-valent EVs), three Binary-Ternary steps, both paths.
     let cube = lsubdiv::runtime::generators::cube();
-    let surface = lsubdiv::compiler::exact::generic::GenericSurface::new(build(&load(
-        "binary-ternary",
-        None,
-    )?)?)?;
+    let surface = lsubdiv::generic::GenericSurface::new(build(&load("binary-ternary", None)?)?)?;
     let generic = lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, &cube, 3, 2)
         .map_err(|e| bad(e.to_string()))?;
     let generated = lsubdiv::generated::subdivide::<f64>("binary-ternary", &cube, 3, 1)

@@ -10,7 +10,7 @@
 //! the first d again, whose spline is the closed one over one period.
 
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
-use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::runtime::{refine, Curve, CurveScheme};
 
 /// Edges of the limit curve are at most this long in pixels.

@@ -335,7 +335,7 @@ pub fn ev_text(
         "D -> EV",
     ];
     let _ = writeln!(w, "stationary 1-ring stencils (exact):");
-    for (n, v) in names.iter().zip(&a.coefficients.values) {
+    for (n, (_, v)) in names.iter().zip(a.coefficients.named()) {
         let _ = writeln!(w, "  {n:>13}: {v} ≈ {:.12}", v.to_f64());
     }
     if !a.first_step_stencils.is_empty() {

@@ -340,11 +340,9 @@ fn every_scheme_diagnostic_names_file_line_column_and_hint() {
 }
 
 /// The compiled generic tables of a shipped scheme.
-fn generic(name: &str) -> lsubdiv::compiler::exact::generic::GenericScheme {
+fn generic(name: &str) -> lsubdiv::generic::GenericScheme {
     let r = lsubdiv_cli::resolve(name).unwrap();
-    lsubdiv::compiler::exact::generic::GenericScheme::new(
-        lsubdiv::compiler::exact::Scheme::build(r.ls).unwrap(),
-    )
+    lsubdiv::generic::GenericScheme::new(lsubdiv::compiler::exact::Scheme::build(r.ls).unwrap())
 }
 
 #[test]
@@ -396,7 +394,7 @@ fn predicted_surface_sizes_are_exact() {
     use lsubdiv::runtime::surface::SurfaceScheme;
     use lsubdiv::CurveScheme;
     for name in ["binary-ternary", "fibonacci", "uniform-binary"] {
-        let s = lsubdiv::compiler::exact::generic::GenericSurface::new(
+        let s = lsubdiv::generic::GenericSurface::new(
             lsubdiv::compiler::exact::Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls)
                 .unwrap(),
         )

@@ -200,7 +200,7 @@ fn graph_dot_and_codegen() {
     assert!(o.status.success());
     let src = std::fs::read_to_string(out).unwrap();
     assert!(src.starts_with("// @generated"));
-    assert!(src.contains("impl ::lsubdiv_runtime::CurveScheme for Scheme"));
+    assert!(src.contains("impl lsubdiv_runtime::CurveScheme for Scheme"));
 }
 
 #[test]

@@ -4,8 +4,8 @@
 
 mod common;
 
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::{generated, Curve, CurveError, CurveScheme};
 use lsubdiv_cli::resolve;
 use lsubdiv_testkit::spline::{de_boor, knots_and_points, max_dist, spline_distance};

@@ -5,8 +5,8 @@
 mod common;
 
 use common::cli::lsubdiv;
-use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::generic::{GenericScheme, GenericSurface};
 use lsubdiv::{Curve, CurveScheme};
 use resvg::usvg;
 use std::collections::BTreeSet;

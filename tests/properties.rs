@@ -5,10 +5,10 @@
 mod common;
 
 use lsubdiv::compiler::exact::field::Elem;
-use lsubdiv::compiler::exact::generic::GenericScheme;
 use lsubdiv::compiler::exact::lsystem::LSystem;
 use lsubdiv::compiler::exact::symmetry::{check_symmetry, involutions, is_symmetry};
 use lsubdiv::compiler::exact::{scheme, validity, Scheme};
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::{Curve, CurveScheme};
 use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
 use lsubdiv_testkit::spline::spline_distance;

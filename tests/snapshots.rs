@@ -4,7 +4,7 @@
 
 use lsubdiv::compiler::exact::codegen::generate;
 use lsubdiv::compiler::exact::validity::analyse;
-use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::compiler::exact::{Scheme, Tables};
 use lsubdiv_cli::{report, resolve};
 
 fn report_of(name: &str) -> String {
@@ -25,7 +25,7 @@ fn exact_tables_of_shipped_schemes() {
 fn generated_source_of_fibonacci_curve() {
     let r = resolve("fibonacci-curve").unwrap();
     let s = Scheme::build(r.ls).unwrap();
-    insta::assert_snapshot!("codegen_fibonacci_curve", generate(&s));
+    insta::assert_snapshot!("codegen_fibonacci_curve", generate(&Tables::new(s)));
 }
 
 #[test]

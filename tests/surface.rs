@@ -3,8 +3,8 @@
 
 mod common;
 
-use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
 use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::generic::{GenericScheme, GenericSurface};
 use lsubdiv::runtime::generators::{cube, klein_bottle, prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, StepStats};

@@ -1,21 +1,65 @@
-//! lsubdiv: exact non-uniform B-spline subdivision schemes from L-systems.
+//! lsubdiv: exact non-uniform B-spline subdivision schemes from L-systems, for programs.
 //!
 //! The facade re-exports the three crates: [`compiler`] (exact, build-time), [`runtime`] (tiny,
-//! what generated code links against) and [`generated`] (the shipped schemes, compiled).
+//! what generated code links against) and [`generated`] (the shipped schemes, compiled); it adds
+//! the dynamic path ([`generic`]: tables computed at run time from any scheme file) and file
+//! formats.
 //!
-//! In a user's `build.rs`: `lsubdiv_compiler::compile(&["schemes/my.toml"])?;` and in the library:
-//! `lsubdiv::include_scheme!(my);` then `lsubdiv::refine(&my::Scheme, &curve, steps)`.
+//! # Quick start: a scheme file at run time
+//!
+//! ```
+//! use lsubdiv::compiler::exact::{scheme, Scheme};
+//! use lsubdiv::generic::GenericScheme;
+//! use lsubdiv::{Curve, CurveScheme};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! # let dir = std::env::temp_dir().join(format!("lsubdiv-doc-{}", std::process::id()));
+//! # std::fs::create_dir_all(&dir)?;
+//! let path = dir.join("golden.toml");
+//! std::fs::write(&path, "name = \"golden\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LS\"\nS = \"L\"\n")?;
+//! // Exact compilation (errors name file, line and column), then run-time tables.
+//! let mut golden = GenericScheme::new(Scheme::build(scheme::load(&path)?)?);
+//! let hexagon: Vec<[f64; 3]> = (0..6)
+//!     .map(|k| {
+//!         let a = k as f64 * std::f64::consts::TAU / 6.0;
+//!         [a.cos(), a.sin(), 0.0]
+//!     })
+//!     .collect();
+//! let coarse = Curve::with_axiom(&golden.tables(), hexagon, true);
+//! golden.prepare(&coarse); // masks of words the axiom never makes, if the labels have any
+//! let fine = lsubdiv::refine(&golden, &coarse, 4)?;
+//! assert!(fine.points.len() > 6 * 4);
+//! # std::fs::remove_dir_all(&dir)?;
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! # Compiled schemes
+//!
+//! A crate that depends on `lsubdiv` alone (and on `lsubdiv-compiler` in its build script)
+//! compiles a scheme in `build.rs` (`lsubdiv_compiler::compile(&["schemes/my.toml"])`) and
+//! includes it with [`include_scheme!`]: `lsubdiv::include_scheme!(my);` then
+//! `lsubdiv::refine(&my::Scheme, &curve, steps)`. The shipped schemes are in [`generated`].
 
 pub use lsubdiv_compiler as compiler;
 pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
-pub use lsubdiv_runtime::{
-    include_scheme, refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables,
-};
+pub use lsubdiv_runtime::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 
 pub use lsubdiv_compiler::{Error, Location};
 pub use obj::read as read_obj;
 
+pub mod generic;
 pub mod obj;
 pub mod ply;
 pub mod points;
+
+/// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`,
+/// naming the runtime through this crate (`lsubdiv::runtime`): a crate that depends on `lsubdiv`
+/// alone (and on `lsubdiv-compiler` in its build script) needs nothing else.
+#[macro_export]
+macro_rules! include_scheme {
+    ($name:ident) => {
+        $crate::runtime::include_scheme!($name, runtime = $crate::runtime);
+    };
+}

@@ -6,7 +6,11 @@
 //! path that uses the same tables produces the same bits.
 
 use crate::gather::{lin, CurveContexts, Stencils};
+use std::collections::HashMap;
 use std::fmt;
+
+/// `mask_children` entry of a word whose mask has no child (even degrees).
+pub const NO_CHILD: u32 = u32::MAX;
 
 /// Flat tables of a curve scheme (CSR layout, as OpenSubdiv's stencil tables).
 #[derive(Clone, Copy, Debug)]
@@ -31,12 +35,17 @@ pub struct CurveTables<'a> {
     pub mask_words: &'a [u32],
     /// Weight of each mask entry (nearest f64 to the exact weight).
     pub mask_weights: &'a [f64],
-    /// Entry index (within its mask) of the child of each word, for odd degrees; `u32::MAX` for
-    /// even degrees (no child).
+    /// Entry index (within its mask) of the child of each word, for odd degrees; [`NO_CHILD`]
+    /// for even degrees.
     pub mask_children: &'a [u32],
 }
 
-impl CurveTables<'_> {
+impl<'a> CurveTables<'a> {
+    /// The index of every tabulated word.
+    pub fn word_index(&self) -> HashMap<&'a [u8], u32> {
+        self.words.chunks_exact(self.degree + 1).zip(0..).collect()
+    }
+
     /// π(A).
     pub fn rule(&self, a: u8) -> &[u8] {
         let a = a as usize;
@@ -98,13 +107,19 @@ impl CurveTables<'_> {
         len
     }
 
-    /// A word for messages (`LCR`, or `A1 A2` when a symbol name is longer than one character).
+    /// A word for messages ([`format_word`]).
     pub fn word_str(&self, w: &[u8]) -> String {
-        let all: Vec<&str> = self.symbol_names.split(' ').collect();
-        let compact = all.iter().all(|s| s.chars().count() == 1);
-        let names: Vec<&str> = w.iter().map(|&s| all[s as usize]).collect();
-        names.join(if compact { "" } else { " " })
+        let names: Vec<&str> = self.symbol_names.split(' ').collect();
+        format_word(&names, w)
     }
+}
+
+/// A word written with the symbol names: `LCR`, or `A1 A2` when some symbol name is longer
+/// than one character.
+pub fn format_word(names: &[impl AsRef<str>], w: &[u8]) -> String {
+    let compact = names.iter().all(|s| s.as_ref().chars().count() == 1);
+    let parts: Vec<&str> = w.iter().map(|&s| names[s as usize].as_ref()).collect();
+    parts.join(if compact { "" } else { " " })
 }
 
 /// A scheme that can refine curves: its tables (the driver builds its stencils from them,

@@ -12,27 +12,30 @@ use std::f64::consts::TAU;
 use std::fmt;
 
 /// The stencil weights of the stationary 1-ring, from the scheme's masks (see the compiler's
-/// `ev` module for their derivation). Names read "source to target".
+/// `ev` module for their derivation). Names read "source to target". `T` is `f64` here and in
+/// generated code; the compiler holds the same struct of exact weights and [`map`]s it.
+///
+/// [`map`]: EvCoefficients::map
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EvCoefficients {
+pub struct EvCoefficients<T = f64> {
     /// EV → r_k: h(1)·h(0), h the second half of the radial mask.
-    pub ev_to_radial: f64,
+    pub ev_to_radial: T,
     /// EV → d_k: h(1)².
-    pub ev_to_diagonal: f64,
+    pub ev_to_diagonal: T,
     /// R_k → r_k.
-    pub radial_to_radial: f64,
+    pub radial_to_radial: T,
     /// R_{k±1} → r_k (each).
-    pub side_to_radial: f64,
+    pub side_to_radial: T,
     /// D_k and D_{k−1} → r_k (each).
-    pub diagonal_to_radial: f64,
+    pub diagonal_to_radial: T,
     /// R_k and R_{k+1} → d_k (each).
-    pub radial_to_diagonal: f64,
+    pub radial_to_diagonal: T,
     /// D_k → d_k.
-    pub diagonal_to_diagonal: f64,
+    pub diagonal_to_diagonal: T,
     /// R_k → EV child (before normalisation).
-    pub radial_to_ev: f64,
+    pub radial_to_ev: T,
     /// D_k → EV child (before normalisation).
-    pub diagonal_to_ev: f64,
+    pub diagonal_to_ev: T,
 }
 
 /// The spectrum at valence n with the chosen α.
@@ -87,6 +90,38 @@ impl fmt::Display for EvError {
 }
 
 impl std::error::Error for EvError {}
+
+impl<T> EvCoefficients<T> {
+    /// The nine weights with their field names, in declaration order.
+    pub fn named(&self) -> [(&'static str, &T); 9] {
+        [
+            ("ev_to_radial", &self.ev_to_radial),
+            ("ev_to_diagonal", &self.ev_to_diagonal),
+            ("radial_to_radial", &self.radial_to_radial),
+            ("side_to_radial", &self.side_to_radial),
+            ("diagonal_to_radial", &self.diagonal_to_radial),
+            ("radial_to_diagonal", &self.radial_to_diagonal),
+            ("diagonal_to_diagonal", &self.diagonal_to_diagonal),
+            ("radial_to_ev", &self.radial_to_ev),
+            ("diagonal_to_ev", &self.diagonal_to_ev),
+        ]
+    }
+
+    /// Each weight through `f` (exact → nearest f64, f64 → tokens).
+    pub fn map<U>(&self, mut f: impl FnMut(&T) -> U) -> EvCoefficients<U> {
+        EvCoefficients {
+            ev_to_radial: f(&self.ev_to_radial),
+            ev_to_diagonal: f(&self.ev_to_diagonal),
+            radial_to_radial: f(&self.radial_to_radial),
+            side_to_radial: f(&self.side_to_radial),
+            diagonal_to_radial: f(&self.diagonal_to_radial),
+            radial_to_diagonal: f(&self.radial_to_diagonal),
+            diagonal_to_diagonal: f(&self.diagonal_to_diagonal),
+            radial_to_ev: f(&self.radial_to_ev),
+            diagonal_to_ev: f(&self.diagonal_to_ev),
+        }
+    }
+}
 
 impl EvCoefficients {
     /// Eigenvalues (larger, smaller) of the 2×2 block of Fourier index `i` ≥ 1.

@@ -27,7 +27,7 @@ pub struct CurveContexts<'a> {
     pub offsets: &'a [u32],
     /// Concatenated labels.
     pub labels: &'a [u8],
-    /// Context × symbol → context; `u32::MAX` for a transition never met from the axiom.
+    /// Context × symbol → context; [`UNKNOWN`] for a transition never met from the axiom.
     pub next: &'a [u32],
 }
 
@@ -63,8 +63,8 @@ pub fn lin<const D: usize>(terms: &[(f64, u32)], p: &[[f64; D]], k: usize) -> [f
     acc
 }
 
-/// Marks a transition not yet taken.
-const UNKNOWN: u32 = u32::MAX;
+/// A transition not yet taken (in [`CurveContexts::next`]: never met from the axiom).
+pub const UNKNOWN: u32 = u32::MAX;
 
 /// The stencils of the contexts met so far, built on demand from a scheme's tables.
 #[derive(Debug)]
@@ -145,7 +145,7 @@ impl<'t> Stencils<'t> {
                 .max()
                 .unwrap_or(0)
                 .max(1),
-            lookup: t.words.chunks_exact(t.degree + 1).zip(0..).collect(),
+            lookup: t.word_index(),
             t,
             ids: HashMap::new(),
             keys: Vec::new(),

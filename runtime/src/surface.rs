@@ -37,7 +37,21 @@ pub struct SurfaceTables<'a> {
     pub contained_from: usize,
 }
 
+impl SurfaceTables<'_> {
+    /// α at valence n: the table, or the same solver ([`EvCoefficients::alpha`]) beyond it.
+    pub fn alpha(&self, n: usize) -> Result<f64, EvError> {
+        match self.alpha.get(n.wrapping_sub(3)) {
+            Some(&a) => Ok(a),
+            None => self.ev.alpha(n),
+        }
+    }
+}
+
 /// A scheme that refines surfaces.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` does not refine surfaces",
+    note = "its scheme compiles for curves only: the build printed a `cargo:warning` naming the condition of [G] §4.2 that fails, and the scheme's docs say it too"
+)]
 pub trait SurfaceScheme: CurveScheme {
     /// The surface tables.
     fn surface(&self) -> SurfaceTables<'_>;

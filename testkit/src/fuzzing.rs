@@ -7,10 +7,10 @@
 //! invariant that fails is a bug and panics, so the fuzzer reports it.
 
 use arbitrary::{Arbitrary, Unstructured};
-use lsubdiv::compiler::exact::generic::{GenericScheme, GenericSurface};
 use lsubdiv::compiler::exact::lsystem::{LSystem, Source};
 use lsubdiv::compiler::exact::{scheme, symmetry, validity, Scheme};
 use lsubdiv::compiler::Error;
+use lsubdiv::generic::{GenericScheme, GenericSurface};
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv::runtime::{generators, patch};
 use lsubdiv::{refine, Curve, CurveScheme};

@@ -1,7 +1,7 @@
 //! Independent B-spline evaluation (de Boor) for checking that a refined polygon is the control
 //! polygon of the same spline on the refined knots (\[N\] §2.2).
 
-use lsubdiv::compiler::exact::generic::GenericScheme;
+use lsubdiv::generic::GenericScheme;
 use lsubdiv::Curve;
 
 /// Evaluates the spline with knots `t` (len m + d + 1) and points `p` at x ∈ [t_d, t_m] (de Boor).

@@ -32,13 +32,6 @@ pub struct StepInfo {
     pub ring: (Elem, Elem),
 }
 
-/// The exact stencil weights of the stationary 1-ring (see [`EvCoefficients`]).
-#[derive(Clone, Debug)]
-pub struct ExactCoefficients {
-    /// In the order of [`EvCoefficients`]' fields.
-    pub values: [Elem; 9],
-}
-
 /// One first-step stencil: the new point at new-grid offset (a, b) from an old vertex, and the
 /// weights of the old vertices at old-grid offsets (i, j) — products of radial mask entries.
 #[derive(Clone, Debug)]
@@ -67,7 +60,7 @@ pub struct SurfaceAnalysis {
     /// First step from which masks are contained (Proposition 4.8).
     pub contained_from: usize,
     /// Stationary 1-ring stencils, exact.
-    pub coefficients: ExactCoefficients,
+    pub coefficients: EvCoefficients<Elem>,
     /// Stencils of the first step, derived from products of the radial mask entries, when the
     /// first step is not contained (\[G\] Fig. 3, eqs. (6)–(7)).
     pub first_step_stencils: Vec<Stencil>,
@@ -76,18 +69,7 @@ pub struct SurfaceAnalysis {
 impl SurfaceAnalysis {
     /// The stationary coefficients as f64, for the runtime's α solver.
     pub fn coefficients_f64(&self) -> EvCoefficients {
-        let v: Vec<f64> = self.coefficients.values.iter().map(Elem::to_f64).collect();
-        EvCoefficients {
-            ev_to_radial: v[0],
-            ev_to_diagonal: v[1],
-            radial_to_radial: v[2],
-            side_to_radial: v[3],
-            diagonal_to_radial: v[4],
-            radial_to_diagonal: v[5],
-            diagonal_to_diagonal: v[6],
-            radial_to_ev: v[7],
-            diagonal_to_ev: v[8],
-        }
+        self.coefficients.map(Elem::to_f64)
     }
 }
 
@@ -283,7 +265,7 @@ fn stationary_coefficients(
     s: &Scheme,
     sigma: &[Sym],
     ray: &[Sym],
-) -> Result<ExactCoefficients, Error> {
+) -> Result<EvCoefficients<Elem>, Error> {
     let ls = &s.ls;
     let w_rad: Word = ls
         .mirror(sigma, &ray[..2])
@@ -298,26 +280,30 @@ fn stationary_coefficients(
     };
     let (h0, h1) = (at(&w_rad, 0), at(&w_rad, 1));
     let (m1, m2) = (at(&w_1, -1), at(&w_1, -2));
-    let values = [
-        h1.mul(&h0),
-        h1.mul(&h1),
-        m1.mul(&h0),
-        m2.mul(&h1),
-        m1.mul(&m2),
-        m1.mul(&h1),
-        m1.mul(&m1),
-        m2.mul(&h0),
-        m2.mul(&m2),
-    ];
+    let c = EvCoefficients {
+        ev_to_radial: h1.mul(&h0),
+        ev_to_diagonal: h1.mul(&h1),
+        radial_to_radial: m1.mul(&h0),
+        side_to_radial: m2.mul(&h1),
+        diagonal_to_radial: m1.mul(&m2),
+        radial_to_diagonal: m1.mul(&h1),
+        diagonal_to_diagonal: m1.mul(&m1),
+        radial_to_ev: m2.mul(&h0),
+        diagonal_to_ev: m2.mul(&m2),
+    };
     let f = &s.analysis.field;
     let two = Elem::int(f, 2);
     let one = Elem::one(f);
-    let row_r = values[0]
-        .add(&values[2])
-        .add(&two.mul(&values[3]))
-        .add(&two.mul(&values[4]));
-    let row_d = values[1].add(&two.mul(&values[5])).add(&values[6]);
-    let ring = values[7].add(&values[8]);
+    let row_r = c
+        .ev_to_radial
+        .add(&c.radial_to_radial)
+        .add(&two.mul(&c.side_to_radial))
+        .add(&two.mul(&c.diagonal_to_radial));
+    let row_d = c
+        .ev_to_diagonal
+        .add(&two.mul(&c.radial_to_diagonal))
+        .add(&c.diagonal_to_diagonal);
+    let ring = c.radial_to_ev.add(&c.diagonal_to_ev);
     let expect_ring = ring_weight(&h0);
     if row_r != one || row_d != one || ring != expect_ring {
         return Err(ls.error(
@@ -328,7 +314,7 @@ fn stationary_coefficients(
             None,
         ));
     }
-    Ok(ExactCoefficients { values })
+    Ok(c)
 }
 
 /// First-step stencils on the uniform initial grid (every line carries the radial word): the new

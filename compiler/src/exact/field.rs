@@ -7,6 +7,7 @@
 //! degree < d cannot vanish at ρ). No floating point is used except in [`Elem::to_f64`].
 
 use crate::exact::poly::{refine_root, QPoly};
+use crate::exact::scheme::parse_rational;
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_rational::BigRational;
@@ -487,7 +488,7 @@ fn tokenize(text: &str) -> Result<Vec<Tok>, String> {
                 i += 1;
             }
             let s: String = chars[start..i].iter().collect();
-            out.push(Tok::Num(parse_decimal(&s)?));
+            out.push(Tok::Num(parse_rational(&s)?));
         } else if c == 'ρ' {
             out.push(Tok::Rho);
             i += 1;
@@ -502,14 +503,6 @@ fn tokenize(text: &str) -> Result<Vec<Tok>, String> {
         }
     }
     Ok(out)
-}
-
-/// An exact decimal: `12`, `1.25`.
-fn parse_decimal(s: &str) -> Result<BigRational, String> {
-    let (int, frac) = s.split_once('.').unwrap_or((s, ""));
-    let digits = format!("{int}{frac}");
-    let n: BigInt = digits.parse().map_err(|_| format!("bad number `{s}`"))?;
-    Ok(BigRational::new(n, BigInt::from(10).pow(frac.len() as u32)))
 }
 
 struct ExprParser<'a> {

@@ -4,7 +4,7 @@
 //! π rewrites every symbol of a word simultaneously (\[N\] eq. (1)).
 
 use crate::error::{Error, Location};
-use std::fmt::Write as _;
+use lsubdiv_runtime::curve::format_word;
 
 /// A symbol, as an index into the alphabet.
 pub type Sym = u8;
@@ -121,22 +121,10 @@ impl LSystem {
         m
     }
 
-    /// True when every symbol name is a single character, so words print without separators.
-    fn compact(&self) -> bool {
-        self.symbols.iter().all(|s| s.chars().count() == 1)
-    }
-
-    /// Formats a word: `LCR`, or `A1 A2` when some symbol name is longer than one character.
+    /// Formats a word: `LCR`, or `A1 A2` when some symbol name is longer than one character
+    /// (the runtime's [`format_word`], which generated tables use too).
     pub fn word_str(&self, w: &[Sym]) -> String {
-        let sep = if self.compact() { "" } else { " " };
-        let mut out = String::new();
-        for (i, &s) in w.iter().enumerate() {
-            if i > 0 {
-                out += sep;
-            }
-            let _ = write!(out, "{}", self.symbols[s as usize]);
-        }
-        out
+        format_word(&self.symbols, w)
     }
 
     /// Mirror σ̄ of a word (\[G\] eq. (12)): read backwards, each symbol replaced by its twin.

@@ -3,6 +3,9 @@
 
 use crate::error::{Error, Location};
 use crate::exact::lsystem::{parse_word, LSystem, Source, Sym, Word, WordError};
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::Zero;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml_edit::{ImDocument, Item, TableLike};
@@ -28,6 +31,35 @@ pub fn scheme_files(dir: &Path) -> Result<Vec<PathBuf>, Error> {
 pub fn load(path: &Path) -> Result<LSystem, Error> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
     parse(&path.display().to_string(), &text)
+}
+
+/// An exact rational written as an integer (`-3`), a fraction (`2/3`) or a decimal (`1.25`,
+/// `-.5`): the numbers of `[lengths]` expressions and of the CLI's flags.
+pub fn parse_rational(text: &str) -> Result<BigRational, String> {
+    let t = text.trim();
+    let fail = || format!("`{t}`: expected an integer, a fraction a/b or a decimal");
+    if let Some((a, b)) = t.split_once('/') {
+        let int = |s: &str| s.trim().parse::<BigInt>().map_err(|_| fail());
+        let b = int(b)?;
+        if b.is_zero() {
+            return Err(format!(
+                "`{t}`: the denominator of a fraction a/b cannot be 0"
+            ));
+        }
+        return Ok(BigRational::new(int(a)?, b));
+    }
+    let (negative, body) = match t.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, t.strip_prefix('+').unwrap_or(t)),
+    };
+    let (whole, frac) = body.split_once('.').unwrap_or((body, ""));
+    let digits = format!("{whole}{frac}");
+    if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) {
+        return Err(fail());
+    }
+    let n: BigInt = digits.parse().map_err(|_| fail())?;
+    let r = BigRational::new(n, BigInt::from(10).pow(frac.len() as u32));
+    Ok(if negative { -r } else { r })
 }
 
 /// How a scheme file looks, for hints on syntax errors.
@@ -437,6 +469,29 @@ mod tests {
     use super::*;
 
     /// Every shipped scheme (symmetry and lengths included) reads back from [`to_toml`].
+    #[test]
+    fn rationals_are_integers_fractions_or_decimals() {
+        let r = |a: i64, b: i64| BigRational::new(a.into(), b.into());
+        for (text, want) in [
+            ("3", r(3, 1)),
+            ("-3", r(-3, 1)),
+            ("+2", r(2, 1)),
+            (" 2/6 ", r(1, 3)),
+            ("-1/4", r(-1, 4)),
+            ("1.25", r(5, 4)),
+            ("-.5", r(-1, 2)),
+            ("7.", r(7, 1)),
+        ] {
+            assert_eq!(parse_rational(text), Ok(want), "{text}");
+        }
+        for bad in [
+            "", "-", ".", "1.2.3", "1e5", "--1", "1.-5", "x", "1/0", "1/",
+        ] {
+            let e = parse_rational(bad).unwrap_err();
+            assert!(e.contains(&format!("`{}`", bad.trim())), "{bad}: {e}");
+        }
+    }
+
     #[test]
     fn written_schemes_parse_back_to_the_same_system() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../schemes");

@@ -1,0 +1,108 @@
+//! The dynamic path: any scheme file at run time. It holds the compiler's one
+//! [`Tables`] value, the same that generated code is emitted from, and appends the masks of
+//! words the axiom never makes, computed exactly on demand ([`GenericScheme::prepare`]). The
+//! runtime's drivers read both paths' tables alike, so both give the same bits.
+//!
+//! ```
+//! use lsubdiv::generic::GenericScheme;
+//! use lsubdiv::{compiler::exact::{scheme, Scheme}, Curve, CurveScheme};
+//!
+//! let text = "name = \"chaikin\"\ndegree = 2\naxiom = \"A\"\n[rules]\nA = \"AA\"\n";
+//! let scheme = Scheme::build(scheme::parse("chaikin.toml", text)?)?;
+//! let chaikin = GenericScheme::new(scheme);
+//! let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+//! let coarse = Curve::with_axiom(&chaikin.tables(), square, true);
+//! let fine = lsubdiv::refine(&chaikin, &coarse, 2)?;
+//! assert_eq!(fine.points.len(), 16);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use lsubdiv_compiler::exact::ev::SurfaceAnalysis;
+use lsubdiv_compiler::exact::lsystem::Word;
+use lsubdiv_compiler::exact::{Scheme, Tables};
+use lsubdiv_compiler::Error;
+use lsubdiv_runtime::surface::{SurfaceScheme, SurfaceTables};
+use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};
+
+/// A curve scheme whose tables are computed at run time.
+#[derive(Clone, Debug)]
+pub struct GenericScheme {
+    tables: Tables,
+}
+
+impl GenericScheme {
+    /// Tables of every word reachable from the axiom.
+    pub fn new(scheme: Scheme) -> GenericScheme {
+        GenericScheme {
+            tables: Tables::new(scheme),
+        }
+    }
+
+    /// The exact scheme behind the tables.
+    pub fn scheme(&self) -> &Scheme {
+        self.tables.scheme()
+    }
+
+    /// Adds the masks of the curve's words and of every word reachable from them (nothing for
+    /// a curve the tables cannot refine: refining it reports why).
+    pub fn prepare<const D: usize>(&mut self, curve: &Curve<D>) {
+        let t = self.tables.curve();
+        if curve.check(&t).is_err() {
+            return;
+        }
+        let start: Vec<Word> = (0..curve.points.len())
+            .map(|k| curve.word(k, t.degree))
+            .collect();
+        self.tables.add_reachable(start);
+    }
+}
+
+impl CurveScheme for GenericScheme {
+    fn tables(&self) -> CurveTables<'_> {
+        self.tables.curve()
+    }
+}
+
+/// A surface scheme whose tables, surface data included, are computed at run time.
+#[derive(Clone, Debug)]
+pub struct GenericSurface {
+    tables: Tables,
+}
+
+impl GenericSurface {
+    /// Checks the surface conditions (\[G\] §4.2) and prepares the tables; the error names the
+    /// condition that fails.
+    pub fn new(scheme: Scheme) -> Result<GenericSurface, Error> {
+        let tables = Tables::new(scheme);
+        match tables.curves_only() {
+            Some(e) => Err(e.clone()),
+            None => Ok(GenericSurface { tables }),
+        }
+    }
+
+    /// The surface analysis.
+    pub fn analysis(&self) -> &SurfaceAnalysis {
+        self.tables
+            .surface_analysis()
+            .expect("checked by GenericSurface::new")
+    }
+
+    /// The exact scheme.
+    pub fn scheme(&self) -> &Scheme {
+        self.tables.scheme()
+    }
+}
+
+impl CurveScheme for GenericSurface {
+    fn tables(&self) -> CurveTables<'_> {
+        self.tables.curve()
+    }
+}
+
+impl SurfaceScheme for GenericSurface {
+    fn surface(&self) -> SurfaceTables<'_> {
+        self.tables
+            .surface()
+            .expect("checked by GenericSurface::new")
+    }
+}
