@@ -9,6 +9,8 @@ use lsubdiv::compiler::exact::Tables;
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::{self, Points};
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv::{Curve, CurveError};
 use lsubdiv_cli::output::write_atomic;
 use lsubdiv_cli::{report, resolve, tables, Resolved};
@@ -975,15 +977,16 @@ fn subdivide(
     threads: usize,
     max_memory: u64,
 ) -> Result<(), Failure> {
-    use lsubdiv::runtime::mesh;
     check_output(output)?;
     let r = load(scheme, None)?;
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let m = read_mesh(input, max_memory)?;
+    let (m, topology) = read_mesh(input, max_memory)?;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
-    let fine = refine_mesh(&r, &m, &in_name, steps, path, threads, max_memory)?;
+    let fine = refine_mesh(
+        &r, &m, &topology, &in_name, steps, path, threads, max_memory,
+    )?;
     stages.next(format!(
         "writing {} vertices, {} quads to {}",
         fine.positions.len(),
@@ -991,41 +994,41 @@ fn subdivide(
         output.display()
     ));
     let bytes = if output.extension().is_some_and(|e| e == "ply") {
-        mesh::to_ply(&fine)
+        lsubdiv::ply::format(&fine)
     } else {
-        mesh::to_obj(&fine)
+        lsubdiv::obj::format(&fine)
     };
     write_atomic(output, bytes.as_bytes())
         .map_err(|e| bad(format!("{}: error: {e}", output.display())))?;
     Ok(())
 }
 
-/// Reads a closed quad mesh from an OBJ file (refused unread when reading it could exceed
-/// `max_memory`): errors name the file's line, vertex or edge; warnings go to stderr.
-fn read_mesh(
-    input: &std::path::Path,
-    max_memory: u64,
-) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
+/// Reads a closed quad mesh and its topology from an OBJ file (refused unread when reading it
+/// could exceed `max_memory`): errors name the file's line, vertex or edge; warnings go to
+/// stderr.
+fn read_mesh(input: &std::path::Path, max_memory: u64) -> Result<(QuadMesh, Topology), Failure> {
     lsubdiv_cli::limits::input(input, max_memory).map_err(bad)?;
-    let (m, warnings) = lsubdiv::read_obj(input).map_err(bad)?;
-    for w in warnings {
+    let read = lsubdiv::read_obj(input)?;
+    for w in read.warnings {
         eprintln!("{}: warning: {w}", input.display());
     }
-    Ok(m)
+    Ok((read.mesh, read.topology))
 }
 
 /// Refines a closed quad mesh (already validated; `name` says where it came from) by the
 /// requested path, after the size guard (`--max-memory`) has accepted the prediction.
+#[allow(clippy::too_many_arguments)]
 fn refine_mesh(
     r: &Resolved,
-    m: &lsubdiv::runtime::mesh::QuadMesh,
+    m: &QuadMesh,
+    topology: &Topology,
     name: &str,
     steps: usize,
     path: PathChoice,
     threads: usize,
     max_memory: u64,
-) -> Result<lsubdiv::runtime::mesh::QuadMesh, Failure> {
-    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+) -> Result<QuadMesh, Failure> {
+    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
     let surface = lsubdiv::generic::GenericSurface::new(build(r)?)?;
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
@@ -1041,10 +1044,16 @@ fn refine_mesh(
         max_memory,
     )
     .map_err(bad)?;
+    let job = lsubdiv::runtime::patch::Subdivide {
+        mesh: m,
+        topology,
+        steps,
+        threads,
+    };
     let generated = if path == PathChoice::Generic || !r.builtin {
         None
     } else {
-        lsubdiv::generated::subdivide::<f64>(&r.ls.name, m, steps, threads)
+        lsubdiv::generated::visit_surface(&r.ls.name, job)
     };
     let result = match (path, generated) {
         (_, Some(res)) => res,
@@ -1054,19 +1063,15 @@ fn refine_mesh(
                 r.ls.name
             )))
         }
-        (_, None) => lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, m, steps, threads),
+        (_, None) => job.visit(&surface),
     };
-    let fine = result.map_err(|e| match e {
-        SurfaceError::Mesh(e) => bad(format!("{name}: error: {e}")),
+    result.map_err(|e| match e {
+        SurfaceError::Topology(e) => bad(format!("{name}: error: {e}")),
         SurfaceError::Ev(e) => bad(format!("{name}: error: {e}")),
         e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => Failure {
             code: 1,
             message: format!("internal error: {e}"),
         },
-    })?;
-    Ok(lsubdiv::runtime::mesh::QuadMesh {
-        positions: fine.positions,
-        faces: fine.faces,
     })
 }
 
@@ -1113,32 +1118,39 @@ fn render(a: &RenderArgs) -> Result<(), Failure> {
     }
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
-    let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
-        lsubdiv_cli::bench::mesh(&a.mesh).map_err(bad)?
+    let (mesh, topology) = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
+        lsubdiv_cli::bench::mesh(&a.mesh)?
     } else {
         read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
     };
     let scene_error = |e: String| bad(format!("{}: error: {e}", a.mesh));
-    let mesh = match (&a.scheme, a.steps) {
+    let (mesh, topology) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));
             let threads = a.threads.unwrap_or_else(|| {
                 std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
             });
-            refine_mesh(
+            let fine = refine_mesh(
                 &load(scheme, None)?,
                 &mesh,
+                &topology,
                 &a.mesh,
                 steps,
                 PathChoice::Auto,
                 threads,
                 a.limit.bytes(),
-            )?
+            )?;
+            // The refined mesh's own connectivity (a closed manifold by construction).
+            let t = Topology::build(&fine).map_err(|e| Failure {
+                code: 1,
+                message: format!("internal error: {e}"),
+            })?;
+            (fine, t)
         }
-        _ => mesh,
+        _ => (mesh, topology),
     };
     stages.next(format!("drawing {} quads", mesh.faces.len()));
-    let scene = render::Scene::new(&mesh).map_err(scene_error)?;
+    let scene = render::Scene::new(&mesh, &topology).map_err(scene_error)?;
     let opts = render::Options {
         width,
         height,
@@ -1189,7 +1201,7 @@ fn bench(
 ) -> Result<(), Failure> {
     use lsubdiv::runtime::surface::SurfaceScheme;
     use lsubdiv_cli::bench;
-    let m = bench::mesh(mesh).map_err(bad)?;
+    let (m, topology) = bench::mesh(mesh)?;
     let surface = bench::surface(scheme).map_err(|e| bad(format!("error: {e}")))?;
     let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &m, 4_200_000));
     let scalar = if f32 { 4 } else { 8 };
@@ -1209,9 +1221,9 @@ fn bench(
         BenchPath::Generic => bench::Path::Generic,
     };
     let r = if f32 {
-        bench::measure::<f32>(scheme, &surface, &m, p, threads, steps, runs)
+        bench::measure::<f32>(scheme, &surface, &m, &topology, p, threads, steps, runs)
     } else {
-        bench::measure::<f64>(scheme, &surface, &m, p, threads, steps, runs)
+        bench::measure::<f64>(scheme, &surface, &m, &topology, p, threads, steps, runs)
     }
     .map_err(|e| bad(format!("error: {e}")))?;
     println!(
