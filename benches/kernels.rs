@@ -7,6 +7,7 @@ use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::Refiner;
 use lsubdiv::runtime::real::Real;
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv::runtime::topology::Topology;
 use std::time::Duration;
 
 /// Benchmarks `Refiner::refine` for one scheme type.
@@ -21,7 +22,8 @@ struct Bench<'a, 'c, T> {
 impl<T: Real> SurfaceVisitor for Bench<'_, '_, T> {
     type Output = ();
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) {
-        let mut r = Refiner::<S, T>::new(scheme, self.mesh, self.steps, 1).expect("refiner");
+        let topo = Topology::build(self.mesh).expect("a closed mesh");
+        let mut r = Refiner::<S, T>::new(scheme, &topo, self.steps, 1).expect("refiner");
         r.refine(&self.mesh.positions).expect("refines");
         self.group
             .throughput(Throughput::Elements(r.output_vertices() as u64));

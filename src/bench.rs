@@ -3,23 +3,24 @@
 
 use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
-use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::generators::{cube, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
 use lsubdiv::runtime::real::Real;
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv::runtime::topology::Topology;
+use lsubdiv::Error;
 use std::time::Instant;
 
 /// Faces of the largest built-in torus (about 0.7 GB of mesh): larger ones are refused
 /// instead of failing to allocate.
 pub const MAX_TORUS_FACES: usize = 1 << 24;
 
-/// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ file.
-pub fn mesh(spec: &str) -> Result<QuadMesh, Error> {
+/// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ file, and its topology.
+pub fn mesh(spec: &str) -> Result<(QuadMesh, Topology), Error> {
     let parts: Vec<&str> = spec.split(':').collect();
-    match parts.as_slice() {
+    let built = match parts.as_slice() {
         ["torus", r, c] => {
             let p = |s: &str| {
                 s.parse::<usize>()
@@ -27,22 +28,30 @@ pub fn mesh(spec: &str) -> Result<QuadMesh, Error> {
                     .filter(|&n| (3..=100_000).contains(&n))
             };
             match (p(r), p(c)) {
-                (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => Ok(torus(r, c)),
-                (Some(r), Some(c)) => Err(Error::input(format!(
-                    "`{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
-                    r * c
-                ))),
-                _ => Err(Error::input(format!(
-                    "`{spec}`: torus sizes are integers from 3 to 100000"
-                ))),
+                (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => torus(r, c),
+                (Some(r), Some(c)) => {
+                    return Err(Error::input(format!(
+                        "`{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
+                        r * c
+                    )))
+                }
+                _ => {
+                    return Err(Error::input(format!(
+                        "`{spec}`: torus sizes are integers from 3 to 100000"
+                    )))
+                }
             }
         }
-        ["cube"] => Ok(cube()),
-        ["star"] => Ok(star()),
-        _ => lsubdiv::read_obj(std::path::Path::new(spec))
-            .map(|(m, _)| m)
-            .map_err(crate::located),
-    }
+        ["cube"] => cube(),
+        ["star"] => star(),
+        _ => {
+            let read = lsubdiv::read_obj(std::path::Path::new(spec))?;
+            return Ok((read.mesh, read.topology));
+        }
+    };
+    let topology = Topology::build(&built)
+        .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
+    Ok((built, topology))
 }
 
 /// One measurement.
@@ -73,6 +82,7 @@ impl Measurement {
 /// timed): one warm-up, then the median of `runs`.
 struct Timed<'m, T> {
     mesh: &'m QuadMesh,
+    topology: &'m Topology,
     threads: usize,
     steps: usize,
     runs: usize,
@@ -82,7 +92,7 @@ struct Timed<'m, T> {
 impl<T: Real> SurfaceVisitor for Timed<'_, T> {
     type Output = Result<Measurement, String>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
-        let mut r = Refiner::<S, T>::new(scheme, self.mesh, self.steps, self.threads)
+        let mut r = Refiner::<S, T>::new(scheme, self.topology, self.steps, self.threads)
             .map_err(|e| e.to_string())?;
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
@@ -115,11 +125,14 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
     }
 }
 
-/// Refines `mesh` with the scheme by `path` and reports the median time of one refinement.
+/// Refines `mesh` (of topology `topology`) with the scheme by `path` and reports the median
+/// time of one refinement.
+#[allow(clippy::too_many_arguments)]
 pub fn measure<T: Real>(
     scheme: &str,
     surface: &GenericSurface,
     mesh: &QuadMesh,
+    topology: &Topology,
     path: Implementation,
     threads: usize,
     steps: usize,
@@ -127,6 +140,7 @@ pub fn measure<T: Real>(
 ) -> Result<Measurement, String> {
     let timed = Timed::<T> {
         mesh,
+        topology,
         threads,
         steps,
         runs,

@@ -40,21 +40,6 @@ pub fn input_error(e: impl std::fmt::Display) -> Error {
     Error::input(e.to_string())
 }
 
-/// Transitional, until [`lsubdiv::read_obj`] returns an [`Error`]: reads the place back out of
-/// its `FILE[:LINE]: error: MESSAGE` text.
-pub fn located(text: String) -> Error {
-    let Some((place, message)) = text.split_once(": error: ") else {
-        return Error::input(text);
-    };
-    match place.rsplit_once(':') {
-        Some((file, line)) if line.parse::<usize>().is_ok() => Error::at(
-            lsubdiv::compiler::Location::line(file, line.parse().unwrap_or(0)),
-            message,
-        ),
-        _ => Error::in_file(place, message),
-    }
-}
-
 /// Names of the shipped schemes.
 pub fn builtin_names() -> Vec<&'static str> {
     builtin::BUILTIN.iter().map(|(n, _, _)| *n).collect()
@@ -81,22 +66,5 @@ pub fn resolve(arg: &str) -> Result<Resolved, Error> {
                 builtin_names().join(", ")
             ),
         )),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn located_reads_the_place_back() {
-        let e = located("a.obj:5: error: `x` is not a number".into());
-        assert_eq!(e.to_string(), "a.obj:5: error: `x` is not a number");
-        assert_eq!(e.at.and_then(|a| a.line), Some(5));
-        let e = located("a.obj: error: no faces".into());
-        assert_eq!(
-            (e.at.map(|a| a.file), e.message),
-            (Some("a.obj".into()), "no faces".into())
-        );
     }
 }

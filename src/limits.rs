@@ -5,12 +5,13 @@
 //! Counts are exact: after N steps a curve has |π^N(w)| points (w: its labels, the interior
 //! ones for an open curve) and a closed quad mesh V + 2F(n − 1) + F(n − 1)² vertices and F n²
 //! quads, n = |π^N(ω)| (`CurveTables::image_len`, `patch::output_counts`), in u128 and
-//! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input, the
-//! driver's buffers, the output, and the output file text (built in memory, then written).
+//! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input and
+//! the driver's buffers (the fast driver's own model, `patch::footprint`), then the output and
+//! the output file text (built in memory, then written).
 
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::output_counts;
+use lsubdiv::runtime::patch::footprint;
 use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
@@ -117,7 +118,8 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
-/// on `mesh`, positions of `scalar` bytes; `text`: the output file is built in memory.
+/// on `mesh`, positions of `scalar` bytes; `text`: the output file is built in memory. The
+/// refiner's own memory is its [`footprint`]; the file text comes after refining.
 pub fn surface(
     t: &CurveTables<'_>,
     contained_from: usize,
@@ -127,57 +129,8 @@ pub fn surface(
     threads: usize,
     text: bool,
 ) -> Prediction {
-    let axiom = t.axiom;
-    let n = |s: usize| t.image_len(axiom, s);
-    let (v0, f0) = (mesh.positions.len() as u128, mesh.faces.len() as u128);
-    let (vertices, quads) = output_counts(v0, f0, n(steps));
-    // Faces with a corner of valence ≠ 4 (an EV) are refined as whole patches, level by level;
-    // the steps before masks are contained run on the whole mesh (`Refiner`).
-    let mut valence = vec![0u32; mesh.positions.len()];
-    for &v in mesh.faces.iter().flatten() {
-        if let Some(c) = valence.get_mut(v as usize) {
-            *c += 1;
-        }
-    }
-    let fan_faces = mesh
-        .faces
-        .iter()
-        .filter(|f| f.iter().any(|&v| valence.get(v as usize) != Some(&4)))
-        .count() as u128;
-    let first = if fan_faces > 0 {
-        contained_from.min(steps)
-    } else {
-        0
-    };
-    let point = 3 * scalar;
-    let side = |s: usize| {
-        let m = n(s).saturating_add(3);
-        m.saturating_mul(m)
-    };
-    let input = v0 * 24 + f0 * 16 + f0 * 160; // positions, quads, connectivity
-    let start = output_counts(v0, f0, n(first))
-        .0
-        .saturating_mul(point)
-        .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
-    // The fans' two levels (the last step writes straight to the output), and each worker's
-    // patch of the last level.
-    let fans = if steps > first {
-        let before = |k: usize| side(steps.saturating_sub(k).max(first));
-        fan_faces
-            .saturating_mul(before(1).saturating_add(before(2)))
-            .saturating_mul(point)
-    } else {
-        0
-    };
-    let workers = (threads.max(1) as u128)
-        .saturating_mul(side(steps).max(8192))
-        .saturating_mul(2 * point);
-    let output = vertices
-        .saturating_mul(point)
-        .saturating_add(quads.saturating_mul(16));
-    let refine = [start, fans, workers, output]
-        .iter()
-        .fold(0u128, |a, &b| a.saturating_add(b));
+    let fp = footprint(t, contained_from, mesh, steps, scalar, threads);
+    let (vertices, quads) = (fp.vertices, fp.quads);
     let file = if text {
         // `v x y z` and `f a b c d` lines (PLY lines are shorter).
         let digits = vertices.max(1).ilog10() as u128 + 1;
@@ -190,7 +143,9 @@ pub fn surface(
     Prediction {
         vertices,
         quads: Some(quads),
-        bytes: input.saturating_add(refine.max(output.saturating_add(file))),
+        bytes: fp
+            .input
+            .saturating_add(fp.refining.max(fp.output.saturating_add(file))),
     }
 }
 

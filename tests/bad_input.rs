@@ -532,7 +532,7 @@ fn every_mesh_error_names_its_line_or_element() {
     let cube_lines: Vec<&str> = CUBE.lines().collect();
     let repeated = format!("{}\nf 1 4 4 2\n", cube_lines[..14].join("\n"));
     // A vertex added on the cube's edge 1–2, and the two pentagons it makes split into quads
-    // (one Catmull–Clark topology step): the new vertex has valence 2. `to_obj` writes a
+    // (one Catmull–Clark topology step): the new vertex has valence 2. `obj::format` writes a
     // comment line first, so vertex 9 is on line 10.
     let valence_two = {
         let c = lsubdiv::runtime::generators::cube();
@@ -548,7 +548,7 @@ fn every_mesh_error_names_its_line_or_element() {
         let mut positions = c.positions.clone();
         positions.push([0.0, -1.0, -1.0]);
         let m = lsubdiv::runtime::generators::quad_split(&positions, &polys);
-        lsubdiv::runtime::mesh::to_obj(&m)
+        lsubdiv::obj::format(&m)
     };
     let rows: Vec<(&str, String, &str)> = vec![
         (

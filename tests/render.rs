@@ -5,8 +5,9 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr};
+use lsubdiv::obj;
 use lsubdiv::runtime::generators::{cube, torus};
-use lsubdiv::runtime::mesh::{to_obj, QuadMesh};
+use lsubdiv::runtime::mesh::QuadMesh;
 use std::path::Path;
 
 /// A decoded RGB image.
@@ -70,7 +71,7 @@ fn render(dir: &Path, name: &str, args: &[&str]) -> Picture {
 
 fn write_obj(dir: &Path, name: &str, m: &QuadMesh) -> String {
     let p = dir.join(name);
-    std::fs::write(&p, to_obj(m)).unwrap();
+    std::fs::write(&p, obj::format(m)).unwrap();
     p.display().to_string()
 }
 

@@ -307,18 +307,15 @@ fn patch_path_matches_the_reference_driver() {
                 assert!(d < 1e-12, "{name} {label}: {d:e}");
                 // Strips one point wide (every edge and corner split across strips) give the
                 // same bits as the default, whole-patch strips of these small patches.
-                let mut r = Refiner::<_, f64>::new(&s, &mesh, steps, threads).unwrap();
+                let topo = Topology::build(&mesh).unwrap();
+                let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
                 r.set_strip_bytes(1);
                 let narrow = r.refine(&mesh.positions).unwrap();
                 assert!(
                     narrow == &fast.positions[..],
                     "{name} {label}: narrow strips"
                 );
-                Topology::build(&QuadMesh {
-                    positions: fast.positions.clone(),
-                    faces: fast.faces.clone(),
-                })
-                .unwrap_or_else(|e| panic!("{name} {label}: {e}"));
+                Topology::build(&fast).unwrap_or_else(|e| panic!("{name} {label}: {e}"));
             }
         }
     }
@@ -332,9 +329,11 @@ fn every_contained_step_runs_depth_first() {
         let s = surface(name);
         let contained = s.surface().contained_from;
         for steps in 1..=5 {
-            let torus = Refiner::<_, f64>::new(&s, &torus(4, 5), steps, 1).unwrap();
+            let (t, st) = (Topology::build(&torus(4, 5)), Topology::build(&star()));
+            let (t, st) = (t.unwrap(), st.unwrap());
+            let torus = Refiner::<_, f64>::new(&s, &t, steps, 1).unwrap();
             assert_eq!(torus.reference_steps(), 0, "{name}, {steps} steps, torus");
-            let star = Refiner::<_, f64>::new(&s, &star(), steps, 1).unwrap();
+            let star = Refiner::<_, f64>::new(&s, &st, steps, 1).unwrap();
             assert_eq!(
                 star.reference_steps(),
                 contained.min(steps),
@@ -349,7 +348,8 @@ fn results_beyond_u32_indices_are_refused_not_wrapped() {
     use lsubdiv::runtime::patch::Refiner;
     let s = surface("uniform-binary");
     // 2^17 sub-edges per edge of the cube: 6·2^34 quads, more than u32 can index.
-    let e = Refiner::<_, f32>::new(&s, &cube(), 17, 1)
+    let topo = Topology::build(&cube()).unwrap();
+    let e = Refiner::<_, f32>::new(&s, &topo, 17, 1)
         .err()
         .expect("refused");
     assert!(e.to_string().contains("too large"), "{e}");

@@ -46,7 +46,12 @@ pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
 pub use lsubdiv_runtime::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 
+pub use lsubdiv_compiler::{Error, Location};
+pub use obj::read as read_obj;
+
 pub mod generic;
+pub mod obj;
+pub mod ply;
 pub mod points;
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`,
@@ -57,18 +62,4 @@ macro_rules! include_scheme {
     ($name:ident) => {
         $crate::runtime::include_scheme!($name, runtime = $crate::runtime);
     };
-}
-
-use std::path::Path;
-
-/// Reads a closed quad mesh (2-manifold, valences ≥ 3) from an OBJ file, with the reader's
-/// warnings (such as skipped `vn` lines); errors name the file's line, vertex or edge.
-pub fn read_obj(path: &Path) -> Result<(runtime::mesh::QuadMesh, Vec<String>), String> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: error: {e}"))?;
-    let (m, warnings) = runtime::mesh::parse_obj(&text).map_err(|e| e.in_obj(&name, &text))?;
-    runtime::topology::Topology::build(&m)
-        .and_then(|t| t.check_valences())
-        .map_err(|e| e.in_obj(&name, &text))?;
-    Ok((m, warnings))
 }

@@ -413,7 +413,7 @@ fn body_points<S: CurveScheme, const D: usize>(
 
 /// π applied to every label. Rules of up to 8 symbols are written as one 8-byte store each
 /// (into a buffer sized from the symbol counts), longer ones appended.
-fn rewrite(t: &CurveTables<'_>, labels: &[u8], out: &mut Vec<u8>) {
+pub(crate) fn rewrite(t: &CurveTables<'_>, labels: &[u8], out: &mut Vec<u8>) {
     const WIDE: usize = 8;
     out.clear();
     let rules: Vec<&[u8]> = (0..t.symbol_count()).map(|a| t.rule(a as u8)).collect();

@@ -54,6 +54,7 @@ pub mod curve;
 pub mod ev;
 pub mod gather;
 pub mod generators;
+mod grid;
 pub mod mesh;
 pub mod patch;
 pub mod real;

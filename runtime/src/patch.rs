@@ -26,29 +26,19 @@
 //! self-sustaining, run by the reference driver (`surface`) on the coarse mesh, lifted into the
 //! start numbering: one semantics for every path.
 
-use crate::curve::CurveTables;
+use crate::curve::{rewrite, CurveTables};
+use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::real::{axpy_slab, Real};
-use crate::surface::{refine_surface, LabelledMesh, SurfaceError, SurfaceScheme};
-use crate::topology::Topology;
+use crate::surface::{
+    refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme, SurfaceVisitor,
+};
+use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
 
-/// A refined mesh with positions of scalar type T.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Refined<T> {
-    /// Positions.
-    pub positions: Vec<[T; 3]>,
-    /// Quads.
-    pub faces: Vec<[u32; 4]>,
-}
-
-/// Grid offset of corner c of a patch with side N, and unit steps toward corners c+1, c−1.
-fn corner_at(c: u8, n: i64) -> (i64, i64) {
-    [(0, 0), (n, 0), (n, n), (0, n)][c as usize]
-}
-const TOWARD_NEXT: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
-const TOWARD_PREV: [(i64, i64); 4] = [(0, 1), (-1, 0), (0, -1), (1, 0)];
+/// A refined mesh: the name the generated registry's `subdivide` gives [`QuadMesh`]`<T>`.
+pub type Refined<T> = QuadMesh<T>;
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
 /// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept
@@ -312,16 +302,15 @@ fn combine<T: Real, const P: usize>(d: &mut [T], w: [T; P], s: [&[T]; P]) {
 
 /// Base-mesh connectivity the patches need: the topology, and per face corner the diagonal
 /// corner across an ordinary vertex, packed as face·4 + corner (`u32::MAX`: none, at an EV).
-struct Base {
-    topo: Topology,
+struct Base<'t> {
+    topo: &'t Topology,
     diagonal: Vec<[u32; 4]>,
     /// Extraordinary vertices.
     evs: Vec<u32>,
 }
 
-impl Base {
-    fn new(mesh: &QuadMesh) -> Result<Base, SurfaceError> {
-        let topo = Topology::build(mesh)?;
+impl<'t> Base<'t> {
+    fn new(topo: &'t Topology) -> Result<Base<'t>, SurfaceError> {
         topo.check_valences()?;
         let diagonal = (0..topo.face_count() as u32)
             .map(|f| {
@@ -377,7 +366,7 @@ impl Base {
     /// inside the neighbour.
     fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> RingPoint {
         let (g, gl, back) = self.across(f, l);
-        let (cx, cy) = corner_at(l, n);
+        let (cx, cy) = corner_at(l, n, n);
         let (dx, dy) = TOWARD_NEXT[l as usize];
         // Outward normal of edge l: the opposite of the step toward corner l−1.
         let (ox, oy) = TOWARD_PREV[l as usize];
@@ -493,7 +482,7 @@ impl Numbering {
             let mut v4 = [0; 4];
             for l in 0..4u8 {
                 let e = topo.edge_of(f, l);
-                let forward = topo.vertex(f, l) == topo.edge_vertices(e)[0];
+                let forward = topo.from_smaller(f, l);
                 e4[l as usize] = (
                     e,
                     forward,
@@ -538,30 +527,16 @@ impl Numbering {
     fn index(&self, f: usize, x: i64, y: i64) -> (usize, bool) {
         let n = self.n;
         let k = (n - 1) as usize;
-        let corner = match (x, y) {
-            (0, 0) => Some(0),
-            (a, 0) if a == n => Some(1),
-            (a, b) if a == n && b == n => Some(2),
-            (0, b) if b == n => Some(3),
-            _ => None,
-        };
-        if let Some(c) = corner {
-            return (self.vertex[f][c] as usize, self.corners[f][c]);
-        }
-        let edge = |l: usize, t: i64| {
-            let (e, forward, owner) = self.edges[f][l];
-            let t = if forward { t } else { n - t };
-            (self.nv + e as usize * k + (t - 1) as usize, owner)
-        };
-        match (x, y) {
-            (x, 0) => edge(0, x),
-            (x, y) if x == n => edge(1, y),
-            (x, y) if y == n => edge(2, n - x),
-            (0, y) => edge(3, n - y),
-            (x, y) => (
-                self.nv + self.ne * k + f * k * k + (y - 1) as usize * k + (x - 1) as usize,
-                true,
+        match site(x, y, n, n) {
+            Site::Corner(c) => (
+                self.vertex[f][c as usize] as usize,
+                self.corners[f][c as usize],
             ),
+            Site::Edge(l, t) => {
+                let (e, forward, owner) = self.edges[f][l as usize];
+                (self.nv + e as usize * k + along_edge(t, n, forward), owner)
+            }
+            Site::Inside(i) => (self.nv + self.ne * k + f * k * k + i, true),
         }
     }
 }
@@ -582,20 +557,16 @@ impl Numbering {
             }
         }
         for c in 0..4u8 {
-            let (x, y) = corner_at(c, n);
+            let (x, y) = corner_at(c, n, n);
             put(x, y, self.vertex[fu][c as usize] as usize);
         }
         for l in 0..4u8 {
             let (e, forward, _) = self.edges[fu][l as usize];
             let first = self.nv + e as usize * kk;
-            let (cx, cy) = corner_at(l, n);
+            let (cx, cy) = corner_at(l, n, n);
             let (dx, dy) = TOWARD_NEXT[l as usize];
             for t in 1..n {
-                put(
-                    cx + t * dx,
-                    cy + t * dy,
-                    first + if forward { t - 1 } else { n - t - 1 } as usize,
-                );
+                put(cx + t * dx, cy + t * dy, first + along_edge(t, n, forward));
             }
         }
         // The ring along the four edges.
@@ -608,10 +579,10 @@ impl Numbering {
         // Corners: the diagonal point across an ordinary vertex; none at an EV.
         for c in 0..4u8 {
             if let Some((g, gc)) = base.diagonal(f, c) {
-                let (cx, cy) = corner_at(c, n);
+                let (cx, cy) = corner_at(c, n, n);
                 let (ax, ay) = TOWARD_NEXT[c as usize];
                 let (bx, by) = TOWARD_PREV[c as usize];
-                let (gx, gy) = corner_at(gc, n);
+                let (gx, gy) = corner_at(gc, n, n);
                 let (hx, hy) = TOWARD_NEXT[gc as usize];
                 let (kx, ky) = TOWARD_PREV[gc as usize];
                 let i = self.index(g as usize, gx + hx + kx, gy + hy + ky).0;
@@ -655,9 +626,8 @@ impl<T: Copy> SharedOut<T> {
 /// reusing every buffer: the analogue of OpenSubdiv's topology refiner + primvar refiner.
 pub struct Refiner<'s, S, T> {
     scheme: &'s S,
-    /// The base quads (positions come with each `refine`).
-    faces: Vec<[u32; 4]>,
-    base: Base,
+    /// The base mesh's connectivity (positions come with each `refine`).
+    base: Base<'s>,
     /// Steps run by the reference driver before the depth-first ones.
     first: usize,
     /// One plan per depth-first step.
@@ -701,11 +671,11 @@ pub struct Phases {
 }
 
 impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
-    /// Prepares `steps` steps of `scheme` on `mesh` (every edge labelled by the axiom) with
-    /// `threads` workers (results do not depend on it).
+    /// Prepares `steps` steps of `scheme` on the mesh of topology `topo` (every edge labelled
+    /// by the axiom) with `threads` workers (results do not depend on it).
     pub fn new(
         scheme: &'s S,
-        mesh: &QuadMesh,
+        topo: &'s Topology,
         steps: usize,
         threads: usize,
     ) -> Result<Self, SurfaceError> {
@@ -714,7 +684,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let [omega] = t.axiom else {
             return Err(SurfaceError::Axiom);
         };
-        let base = Base::new(mesh)?;
+        let base = Base::new(topo)?;
         let lookup: HashMap<&[u8], u32> =
             (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
         // Output quads index vertices with u32: refuse a result that would not fit, before
@@ -725,14 +695,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             t.image_len(&[*omega], steps),
         );
         if out_v > u128::from(u32::MAX) || out_f > u128::from(u32::MAX) {
-            return Err(SurfaceError::Mesh(crate::mesh::MeshError::TooLarge {
+            return Err(SurfaceError::Topology(TopologyError::TooLarge {
                 vertices: usize::try_from(out_v).unwrap_or(usize::MAX),
                 faces: usize::try_from(out_f).unwrap_or(usize::MAX),
             }));
         }
         let mut words = vec![vec![*omega]];
         for s in 0..steps {
-            words.push(t_rewrite(&t, &words[s]));
+            let mut next = Vec::new();
+            rewrite(&t, &words[s], &mut next);
+            words.push(next);
         }
         // Depth-first steps start after the last step that cannot run that way: masks not yet
         // contained (with EVs), a ring that does not sustain itself, or N' = 1 with EVs.
@@ -751,11 +723,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 first = s + 1;
             }
         }
-        let start_num = Numbering::new(&base.topo, words[first].len() as i64);
+        let start_num = Numbering::new(base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
         // Every face's start patch as indices, x-major ([`load`]).
         let m = ring_layout(start_num.n, 1, true);
-        let mut start_gather = vec![u32::MAX; mesh.faces.len() * m.side * m.side];
+        let nf = topo.face_count();
+        let mut start_gather = vec![u32::MAX; nf * m.side * m.side];
         for (f, t) in start_gather.chunks_exact_mut(m.side * m.side).enumerate() {
             start_num.gather(&base, f as u32, |x, y, i| t[m.at(0, x, y) / 3] = i as u32);
         }
@@ -771,14 +744,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             })
             .collect::<Result<_, _>>()?;
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
-            (0..mesh.faces.len() as u32).partition(|&f| base.ordinary(f));
-        let mut fan_slot = vec![u32::MAX; mesh.faces.len()];
+            (0..nf as u32).partition(|&f| base.ordinary(f));
+        let mut fan_slot = vec![u32::MAX; nf];
         for (i, &f) in fan_faces.iter().enumerate() {
             fan_slot[f as usize] = i as u32;
         }
         Ok(Refiner {
             scheme,
-            faces: mesh.faces.clone(),
             base,
             first,
             plans,
@@ -846,7 +818,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         if self.first == 0 {
             lift(
                 &t,
-                &self.faces,
+                self.base.topo.faces(),
                 positions,
                 0,
                 &self.start_num,
@@ -855,10 +827,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         } else {
             let mesh = QuadMesh {
                 positions: positions.to_vec(),
-                faces: self.faces.clone(),
+                faces: self.base.topo.faces().to_vec(),
             };
             let lm = LabelledMesh::with_axiom(&t, mesh)?;
-            let (coarse, _) = refine_surface(self.scheme, &lm, self.first)?;
+            let (coarse, _) = refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?;
             lift(
                 &t,
                 &coarse.mesh.faces,
@@ -1037,7 +1009,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 let layout = ring_layout(n_new, 1, new_a_is_x);
                 for w in self.base.topo.rotation(v) {
                     let f = w.face;
-                    let (cx, cy) = corner_at(w.corner, n_new);
+                    let (cx, cy) = corner_at(w.corner, n_new, n_new);
                     let (ax, ay) = TOWARD_NEXT[w.corner as usize];
                     let (bx, by) = TOWARD_PREV[w.corner as usize];
                     let owned = self
@@ -1071,8 +1043,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     pub fn faces(&self) -> Vec<[u32; 4]> {
         let num = &self.out_num;
         let n = num.n;
-        let mut faces = Vec::with_capacity(self.faces.len() * (n * n) as usize);
-        for f in 0..self.faces.len() {
+        let nf = self.base.topo.face_count();
+        let mut faces = Vec::with_capacity(nf * (n * n) as usize);
+        for f in 0..nf {
             for y in 0..n {
                 for x in 0..n {
                     let i = |x, y| num.index(f, x, y).0 as u32;
@@ -1108,7 +1081,7 @@ fn scatter_rect<T: Real>(
     }
     for (l, &(dx, dy)) in TOWARD_NEXT.iter().enumerate() {
         let (e, forward, owner) = num.edges[f][l];
-        let (cx, cy) = corner_at(l as u8, n);
+        let (cx, cy) = corner_at(l as u8, n, n);
         if owner {
             // Points t = 1..N−1 of edge l (from corner l) inside the rectangle.
             let ts = match l {
@@ -1121,7 +1094,7 @@ fn scatter_rect<T: Real>(
             let base = num.nv + e as usize * k;
             for t in ts {
                 let (x, y) = (cx + t * dx, cy + t * dy);
-                let i = base + if forward { t - 1 } else { n - t - 1 } as usize;
+                let i = base + along_edge(t, n, forward);
                 // SAFETY: face f is the only writer of the points of an edge it owns.
                 unsafe { out.write(i, &point(x, y)) };
             }
@@ -1167,20 +1140,141 @@ pub fn output_counts(vertices: u128, faces: u128, n: u128) -> (u128, u128) {
     )
 }
 
-/// Refines a closed quad mesh once: `Refiner::new`, `refine`, `faces`.
+/// What a refinement by [`Refiner`] makes and holds, in bytes at most (see [`footprint`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Footprint {
+    /// Output vertices, exactly ([`output_counts`]).
+    pub vertices: u128,
+    /// Output quads, exactly.
+    pub quads: u128,
+    /// The input: its positions (f64), its quads and its [`Topology`].
+    pub input: u128,
+    /// The refiner's buffers at their peak: the start level and its patch table, the fans'
+    /// two levels, each worker's scratch, and the output.
+    pub refining: u128,
+    /// The output mesh alone (positions and quads), what remains after refining.
+    pub output: u128,
+}
+
+/// The footprint of `steps` steps of a scheme (tables `t`, masks contained near EVs from step
+/// `contained_from`) on `mesh` by a [`Refiner`] with `threads` workers and positions of
+/// `scalar_bytes` bytes, predicted from the label words before anything is built (saturating).
+/// It follows the refiner's plan: the steps before masks are contained run on the whole mesh
+/// when it has EVs, faces with an EV corner are refined as whole patches level by level, the
+/// others depth first in blocks per worker.
+pub fn footprint<P>(
+    t: &CurveTables<'_>,
+    contained_from: usize,
+    mesh: &QuadMesh<P>,
+    steps: usize,
+    scalar_bytes: u128,
+    threads: usize,
+) -> Footprint {
+    let n = |s: usize| t.image_len(t.axiom, s);
+    let (v0, f0) = (mesh.positions.len() as u128, mesh.faces.len() as u128);
+    let (vertices, quads) = output_counts(v0, f0, n(steps));
+    let mut valence = vec![0u32; mesh.positions.len()];
+    for &v in mesh.faces.iter().flatten() {
+        if let Some(c) = valence.get_mut(v as usize) {
+            *c += 1;
+        }
+    }
+    let fan_faces = mesh
+        .faces
+        .iter()
+        .filter(|f| f.iter().any(|&v| valence.get(v as usize) != Some(&4)))
+        .count() as u128;
+    let first = if fan_faces > 0 {
+        contained_from.min(steps)
+    } else {
+        0
+    };
+    let point = 3 * scalar_bytes;
+    // Points of a patch with its ring after s steps.
+    let side = |s: usize| {
+        let m = n(s).saturating_add(3);
+        m.saturating_mul(m)
+    };
+    let input = v0 * 24 + f0 * 16 + f0 * 160;
+    // The start level, and every face's start patch as u32 indices.
+    let start = output_counts(v0, f0, n(first))
+        .0
+        .saturating_mul(point)
+        .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
+    // The fans' two levels (the last step writes straight to the output), and each worker's
+    // patch of the last level.
+    let fans = if steps > first {
+        let before = |k: usize| side(steps.saturating_sub(k).max(first));
+        fan_faces
+            .saturating_mul(before(1).saturating_add(before(2)))
+            .saturating_mul(point)
+    } else {
+        0
+    };
+    let workers = (threads.max(1) as u128)
+        .saturating_mul(side(steps).max(8192))
+        .saturating_mul(2 * point);
+    let output = vertices
+        .saturating_mul(point)
+        .saturating_add(quads.saturating_mul(16));
+    Footprint {
+        vertices,
+        quads,
+        input,
+        refining: [start, fans, workers, output]
+            .iter()
+            .fold(0u128, |a, &b| a.saturating_add(b)),
+        output,
+    }
+}
+
+/// Refines a closed quad mesh once: [`Topology::build`], then [`subdivide_with`].
 pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
     scheme: &S,
     mesh: &QuadMesh,
     steps: usize,
     threads: usize,
-) -> Result<Refined<T>, SurfaceError> {
-    let mut r = Refiner::new(scheme, mesh, steps, threads)?;
+) -> Result<QuadMesh<T>, SurfaceError> {
+    subdivide_with(scheme, mesh, &Topology::build(mesh)?, steps, threads)
+}
+
+/// Refines a closed quad mesh once, its topology `topo` at hand: `Refiner::new`, `refine`,
+/// `faces`.
+pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
+    scheme: &S,
+    mesh: &QuadMesh,
+    topo: &Topology,
+    steps: usize,
+    threads: usize,
+) -> Result<QuadMesh<T>, SurfaceError> {
+    let mut r = Refiner::new(scheme, topo, steps, threads)?;
     r.refine(&mesh.positions)?;
     let faces = r.faces();
-    Ok(Refined {
+    Ok(QuadMesh {
         positions: r.into_positions(),
         faces,
     })
+}
+
+/// [`subdivide_with`] as a [`SurfaceVisitor`]: for a scheme known only by name (the generated
+/// registry's `visit_surface`) as for one at hand (`job.visit(&scheme)`).
+#[derive(Clone, Copy, Debug)]
+pub struct Subdivide<'m> {
+    /// The mesh.
+    pub mesh: &'m QuadMesh,
+    /// Its topology.
+    pub topology: &'m Topology,
+    /// Refinement steps.
+    pub steps: usize,
+    /// Worker threads (the result does not depend on it).
+    pub threads: usize,
+}
+
+impl SurfaceVisitor for Subdivide<'_> {
+    type Output = Result<QuadMesh, SurfaceError>;
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
+        subdivide_with(scheme, self.mesh, self.topology, self.steps, self.threads)
+    }
 }
 
 /// The level of a mesh refined `k` times by the reference driver, in the numbering `num`. Its
@@ -1216,22 +1310,20 @@ fn lift<T: Real>(
                 })
             })
             .collect();
-        word = t_rewrite(t, &word);
+        let mut next = Vec::new();
+        rewrite(t, &word, &mut next);
+        word = next;
     }
     data.clear();
     data.resize(num.len(), [T::default(); 3]);
     for (cell, quad) in cells.iter().zip(quads) {
         let (f, x, y, _, _) = *cell;
-        for (c, (dx, dy)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
+        for (c, &v) in quad.iter().enumerate() {
+            let (dx, dy) = corner_at(c as u8, 1, 1);
             let i = num.index(f as usize, x + dx, y + dy).0;
-            data[i] = positions[quad[c] as usize].map(T::from_f64);
+            data[i] = positions[v as usize].map(T::from_f64);
         }
     }
-}
-
-/// π(w) with the tables' rules.
-fn t_rewrite(t: &CurveTables<'_>, w: &[u8]) -> Vec<u8> {
-    w.iter().flat_map(|&s| t.rule(s).iter().copied()).collect()
 }
 
 /// Copies a start patch (`table`: its indices into `start`, x-major with side m, `u32::MAX`
@@ -1263,10 +1355,10 @@ fn ev_child<T: Real>(
         }
     };
     let w0 = rot[0];
-    let (cx, cy) = corner_at(w0.corner, n);
+    let (cx, cy) = corner_at(w0.corner, n, n);
     add(level.point(w0.face, cx, cy), alpha);
     for w in rot {
-        let (cx, cy) = corner_at(w.corner, n);
+        let (cx, cy) = corner_at(w.corner, n, n);
         let (nx, ny) = TOWARD_NEXT[w.corner as usize];
         let (px, py) = TOWARD_PREV[w.corner as usize];
         // E_k is the edge shared with the previous wedge: the one not toward `next`.

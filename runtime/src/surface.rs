@@ -13,8 +13,9 @@
 
 use crate::curve::{CurveScheme, CurveTables};
 use crate::ev::{EvCoefficients, EvError};
-use crate::mesh::{MeshError, QuadMesh};
-use crate::topology::Topology;
+use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
+use crate::mesh::QuadMesh;
+use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::fmt;
 
@@ -88,8 +89,8 @@ pub struct StepStats {
 /// Why a surface cannot be refined.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SurfaceError {
-    /// The mesh is not a closed 2-manifold quad mesh.
-    Mesh(MeshError),
+    /// The mesh is not a closed 2-manifold quad mesh, or its result would be too large.
+    Topology(TopologyError),
     /// The axiom is not a single symbol.
     Axiom,
     /// A vertex's word has no mask in the tables.
@@ -101,7 +102,7 @@ pub enum SurfaceError {
 impl fmt::Display for SurfaceError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SurfaceError::Mesh(e) => write!(f, "{e}"),
+            SurfaceError::Topology(e) => write!(f, "{e}"),
             SurfaceError::Axiom => write!(f, "surfaces need a one-symbol axiom"),
             SurfaceError::UnknownWord(w) => write!(f, "word {w} has no tabulated mask"),
             SurfaceError::Ev(e) => write!(f, "{e}"),
@@ -111,9 +112,9 @@ impl fmt::Display for SurfaceError {
 
 impl std::error::Error for SurfaceError {}
 
-impl From<MeshError> for SurfaceError {
-    fn from(e: MeshError) -> Self {
-        SurfaceError::Mesh(e)
+impl From<TopologyError> for SurfaceError {
+    fn from(e: TopologyError) -> Self {
+        SurfaceError::Topology(e)
     }
 }
 
@@ -134,18 +135,45 @@ pub fn refine_surface<S: SurfaceScheme>(
     mesh: &LabelledMesh,
     steps: usize,
 ) -> Result<(LabelledMesh, Vec<StepStats>), SurfaceError> {
+    refine_from(scheme, mesh, None, steps)
+}
+
+/// [`refine_surface`] of a mesh whose topology is at hand (`topo`, built from `mesh.mesh`):
+/// only the refined levels' topologies are built.
+pub fn refine_surface_with<S: SurfaceScheme>(
+    scheme: &S,
+    mesh: &LabelledMesh,
+    topo: &Topology,
+    steps: usize,
+) -> Result<(LabelledMesh, Vec<StepStats>), SurfaceError> {
+    refine_from(scheme, mesh, Some(topo), steps)
+}
+
+fn refine_from<S: SurfaceScheme>(
+    scheme: &S,
+    mesh: &LabelledMesh,
+    mut topo: Option<&Topology>,
+    steps: usize,
+) -> Result<(LabelledMesh, Vec<StepStats>), SurfaceError> {
     let t = scheme.tables();
     let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
     let mut cur = mesh.clone();
     let mut stats = Vec::with_capacity(steps);
     for _ in 0..steps {
-        let topo = Topology::build(&cur.mesh)?;
+        let built;
+        let topo = match topo.take() {
+            Some(t) => t,
+            None => {
+                built = Topology::build(&cur.mesh)?;
+                &built
+            }
+        };
         let cx = Step {
             t,
             s: scheme.surface(),
             lookup: &lookup,
             lm: &cur,
-            topo: &topo,
+            topo,
         };
         let (next, st) = cx.run()?;
         cur = next;
@@ -162,11 +190,6 @@ struct Step<'a> {
     lm: &'a LabelledMesh,
     topo: &'a Topology,
 }
-
-/// Grid offsets of corner c of a p × q face grid, and unit steps toward corners c+1 and c−1.
-const CORNER_AT: [(bool, bool); 4] = [(false, false), (true, false), (true, true), (false, true)];
-const TOWARD_NEXT: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
-const TOWARD_PREV: [(i64, i64); 4] = [(0, 1), (-1, 0), (0, -1), (1, 0)];
 
 impl Step<'_> {
     fn sigma(&self, a: u8) -> u8 {
@@ -285,14 +308,14 @@ impl Step<'_> {
             let (p, q) = (self.count(f, xl), self.count(f, yl));
             if x <= p && y <= q {
                 let (pf, qf) = (self.count(f, 0), self.count(f, 1));
-                let (cx, cy) = CORNER_AT[c as usize];
+                let (cx, cy) = corner_at(c, pf, qf);
                 let (dx, dy) = if plus {
                     (TOWARD_NEXT[c as usize], TOWARD_PREV[c as usize])
                 } else {
                     (TOWARD_PREV[c as usize], TOWARD_NEXT[c as usize])
                 };
-                let gx = if cx { pf } else { 0 } + x * dx.0 + y * dy.0;
-                let gy = if cy { qf } else { 0 } + x * dx.1 + y * dy.1;
+                let gx = cx + x * dx.0 + y * dy.0;
+                let gy = cy + x * dx.1 + y * dy.1;
                 return Some((f, gx, gy));
             }
             if x <= p {
@@ -332,7 +355,7 @@ impl Step<'_> {
         let topo = self.topo;
         let nv = topo.vertex_count();
         let nf = topo.face_count();
-        // Numbering: children, then edge points along each edge's canonical direction, then face points.
+        // The numbering of [`crate::grid`]: children, edge points, face points.
         let mut edge_len = vec![0i64; topo.edge_count()];
         for f in 0..nf as u32 {
             for l in 0..4 {
@@ -358,22 +381,14 @@ impl Step<'_> {
         let total = next as usize;
         let index = |f: u32, gx: i64, gy: i64| -> u32 {
             let (p, q) = (self.count(f, 0), self.count(f, 1));
-            let edge_point = |local: u8, t: i64| -> u32 {
-                let e = topo.edge_of(f, local);
-                let len = self.count(f, local);
-                let from_low = topo.vertex(f, local) == topo.edge_vertices(e)[0];
-                edge_base[e as usize] + if from_low { t - 1 } else { len - t - 1 } as u32
-            };
-            match (gx, gy) {
-                (0, 0) => topo.vertex(f, 0),
-                (x, 0) if x == p => topo.vertex(f, 1),
-                (x, y) if x == p && y == q => topo.vertex(f, 2),
-                (0, y) if y == q => topo.vertex(f, 3),
-                (x, 0) => edge_point(0, x),
-                (x, y) if x == p => edge_point(1, y),
-                (x, y) if y == q => edge_point(2, p - x),
-                (0, y) => edge_point(3, q - y),
-                (x, y) => face_base[f as usize] + ((y - 1) * (p - 1) + (x - 1)) as u32,
+            match site(gx, gy, p, q) {
+                Site::Corner(c) => topo.vertex(f, c),
+                Site::Edge(l, t) => {
+                    let e = topo.edge_of(f, l);
+                    let len = self.count(f, l);
+                    edge_base[e as usize] + along_edge(t, len, topo.from_smaller(f, l)) as u32
+                }
+                Site::Inside(i) => face_base[f as usize] + i as u32,
             }
         };
 

@@ -1,20 +1,145 @@
-//! Connectivity of a closed 2-manifold quad mesh, oriented or not.
+//! Connectivity of a closed 2-manifold quad mesh, oriented or not, and what can be wrong with
+//! it (faces, edges and vertices named by index).
 //!
 //! Nothing here assumes that adjacent faces list a shared edge in opposite directions, so
 //! non-orientable meshes (Klein bottles, Möbius-glued closed meshes) work. Everything is stored
 //! in flat arrays indexed by half-edge `4 * face + local` and, for the vertex rotations, in CSR
 //! layout (`offsets` + concatenated wedges).
 
-use crate::mesh::{MeshError, QuadMesh};
+use crate::mesh::QuadMesh;
+use std::fmt;
 
-/// A corner of a face: face index and corner index 0..4 (vertex `faces[face][corner]`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Corner {
-    /// Face index.
-    pub face: u32,
-    /// Corner index in the face, 0..4.
-    pub corner: u8,
+/// Why a mesh is not a closed 2-manifold quad mesh lsubdiv can refine; faces and vertices are
+/// 0-based indices into the [`QuadMesh`] (a file reader places them at their lines).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum TopologyError {
+    /// The mesh has no faces.
+    NoFaces,
+    /// More vertices or faces than 32-bit indices can address.
+    TooLarge {
+        /// Vertex count.
+        vertices: usize,
+        /// Face count.
+        faces: usize,
+    },
+    /// A face names a vertex that does not exist.
+    FaceIndexOutOfRange {
+        /// Face index.
+        face: u32,
+        /// The vertex index.
+        index: u32,
+        /// Vertex count of the mesh.
+        vertices: usize,
+    },
+    /// A face lists the same vertex twice.
+    RepeatedVertex {
+        /// Face index.
+        face: u32,
+        /// The repeated vertex.
+        vertex: u32,
+    },
+    /// Two faces have the same vertex set.
+    DuplicateFaces {
+        /// The earlier face.
+        first: u32,
+        /// The later face.
+        second: u32,
+    },
+    /// An edge with only one face.
+    BoundaryEdge {
+        /// Endpoints, smaller first.
+        edge: [u32; 2],
+        /// The face.
+        face: u32,
+    },
+    /// An edge with more than two faces.
+    NonManifoldEdge {
+        /// Endpoints, smaller first.
+        edge: [u32; 2],
+        /// Number of faces on it.
+        faces: usize,
+        /// The first face on it.
+        face: u32,
+    },
+    /// The faces around a vertex form more than one cycle.
+    NonManifoldVertex {
+        /// The vertex.
+        vertex: u32,
+        /// Number of separate fans (cycles).
+        fans: usize,
+    },
+    /// A vertex used by no face.
+    IsolatedVertex {
+        /// The vertex.
+        vertex: u32,
+    },
+    /// A vertex where only two faces meet: a closed manifold, but no extraordinary-vertex
+    /// rule applies (\[G\] §2.2.2 needs valence ≥ 3).
+    LowValence {
+        /// The vertex.
+        vertex: u32,
+        /// Its valence.
+        valence: usize,
+    },
 }
+
+/// `n` and the noun, singular for one: `1 vertex`, `8 vertices`.
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// Faces, edges and vertices by their 0-based index in the mesh.
+impl fmt::Display for TopologyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TopologyError::NoFaces => write!(f, "empty mesh: no faces"),
+            TopologyError::TooLarge { vertices, faces } => write!(
+                f,
+                "mesh too large: {vertices} vertices and {faces} faces (at most {} vertices and {} faces are supported)",
+                u32::MAX,
+                u32::MAX / 4
+            ),
+            TopologyError::FaceIndexOutOfRange {
+                face,
+                index,
+                vertices,
+            } => write!(
+                f,
+                "face {face}: vertex index {index} out of range (the mesh has {})",
+                plural(*vertices, "vertex", "vertices")
+            ),
+            TopologyError::RepeatedVertex { face, vertex } => {
+                write!(f, "face {face} repeats vertex {vertex}")
+            }
+            TopologyError::DuplicateFaces { first, second } => {
+                write!(f, "faces {first} and {second} are duplicates")
+            }
+            TopologyError::BoundaryEdge { edge, face } => write!(
+                f,
+                "edge ({}, {}) of face {face} has no other face (open boundary)",
+                edge[0], edge[1]
+            ),
+            TopologyError::NonManifoldEdge { edge, faces, face } => write!(
+                f,
+                "edge ({}, {}) of face {face} is shared by {faces} faces (non-manifold edge)",
+                edge[0], edge[1]
+            ),
+            TopologyError::NonManifoldVertex { vertex, fans } => write!(
+                f,
+                "vertex {vertex}: its faces form {fans} separate fans (non-manifold vertex)"
+            ),
+            TopologyError::IsolatedVertex { vertex } => {
+                write!(f, "vertex {vertex} is used by no face")
+            }
+            TopologyError::LowValence { vertex, valence } => write!(
+                f,
+                "vertex {vertex} has valence {valence}; extraordinary vertices need valence ≥ 3"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for TopologyError {}
 
 /// One entry of a vertex's rotation: a face around the vertex, the vertex's corner in it, and
 /// which of the corner's two face edges is shared with the NEXT entry of the rotation:
@@ -56,8 +181,8 @@ impl Wedge {
 #[derive(Clone, Debug)]
 pub struct Topology {
     vertex_count: usize,
-    /// Vertex of half-edge/corner `4 f + i`.
-    face_verts: Vec<u32>,
+    /// The faces' corners: the vertex of half-edge/corner `4 f + i` is `faces[f][i]`.
+    faces: Vec<[u32; 4]>,
     /// Edge id of half-edge `4 f + i` (the edge from corner i to i+1).
     face_edges: Vec<u32>,
     /// The other half-edge of the same edge.
@@ -83,14 +208,14 @@ impl Topology {
     /// Edges are numbered in the order they are first met scanning faces in order and local
     /// edges 0..4. Each rotation starts at the vertex's first corner in face order, with
     /// `next_is_plus == true`.
-    pub fn build(mesh: &QuadMesh) -> Result<Topology, MeshError> {
+    pub fn build<T>(mesh: &QuadMesh<T>) -> Result<Topology, TopologyError> {
         let nv = mesh.positions.len();
         let nf = mesh.faces.len();
         if nf == 0 {
-            return Err(MeshError::NoFaces);
+            return Err(TopologyError::NoFaces);
         }
         if nv > u32::MAX as usize || nf > (u32::MAX / 4) as usize {
-            return Err(MeshError::TooLarge {
+            return Err(TopologyError::TooLarge {
                 vertices: nv,
                 faces: nf,
             });
@@ -99,14 +224,14 @@ impl Topology {
             let f = f as u32;
             for (i, &v) in face.iter().enumerate() {
                 if v as usize >= nv {
-                    return Err(MeshError::FaceIndexOutOfRange {
+                    return Err(TopologyError::FaceIndexOutOfRange {
                         face: f,
                         index: v,
                         vertices: nv,
                     });
                 }
                 if face[..i].contains(&v) {
-                    return Err(MeshError::RepeatedVertex { face: f, vertex: v });
+                    return Err(TopologyError::RepeatedVertex { face: f, vertex: v });
                 }
             }
         }
@@ -137,13 +262,13 @@ impl Topology {
             }
         }
         if let Some((first, second)) = duplicate {
-            return Err(MeshError::DuplicateFaces { first, second });
+            return Err(TopologyError::DuplicateFaces { first, second });
         }
         drop((keys, offsets, order));
 
         // Edges: bucket half-edges by their smaller endpoint, then group by the larger one.
         // O(V + F) apart from sorting the (tiny) buckets.
-        let face_verts: Vec<u32> = mesh.faces.iter().flatten().copied().collect();
+        let face_verts = mesh.faces.as_flattened();
         let nh = 4 * nf;
         let ends = |h: usize| {
             let a = face_verts[h];
@@ -186,12 +311,12 @@ impl Topology {
                     let faces = bucket.iter().filter(|&&x| ends(x as usize).1 == hi).count();
                     let face = (h / 4) as u32;
                     return Err(if faces == 1 {
-                        MeshError::BoundaryEdge {
+                        TopologyError::BoundaryEdge {
                             edge: [lo, hi],
                             face,
                         }
                     } else {
-                        MeshError::NonManifoldEdge {
+                        TopologyError::NonManifoldEdge {
                             edge: [lo, hi],
                             faces,
                             face,
@@ -217,7 +342,7 @@ impl Topology {
             }
         }
         if let Some(v) = first_corner.iter().position(|&h| h == NONE) {
-            return Err(MeshError::IsolatedVertex { vertex: v as u32 });
+            return Err(TopologyError::IsolatedVertex { vertex: v as u32 });
         }
         for v in 0..nv {
             rot_offsets[v + 1] += rot_offsets[v];
@@ -233,7 +358,7 @@ impl Topology {
             };
             loop {
                 rot.push(w);
-                let next = step(&face_verts, &mates, v as u32, w);
+                let next = step(face_verts, &mates, v as u32, w);
                 if 4 * next.face + u32::from(next.corner) == start
                     || rot.len() - rot_offsets[v] as usize >= valence
                 {
@@ -242,8 +367,8 @@ impl Topology {
                 w = next;
             }
             if rot.len() - (rot_offsets[v] as usize) < valence {
-                let fans = count_fans(&face_verts, &mates, v as u32);
-                return Err(MeshError::NonManifoldVertex {
+                let fans = count_fans(face_verts, &mates, v as u32);
+                return Err(TopologyError::NonManifoldVertex {
                     vertex: v as u32,
                     fans,
                 });
@@ -251,7 +376,7 @@ impl Topology {
         }
         Ok(Topology {
             vertex_count: nv,
-            face_verts,
+            faces: mesh.faces.clone(),
             face_edges,
             mates,
             edge_verts,
@@ -263,14 +388,19 @@ impl Topology {
 
     /// Refuses the first vertex of valence below 3: a closed manifold may have one (two faces
     /// sharing two consecutive edges), but no extraordinary-vertex rule applies there.
-    pub fn check_valences(&self) -> Result<(), MeshError> {
+    pub fn check_valences(&self) -> Result<(), TopologyError> {
         match (0..self.vertex_count as u32).find(|&v| self.valence(v) < 3) {
-            Some(v) => Err(MeshError::LowValence {
+            Some(v) => Err(TopologyError::LowValence {
                 vertex: v,
                 valence: self.valence(v),
             }),
             None => Ok(()),
         }
+    }
+
+    /// The faces (four vertex indices each, in corner order), as in the mesh it was built from.
+    pub fn faces(&self) -> &[[u32; 4]] {
+        &self.faces
     }
 
     /// Number of vertices.
@@ -280,7 +410,7 @@ impl Topology {
 
     /// Number of faces.
     pub fn face_count(&self) -> usize {
-        self.face_verts.len() / 4
+        self.faces.len()
     }
 
     /// Number of (undirected) edges; twice the face count for a closed quad mesh.
@@ -291,6 +421,11 @@ impl Topology {
     /// Undirected edge id of local edge i of face f (the edge from corner i to corner (i+1)%4).
     pub fn edge_of(&self, face: u32, local: u8) -> u32 {
         self.face_edges[half(face, local)]
+    }
+
+    /// Whether local edge `local` of `face` runs from its edge's smaller vertex.
+    pub fn from_smaller(&self, face: u32, local: u8) -> bool {
+        self.vertex(face, local) == self.edge_vertices(self.edge_of(face, local))[0]
     }
 
     /// Endpoints of an edge, smaller vertex index first.
@@ -327,12 +462,7 @@ impl Topology {
 
     /// The vertex at a corner.
     pub fn vertex(&self, face: u32, corner: u8) -> u32 {
-        self.face_verts[half(face, corner)]
-    }
-
-    /// The vertex at a [`Corner`].
-    pub fn corner_vertex(&self, c: Corner) -> u32 {
-        self.vertex(c.face, c.corner)
+        self.faces.as_flattened()[half(face, corner)]
     }
 }
 
@@ -648,7 +778,7 @@ mod tests {
         // A valid manifold, but no EV rule applies at valence 2.
         assert_eq!(
             t.check_valences(),
-            Err(MeshError::LowValence {
+            Err(TopologyError::LowValence {
                 vertex: 8,
                 valence: 2
             })
@@ -694,7 +824,7 @@ mod tests {
         let mut m = c.clone();
         m.faces.pop();
         let e = err(&m);
-        assert!(matches!(e, MeshError::BoundaryEdge { .. }), "{e}");
+        assert!(matches!(e, TopologyError::BoundaryEdge { .. }), "{e}");
         assert_eq!(
             e.to_string(),
             "edge (4, 6) of face 0 has no other face (open boundary)"
@@ -708,7 +838,7 @@ mod tests {
         let e = err(&m);
         assert_eq!(
             e,
-            MeshError::NonManifoldEdge {
+            TopologyError::NonManifoldEdge {
                 edge: [0, 1],
                 faces: 3,
                 face: 2
@@ -722,13 +852,13 @@ mod tests {
         // Two cubes sharing an edge: 4 faces on it.
         let e = err(&two_cubes_sharing(&[0, 1]));
         assert!(
-            matches!(e, MeshError::NonManifoldEdge { faces: 4, .. }),
+            matches!(e, TopologyError::NonManifoldEdge { faces: 4, .. }),
             "{e}"
         );
 
         // Non-manifold vertex: two cones (cube corners) glued at a vertex.
         let e = err(&two_cubes_sharing(&[0]));
-        assert_eq!(e, MeshError::NonManifoldVertex { vertex: 0, fans: 2 });
+        assert_eq!(e, TopologyError::NonManifoldVertex { vertex: 0, fans: 2 });
         assert_eq!(
             e.to_string(),
             "vertex 0: its faces form 2 separate fans (non-manifold vertex)"
@@ -745,7 +875,7 @@ mod tests {
             }
         }
         let e = err(&m);
-        assert_eq!(e, MeshError::IsolatedVertex { vertex: 3 });
+        assert_eq!(e, TopologyError::IsolatedVertex { vertex: 3 });
         assert_eq!(e.to_string(), "vertex 3 is used by no face");
 
         // Duplicate faces (same vertex set, here reversed).
@@ -756,7 +886,7 @@ mod tests {
         let e = err(&m);
         assert_eq!(
             e,
-            MeshError::DuplicateFaces {
+            TopologyError::DuplicateFaces {
                 first: 2,
                 second: 5
             }
@@ -767,7 +897,7 @@ mod tests {
         let mut m = c.clone();
         m.faces[4] = [0, 6, 3, 6];
         let e = err(&m);
-        assert_eq!(e, MeshError::RepeatedVertex { face: 4, vertex: 6 });
+        assert_eq!(e, TopologyError::RepeatedVertex { face: 4, vertex: 6 });
         assert_eq!(e.to_string(), "face 4 repeats vertex 6");
 
         // Index out of range.
@@ -776,7 +906,7 @@ mod tests {
         let e = err(&m);
         assert_eq!(
             e,
-            MeshError::FaceIndexOutOfRange {
+            TopologyError::FaceIndexOutOfRange {
                 face: 1,
                 index: 8,
                 vertices: 8
@@ -792,7 +922,7 @@ mod tests {
             positions: c.positions.clone(),
             faces: vec![],
         };
-        assert_eq!(err(&m), MeshError::NoFaces);
+        assert_eq!(err(&m), TopologyError::NoFaces);
         assert_eq!(err(&m).to_string(), "empty mesh: no faces");
     }
 
@@ -825,9 +955,42 @@ mod tests {
             let first = m.faces.iter().flatten().position(|&x| x == v).unwrap();
             assert_eq!(4 * w.face as usize + w.corner as usize, first);
         }
-        assert_eq!(
-            t.corner_vertex(Corner { face: 0, corner: 2 }),
-            m.faces[0][2]
-        );
+    }
+
+    /// Random connectivity (in and out of range) never panics the builder.
+    #[test]
+    fn random_meshes_never_panic() {
+        // A linear congruential generator (Knuth's MMIX constants).
+        let mut state = 777u64;
+        let mut below = |n: usize| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 33) % n as u64) as usize
+        };
+        for round in 0..400 {
+            let nv = 1 + below(12);
+            let nf = below(16);
+            let faces = (0..nf)
+                .map(|_| std::array::from_fn(|_| below(nv + usize::from(round % 5 == 0)) as u32))
+                .collect();
+            let mesh = QuadMesh {
+                positions: vec![[0.0; 3]; nv],
+                faces,
+            };
+            let _ = Topology::build(&mesh);
+        }
+        // Mutations of valid meshes: one face index changed.
+        for round in 0..300 {
+            let mut m = if round % 2 == 0 { torus(3, 3) } else { cube() };
+            let f = below(m.faces.len());
+            let c = below(4);
+            m.faces[f][c] = below(m.positions.len()) as u32;
+            if round % 7 == 0 {
+                let f = below(m.faces.len());
+                m.faces.swap_remove(f);
+            }
+            let _ = Topology::build(&m);
+        }
     }
 }

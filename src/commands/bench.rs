@@ -46,7 +46,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         runs,
         limit,
     } = a;
-    let m = bench::mesh(&mesh)?;
+    let (m, topology) = bench::mesh(&mesh)?;
     let r = load(&scheme, None)?;
     let surface = GenericSurface::new(build(&r)?)?;
     let implementation = path.pick(&r, Geometry::Surface)?;
@@ -67,9 +67,27 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
     )?;
     let name = &r.ls.name;
     let r = if f32 {
-        bench::measure::<f32>(name, &surface, &m, implementation, threads, steps, runs)
+        bench::measure::<f32>(
+            name,
+            &surface,
+            &m,
+            &topology,
+            implementation,
+            threads,
+            steps,
+            runs,
+        )
     } else {
-        bench::measure::<f64>(name, &surface, &m, implementation, threads, steps, runs)
+        bench::measure::<f64>(
+            name,
+            &surface,
+            &m,
+            &topology,
+            implementation,
+            threads,
+            steps,
+            runs,
+        )
     }
     .map_err(Error::input)?;
     println!(

@@ -7,6 +7,9 @@ use crate::commands::{build, load};
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
+use lsubdiv::runtime::patch::Subdivide;
+use lsubdiv::runtime::surface::SurfaceVisitor;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::{Geometry, PathChoice};
 use lsubdiv_cli::input_error;
 use std::time::Instant;
@@ -106,11 +109,16 @@ pub fn run() -> Result<(), Error> {
     PathChoice::Generated.pick(&r, Geometry::Surface)?;
     let surface = GenericSurface::new(build(&r)?)?;
     let steps = 3;
-    let (generic, generic_ms) =
-        timed(|| lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, &cube, steps, 2));
+    let topology = Topology::build(&cube).map_err(|e| Error::internal(None, e.to_string()))?;
+    let job = |threads| Subdivide {
+        mesh: &cube,
+        topology: &topology,
+        steps,
+        threads,
+    };
+    let (generic, generic_ms) = timed(|| job(2).visit(&surface));
     let generic = generic.map_err(input_error)?;
-    let (generated, generated_ms) =
-        timed(|| lsubdiv::generated::subdivide::<f64>(&r.ls.name, &cube, steps, 1));
+    let (generated, generated_ms) = timed(|| lsubdiv::generated::visit_surface(&r.ls.name, job(1)));
     let generated = generated
         .ok_or_else(|| Error::internal(None, "binary-ternary is not in the registry"))?
         .map_err(input_error)?;

@@ -4,6 +4,7 @@ use crate::commands::args::MemoryLimit;
 use crate::commands::subdivide::{read_mesh, refine_mesh, MeshJob};
 use crate::commands::{load, threads};
 use lsubdiv::compiler::Error;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::PathChoice;
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
 
@@ -97,12 +98,12 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     }
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
-    let mesh = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
+    let (mesh, topology) = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
         lsubdiv_cli::bench::mesh(&a.mesh)?
     } else {
         read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
     };
-    let mesh = match (&a.scheme, a.steps) {
+    let (mesh, topology) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));
             let job = MeshJob {
@@ -112,12 +113,15 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 threads: threads(a.threads),
                 max_memory: a.limit.bytes(),
             };
-            refine_mesh(&load(scheme, None)?, &mesh, &job)?
+            let fine = refine_mesh(&load(scheme, None)?, &mesh, &topology, &job)?;
+            // The refined mesh's own connectivity (a closed manifold by construction).
+            let t = Topology::build(&fine).map_err(|e| Error::internal(None, e.to_string()))?;
+            (fine, t)
         }
-        _ => mesh,
+        _ => (mesh, topology),
     };
     stages.next(format!("drawing {} quads", mesh.faces.len()));
-    let scene = render::Scene::new(&mesh).map_err(|e| Error::in_file(&a.mesh, e))?;
+    let scene = render::Scene::new(&mesh, &topology).map_err(|e| Error::in_file(&a.mesh, e))?;
     let opts = render::Options {
         width,
         height,

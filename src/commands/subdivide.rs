@@ -4,7 +4,9 @@
 use crate::commands::args::RefineArgs;
 use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
-use lsubdiv::runtime::mesh::{self, QuadMesh};
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::patch::Subdivide;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{extension, write_atomic};
 use lsubdiv_cli::Resolved;
@@ -37,7 +39,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let m = read_mesh(&input, refine.limit.bytes())?;
+    let (m, topology) = read_mesh(&input, refine.limit.bytes())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
@@ -47,7 +49,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: threads(t),
         max_memory: refine.limit.bytes(),
     };
-    let fine = refine_mesh(&r, &m, &job)?;
+    let fine = refine_mesh(&r, &m, &topology, &job)?;
     stages.next(format!(
         "writing {} vertices, {} quads to {}",
         fine.positions.len(),
@@ -55,22 +57,23 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         output.display()
     ));
     let bytes = if extension(&output).as_deref() == Some("ply") {
-        mesh::to_ply(&fine)
+        lsubdiv::ply::format(&fine)
     } else {
-        mesh::to_obj(&fine)
+        lsubdiv::obj::format(&fine)
     };
     write_atomic(&output, bytes.as_bytes())
 }
 
-/// Reads a closed quad mesh from an OBJ file (refused unread when reading it could exceed
-/// `max_memory`): errors name the file's line, vertex or edge; warnings go to stderr.
-pub fn read_mesh(input: &std::path::Path, max_memory: u64) -> Result<QuadMesh, Error> {
+/// Reads a closed quad mesh and its topology from an OBJ file (refused unread when reading it
+/// could exceed `max_memory`): errors name the file's line, vertex or edge; warnings go to
+/// stderr.
+pub fn read_mesh(input: &std::path::Path, max_memory: u64) -> Result<(QuadMesh, Topology), Error> {
     lsubdiv_cli::limits::input(input, max_memory)?;
-    let (m, warnings) = lsubdiv::read_obj(input).map_err(lsubdiv_cli::located)?;
-    for w in warnings {
+    let read = lsubdiv::read_obj(input)?;
+    for w in read.warnings {
         eprintln!("{}: warning: {w}", input.display());
     }
-    Ok(m)
+    Ok((read.mesh, read.topology))
 }
 
 /// How `subdivide` and `render` refine a mesh.
@@ -83,10 +86,15 @@ pub struct MeshJob<'a> {
     pub max_memory: u64,
 }
 
-/// Refines a closed quad mesh (already validated) by the picked implementation, after the size
-/// guard (`--max-memory`) has accepted the prediction.
-pub fn refine_mesh(r: &Resolved, m: &QuadMesh, job: &MeshJob) -> Result<QuadMesh, Error> {
-    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+/// Refines a closed quad mesh (already validated, of topology `topology`) by the picked
+/// implementation, after the size guard (`--max-memory`) has accepted the prediction.
+pub fn refine_mesh(
+    r: &Resolved,
+    m: &QuadMesh,
+    topology: &Topology,
+    job: &MeshJob,
+) -> Result<QuadMesh, Error> {
+    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
     let MeshJob {
         name,
         steps,
@@ -107,24 +115,24 @@ pub fn refine_mesh(r: &Resolved, m: &QuadMesh, job: &MeshJob) -> Result<QuadMesh
         &format!("{steps} steps of {} on {name}", r.ls.name),
         job.max_memory,
     )?;
-    let result = match job.path.pick(r, Geometry::Surface)? {
-        Implementation::Generated => lsubdiv::generated::subdivide::<f64>(
-            &r.ls.name, m, steps, threads,
-        )
-        .ok_or_else(|| Error::internal(None, format!("`{}` is not in the registry", r.ls.name)))?,
-        Implementation::Generic => {
-            lsubdiv::runtime::patch::subdivide::<_, f64>(&surface, m, steps, threads)
-        }
+    let refine = Subdivide {
+        mesh: m,
+        topology,
+        steps,
+        threads,
     };
-    let fine = result.map_err(|e| match e {
-        SurfaceError::Mesh(e) => Error::in_file(name, e.to_string()),
+    let result = match job.path.pick(r, Geometry::Surface)? {
+        Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
+            .ok_or_else(|| {
+                Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
+            })?,
+        Implementation::Generic => refine.visit(&surface),
+    };
+    result.map_err(|e| match e {
+        SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
         SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
         e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
             Error::internal(None, e.to_string())
         }
-    })?;
-    Ok(QuadMesh {
-        positions: fine.positions,
-        faces: fine.faces,
     })
 }

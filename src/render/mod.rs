@@ -63,7 +63,7 @@ pub struct Rendered {
 /// A mesh ready to draw: connectivity checked, faces oriented, normals and bounding sphere.
 pub struct Scene<'m> {
     mesh: &'m QuadMesh,
-    topology: Topology,
+    topology: &'m Topology,
     oriented: surface::Oriented,
     centre: [f64; 3],
     radius: f64,
@@ -102,10 +102,9 @@ fn supersampling(width: usize, height: usize) -> usize {
 }
 
 impl<'m> Scene<'m> {
-    /// Checks the mesh (a closed 2-manifold quad mesh, as for `subdivide`), orients it and
-    /// measures it.
-    pub fn new(mesh: &'m QuadMesh) -> Result<Scene<'m>, String> {
-        let topology = Topology::build(mesh).map_err(|e| e.to_string())?;
+    /// Orients the mesh (a closed 2-manifold quad mesh of topology `topology`, as for
+    /// `subdivide`) and measures it.
+    pub fn new(mesh: &'m QuadMesh, topology: &'m Topology) -> Result<Scene<'m>, String> {
         let (lo, hi) = mesh.positions.iter().fold(
             ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
             |(lo, hi), p| {
@@ -127,7 +126,7 @@ impl<'m> Scene<'m> {
                 "the mesh has no extent to draw (bounding radius {radius})"
             ));
         }
-        let oriented = surface::orient(mesh, &topology);
+        let oriented = surface::orient(mesh, topology);
         Ok(Scene {
             mesh,
             topology,
@@ -166,7 +165,7 @@ impl<'m> Scene<'m> {
             self.wireframe(&projected, &mut frame, s);
         }
         let (values, range) = if opts.shading == Shading::Curvature {
-            let h = curvature::mean_curvature(self.mesh, &self.topology, &self.oriented.normals);
+            let h = curvature::mean_curvature(self.mesh, self.topology, &self.oriented.normals);
             let range = curvature::range(&self.seen(&frame, &h), opts.curvature_range);
             (Some(h), Some(range))
         } else {

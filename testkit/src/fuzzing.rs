@@ -11,7 +11,6 @@ use lsubdiv::compiler::exact::lsystem::{LSystem, Source};
 use lsubdiv::compiler::exact::{scheme, symmetry, validity, Scheme};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::mesh::parse_obj;
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv::runtime::{generators, patch};
 use lsubdiv::{refine, Curve, CurveScheme};
@@ -68,17 +67,19 @@ pub fn check_scheme(data: &[u8]) -> Outcome {
     Ok(())
 }
 
-/// OBJ text → [`parse_obj`] → [`Topology::build`]: faces index existing vertices, and a closed
-/// quad 2-manifold has E = 2F.
+/// OBJ text → [`lsubdiv::obj::parse`] → [`Topology::build`] (its errors placed at their
+/// lines): faces index existing vertices, and a closed quad 2-manifold has E = 2F.
 pub fn check_obj(data: &[u8]) -> Outcome {
     let text = std::str::from_utf8(data).map_err(|e| e.to_string())?;
-    let (mesh, _warnings) = parse_obj(text).map_err(|e| e.to_string())?;
+    let parsed = lsubdiv::obj::parse("fuzz.obj", text).map_err(|e| e.to_string())?;
+    let mesh = parsed.mesh;
     let n = mesh.positions.len();
     assert!(
         mesh.faces.iter().flatten().all(|&v| (v as usize) < n),
         "face index out of range"
     );
-    let topo = Topology::build(&mesh).map_err(|e| e.to_string())?;
+    let topo =
+        Topology::build(&mesh).map_err(|e| parsed.lines.locate("fuzz.obj", &e).to_string())?;
     assert_eq!(topo.edge_count(), 2 * topo.face_count(), "E ≠ 2F");
     assert_eq!(topo.vertex_count(), n);
     Ok(())

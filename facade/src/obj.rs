@@ -1,0 +1,806 @@
+//! OBJ files of closed quad meshes: reading with every problem placed at its line (the reader
+//! keeps the line of each `v` and `f` it parsed, so the topology's errors — face k, vertex v,
+//! edge a–b — are placed there too, vertices numbered as in the file), and writing.
+
+use lsubdiv_compiler::{Error, Location};
+use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv_runtime::topology::{Topology, TopologyError};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The 1-based line of each `v` and `f` line parsed: vertex i was read on line
+/// `vertices[i]`, face k on line `faces[k]`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Lines {
+    /// Line of each vertex.
+    pub vertices: Vec<usize>,
+    /// Line of each face.
+    pub faces: Vec<usize>,
+}
+
+/// What [`parse`] read: the mesh (connectivity not checked), the line of each of its vertices
+/// and faces, and warnings about what it skipped (count and first line per kind).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parsed {
+    /// The mesh as written.
+    pub mesh: QuadMesh,
+    /// Where each vertex and face was read.
+    pub lines: Lines,
+    /// Skipped directives and ignored values, one line of text per kind.
+    pub warnings: Vec<String>,
+}
+
+/// A mesh ready to refine: read by [`read`], a closed 2-manifold with valences ≥ 3, with its
+/// topology (build it once, pass it along) and the reader's warnings.
+#[derive(Clone, Debug)]
+pub struct Checked {
+    /// The mesh.
+    pub mesh: QuadMesh,
+    /// Its connectivity.
+    pub topology: Topology,
+    /// Skipped directives and ignored values, one line of text per kind.
+    pub warnings: Vec<String>,
+}
+
+/// `n` and the noun, singular for one: `1 vertex`, `8 vertices`.
+fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+impl Lines {
+    /// The topology error `e` of the mesh read from `file` as a diagnostic at the line of the
+    /// face or vertex it names, with vertices numbered as in the file (from 1).
+    pub fn locate(&self, file: &str, e: &TopologyError) -> Error {
+        let at = |lines: &[usize], k: u32| match lines.get(k as usize) {
+            Some(&l) => Location::line(file, l),
+            None => Location::whole(file),
+        };
+        let (face, vertex) = (|f: u32| at(&self.faces, f), |v: u32| at(&self.vertices, v));
+        let obj = |v: u32| u64::from(v) + 1;
+        let (place, message) = match *e {
+            TopologyError::FaceIndexOutOfRange {
+                face: f,
+                index,
+                vertices,
+            } => (
+                face(f),
+                format!(
+                    "vertex index {} out of range (the file has {})",
+                    obj(index),
+                    counted(vertices, "vertex", "vertices")
+                ),
+            ),
+            TopologyError::RepeatedVertex { face: f, vertex: v } => {
+                (face(f), format!("the face lists vertex {} twice", obj(v)))
+            }
+            TopologyError::DuplicateFaces { first, second } => (
+                face(second),
+                match self.faces.get(first as usize) {
+                    Some(l) => format!("duplicate face: the face at line {l} has the same vertices"),
+                    None => "duplicate face".into(),
+                },
+            ),
+            TopologyError::BoundaryEdge { edge, face: f } => (
+                face(f),
+                format!(
+                    "edge {}–{} of this face has no other face (open boundary; lsubdiv refines closed meshes)",
+                    obj(edge[0]),
+                    obj(edge[1])
+                ),
+            ),
+            TopologyError::NonManifoldEdge {
+                edge,
+                faces,
+                face: f,
+            } => (
+                face(f),
+                format!(
+                    "edge {}–{} of this face is shared by {faces} faces (non-manifold edge: at most 2)",
+                    obj(edge[0]),
+                    obj(edge[1])
+                ),
+            ),
+            TopologyError::NonManifoldVertex { vertex: v, fans } => (
+                vertex(v),
+                format!(
+                    "vertex {}: its faces form {fans} separate fans (non-manifold vertex)",
+                    obj(v)
+                ),
+            ),
+            TopologyError::IsolatedVertex { vertex: v } => (
+                vertex(v),
+                format!("vertex {} is used by no face (isolated vertex)", obj(v)),
+            ),
+            TopologyError::LowValence { vertex: v, valence } => (
+                vertex(v),
+                format!(
+                    "vertex {} has valence {valence}; extraordinary vertices need valence ≥ 3",
+                    obj(v)
+                ),
+            ),
+            TopologyError::NoFaces | TopologyError::TooLarge { .. } => {
+                (Location::whole(file), e.to_string())
+            }
+        };
+        Error::at(place, message)
+    }
+}
+
+/// At most this many characters of a token are quoted in messages.
+const TOKEN_CHARS: usize = 32;
+
+fn shorten(s: &str) -> String {
+    match s.char_indices().nth(TOKEN_CHARS) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_string(),
+    }
+}
+
+/// The directive of a line (comments stripped) and the rest of its tokens, or None if blank.
+fn directive(raw: &str) -> Option<(&str, std::str::SplitWhitespace<'_>)> {
+    let content = raw.split('#').next().unwrap_or("");
+    let mut tokens = content.split_whitespace();
+    tokens.next().map(|d| (d, tokens))
+}
+
+/// Directives of the OBJ format that carry nothing a quad mesh needs.
+const KNOWN_SKIPPED: &[&str] = &[
+    "vt",
+    "vn",
+    "vp",
+    "o",
+    "g",
+    "s",
+    "mg",
+    "usemtl",
+    "mtllib",
+    "l",
+    "p",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "lod",
+    "usemap",
+    "maplib",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "call",
+    "csh",
+];
+
+/// Distinct unknown directives reported one by one; further ones are pooled into one warning.
+const MAX_UNKNOWN_KINDS: usize = 16;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum SkipKind {
+    Known(&'static str),
+    Unknown(String),
+    OtherUnknown,
+    VertexColours,
+}
+
+/// Skipped lines, one entry per kind, in order of first appearance.
+#[derive(Default)]
+struct Skipped {
+    entries: Vec<(SkipKind, usize, usize)>,
+    unknown_kinds: usize,
+}
+
+impl Skipped {
+    fn note_kind(&mut self, kind: SkipKind, line: usize) {
+        if let Some(e) = self.entries.iter_mut().find(|e| e.0 == kind) {
+            e.1 += 1;
+        } else {
+            self.entries.push((kind, 1, line));
+        }
+    }
+
+    fn note_directive(&mut self, d: &str, line: usize) {
+        if let Some(&known) = KNOWN_SKIPPED.iter().find(|&&k| k == d) {
+            self.note_kind(SkipKind::Known(known), line);
+            return;
+        }
+        let name = shorten(d);
+        let seen = self
+            .entries
+            .iter()
+            .any(|e| matches!(&e.0, SkipKind::Unknown(n) if *n == name));
+        if seen || self.unknown_kinds < MAX_UNKNOWN_KINDS {
+            if !seen {
+                self.unknown_kinds += 1;
+            }
+            self.note_kind(SkipKind::Unknown(name), line);
+        } else {
+            self.note_kind(SkipKind::OtherUnknown, line);
+        }
+    }
+
+    fn warnings(&self) -> Vec<String> {
+        self.entries
+            .iter()
+            .map(|(kind, count, first)| {
+                let at = if *count == 1 {
+                    format!("(line {first})")
+                } else {
+                    format!("(first at line {first})")
+                };
+                let noun = if *count == 1 { "line" } else { "lines" };
+                match kind {
+                    SkipKind::Known(d) => format!("skipped {count} `{d}` {noun} {at}"),
+                    SkipKind::Unknown(d) => {
+                        format!("skipped {count} {noun} with unknown directive `{d}` {at}")
+                    }
+                    SkipKind::OtherUnknown => {
+                        format!("skipped {count} {noun} with other unknown directives {at}")
+                    }
+                    SkipKind::VertexColours => {
+                        format!("ignored vertex colours on {count} `v` {noun} {at}")
+                    }
+                }
+            })
+            .collect()
+    }
+}
+
+/// Parses the values of a `v` line; returns the position and whether colours were present.
+fn parse_vertex(tokens: std::str::SplitWhitespace<'_>) -> Result<([f64; 3], bool), String> {
+    let count = tokens.clone().count();
+    if !matches!(count, 3 | 4 | 6) {
+        return Err(format!(
+            "vertex has {}; expected x y z, x y z w or x y z r g b",
+            counted(count, "value", "values")
+        ));
+    }
+    let mut p = [0.0; 3];
+    for (i, tok) in tokens.enumerate() {
+        let x: f64 = tok
+            .parse()
+            .map_err(|_| format!("`{}` is not a number", shorten(tok)))?;
+        if i < 3 {
+            if !x.is_finite() {
+                return Err(format!("coordinate `{}` is not finite", shorten(tok)));
+            }
+            p[i] = x;
+        }
+    }
+    Ok((p, count == 6))
+}
+
+/// `[+-]?[0-9]+`
+fn is_integer(s: &str) -> bool {
+    let digits = s.strip_prefix(['+', '-']).unwrap_or(s);
+    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+}
+
+/// Resolves one face corner to a 0-based vertex index. `before`: vertices defined before this
+/// line (for negative indices); `total`: vertices in the whole file (for positive ones).
+fn parse_corner(tok: &str, before: usize, total: usize) -> Result<u32, String> {
+    let mut parts = tok.split('/');
+    let index = parts.next().unwrap_or("");
+    // `i`, `i/t`, `i//n` or `i/t/n`: texture and normal indices are integers when present.
+    let rest: Vec<&str> = parts.collect();
+    let well_formed = match rest.as_slice() {
+        [] => true,
+        [t] => is_integer(t),
+        [t, n] => (t.is_empty() || is_integer(t)) && is_integer(n),
+        _ => false,
+    };
+    if !well_formed || !is_integer(index) {
+        return Err(format!(
+            "`{}` is not a face corner (i, i/t, i//n or i/t/n)",
+            shorten(tok)
+        ));
+    }
+    let negative = index.starts_with('-');
+    let limit = if negative { before } else { total };
+    let out_of_range = || {
+        let vertices = counted(limit, "vertex", "vertices");
+        let index = shorten(index);
+        if negative {
+            format!("vertex index {index} out of range (only {vertices} precede this line)")
+        } else {
+            format!("vertex index {index} out of range (the file has {vertices})")
+        }
+    };
+    let i: i64 = index.parse().map_err(|_| out_of_range())?;
+    let resolved = match i {
+        0 => return Err("vertex index 0 is invalid (OBJ indices start at 1)".into()),
+        i if i > 0 => i.unsigned_abs() - 1,
+        i => (limit as u64)
+            .checked_sub(i.unsigned_abs())
+            .ok_or_else(out_of_range)?,
+    };
+    if resolved >= limit as u64 || resolved > u64::from(u32::MAX) {
+        return Err(out_of_range());
+    }
+    Ok(resolved as u32)
+}
+
+/// Parses OBJ text (`file` names it in errors): `v x y z [w]` (w ignored; `v x y z r g b`
+/// with vertex colours is accepted with a warning), `f a b c d` where each corner may be `i`,
+/// `i/t`, `i//n`, `i/t/n`, with negative (relative) indices supported; texture and normal
+/// indices are ignored.
+///
+/// Lines it does not need (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, other OBJ
+/// directives, unknown directives, comments, blank lines) are skipped with one warning per kind
+/// of skipped directive (count and first line). Errors are at their line. A file without faces
+/// is an error. Connectivity is not checked here (see [`read`], [`Topology::build`] and
+/// [`Lines::locate`]).
+pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
+    // Positive indices may refer to vertices defined later in the file.
+    let total = text
+        .lines()
+        .filter(|l| matches!(directive(l), Some(("v", _))))
+        .count();
+    let mut mesh = QuadMesh {
+        positions: Vec::new(),
+        faces: Vec::new(),
+    };
+    let mut lines = Lines::default();
+    let mut skipped = Skipped::default();
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let Some((d, tokens)) = directive(raw) else {
+            continue;
+        };
+        let at = |message: String| Error::at(Location::line(file, line), message);
+        match d {
+            "v" => {
+                let (p, colours) = parse_vertex(tokens).map_err(at)?;
+                if colours {
+                    skipped.note_kind(SkipKind::VertexColours, line);
+                }
+                mesh.positions.push(p);
+                lines.vertices.push(line);
+            }
+            "f" => {
+                let count = tokens.clone().count();
+                if count != 4 {
+                    return Err(at(format!(
+                        "face has {}; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+                        counted(count, "vertex", "vertices")
+                    )));
+                }
+                let mut face = [0u32; 4];
+                for (slot, tok) in face.iter_mut().zip(tokens) {
+                    *slot = parse_corner(tok, mesh.positions.len(), total).map_err(at)?;
+                }
+                mesh.faces.push(face);
+                lines.faces.push(line);
+            }
+            _ => skipped.note_directive(d, line),
+        }
+    }
+    if mesh.faces.is_empty() {
+        return Err(lines.locate(file, &TopologyError::NoFaces));
+    }
+    Ok(Parsed {
+        mesh,
+        lines,
+        warnings: skipped.warnings(),
+    })
+}
+
+/// Reads a closed quad mesh (2-manifold, valences ≥ 3) from an OBJ file, with its topology
+/// and the reader's warnings (such as skipped `vn` lines); errors name the file's line, and
+/// the vertex or edge.
+pub fn read(path: &Path) -> Result<Checked, Error> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    let Parsed {
+        mesh,
+        lines,
+        warnings,
+    } = parse(&name, &text)?;
+    let topology = Topology::build(&mesh)
+        .and_then(|t| t.check_valences().map(|()| t))
+        .map_err(|e| lines.locate(&name, &e))?;
+    Ok(Checked {
+        mesh,
+        topology,
+        warnings,
+    })
+}
+
+/// OBJ text: a comment line, `v` lines at full round-trip f64 precision (`{:?}` of f64), then
+/// `f` lines (1-based). Non-finite coordinates are written as they are (`NaN`, `inf`), which
+/// [`parse`] rejects.
+pub fn format(mesh: &QuadMesh) -> String {
+    let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 64);
+    let _ = writeln!(
+        s,
+        "# lsubdiv quad mesh: {} vertices, {} faces",
+        mesh.positions.len(),
+        mesh.faces.len()
+    );
+    for p in &mesh.positions {
+        let _ = writeln!(s, "v {:?} {:?} {:?}", p[0], p[1], p[2]);
+    }
+    for f in &mesh.faces {
+        let [a, b, c, d] = f.map(|i| u64::from(i) + 1);
+        let _ = writeln!(s, "f {a} {b} {c} {d}");
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
+
+    /// Deterministic pseudo-random numbers.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() % n as u64) as usize
+        }
+    }
+
+    const SQUARE_V: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+    fn err(text: &str) -> Error {
+        parse("t.obj", text).expect_err("should not parse")
+    }
+
+    /// The mesh and warnings of OBJ text.
+    fn parse_obj(text: &str) -> Result<(QuadMesh, Vec<String>), Error> {
+        parse("t.obj", text).map(|p| (p.mesh, p.warnings))
+    }
+
+    #[test]
+    fn face_corner_syntax_variants() {
+        for face in [
+            "f 1 2 3 4",
+            "f 1/1 2/2 3/3 4/4",
+            "f 1//7 2//7 3//7 4//7",
+            "f 1/1/1 2/2/2 3/3/3 4/4/4",
+            "f 1 2/5 3//6 4/7/8",
+            "f -4 -3 -2 -1",
+            "f -4/1 -3//2 3/3/4 -1",
+            "f +1 2 3 4",
+        ] {
+            let (m, w) = parse_obj(&format!("{SQUARE_V}{face}\n")).unwrap();
+            assert_eq!(m.faces, vec![[0, 1, 2, 3]], "{face}");
+            assert_eq!(m.positions.len(), 4);
+            assert!(w.is_empty(), "{face}: {w:?}");
+        }
+    }
+
+    #[test]
+    fn negative_indices_are_relative_to_the_line() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n\
+                    v 0 0 1\nv 1 0 1\nf -6 -5 -1 -2\n";
+        let (m, _) = parse_obj(text).unwrap();
+        assert_eq!(m.faces, vec![[0, 1, 2, 3], [0, 1, 5, 4]]);
+        // Positive indices may point forward.
+        let (m, _) = parse_obj("f 1 2 3 4\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n").unwrap();
+        assert_eq!(m.faces, vec![[0, 1, 2, 3]]);
+    }
+
+    #[test]
+    fn vertex_forms_and_comments() {
+        let text = "# header\n\n  v 1 2 3 # trailing\nv 1 2 3 0.5\nv\t1e0 -2.5E1 .5 \r\n\
+                    v 1 2 3 0.1 0.2 0.3\nf 1 2 3 4 # quad\n";
+        let (m, w) = parse_obj(text).unwrap();
+        assert_eq!(
+            m.positions,
+            vec![
+                [1.0, 2.0, 3.0],
+                [1.0, 2.0, 3.0],
+                [1.0, -25.0, 0.5],
+                [1.0, 2.0, 3.0]
+            ]
+        );
+        assert_eq!(
+            w,
+            vec!["ignored vertex colours on 1 `v` line (line 6)".to_string()]
+        );
+    }
+
+    #[test]
+    fn skipped_directives_give_one_warning_per_kind() {
+        let text = format!(
+            "mtllib a.mtl\no thing\n{SQUARE_V}vt 0 0\nvt 1 0\nvn 0 0 1\ng grp\ns 1\nusemtl m\n\
+             l 1 2\np 3\nfoo bar\nvt 1 1\nfoo\nf 1 2 3 4\n"
+        );
+        let (m, w) = parse_obj(&text).unwrap();
+        assert_eq!(m.faces.len(), 1);
+        assert_eq!(
+            w,
+            vec![
+                "skipped 1 `mtllib` line (line 1)",
+                "skipped 1 `o` line (line 2)",
+                "skipped 3 `vt` lines (first at line 7)",
+                "skipped 1 `vn` line (line 9)",
+                "skipped 1 `g` line (line 10)",
+                "skipped 1 `s` line (line 11)",
+                "skipped 1 `usemtl` line (line 12)",
+                "skipped 1 `l` line (line 13)",
+                "skipped 1 `p` line (line 14)",
+                "skipped 2 lines with unknown directive `foo` (first at line 15)",
+            ]
+        );
+    }
+
+    #[test]
+    fn many_unknown_directives_are_pooled() {
+        let mut text = String::from(SQUARE_V);
+        for i in 0..40 {
+            let _ = writeln!(text, "x{i} 1");
+        }
+        text.push_str("f 1 2 3 4\n");
+        let (_, w) = parse_obj(&text).unwrap();
+        assert_eq!(w.len(), MAX_UNKNOWN_KINDS + 1);
+        assert_eq!(
+            w.last().unwrap(),
+            "skipped 24 lines with other unknown directives (first at line 21)"
+        );
+    }
+
+    #[test]
+    fn errors_name_their_line() {
+        let cases: Vec<(String, Option<usize>, &str)> = vec![
+            (
+                format!("{SQUARE_V}\nf 1 2 3\n"),
+                Some(6),
+                "face has 3 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4 1\n"),
+                Some(5),
+                "face has 5 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+            ),
+            (
+                format!("{SQUARE_V}f\n"),
+                Some(5),
+                "face has 0 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+            ),
+            (
+                format!("{SQUARE_V}f 0 1 2 3\n"),
+                Some(5),
+                "vertex index 0 is invalid (OBJ indices start at 1)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 -0\n"),
+                Some(5),
+                "vertex index 0 is invalid (OBJ indices start at 1)",
+            ),
+            (
+                format!("{SQUARE_V}v 0 0 1\nv 1 1 1\nv 1 0 1\nv 0 1 1\nf 1 2 3 40\n"),
+                Some(9),
+                "vertex index 40 out of range (the file has 8 vertices)",
+            ),
+            (
+                format!("{SQUARE_V}f -5 1 2 3\n"),
+                Some(5),
+                "vertex index -5 out of range (only 4 vertices precede this line)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 99999999999999999999\n"),
+                Some(5),
+                "vertex index 99999999999999999999 out of range (the file has 4 vertices)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 -99999999999999999999\n"),
+                Some(5),
+                "vertex index -99999999999999999999 out of range (only 4 vertices precede this line)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 -9223372036854775808\n"),
+                Some(5),
+                "vertex index -9223372036854775808 out of range (only 4 vertices precede this line)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 a\n"),
+                Some(5),
+                "`a` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/1/1/1\n"),
+                Some(5),
+                "`4/1/1/1` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/x\n"),
+                Some(5),
+                "`4/x` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/\n"),
+                Some(5),
+                "`4/` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 4/1/\n"),
+                Some(5),
+                "`4/1/` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                format!("{SQUARE_V}f 1 2 3 /4\n"),
+                Some(5),
+                "`/4` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            (
+                "v 0 0 0\nv nan 0 0\nf 1 1 1 1\n".into(),
+                Some(2),
+                "coordinate `nan` is not finite",
+            ),
+            (
+                "v 0 0 1e999\n".into(),
+                Some(1),
+                "coordinate `1e999` is not finite",
+            ),
+            (
+                "v 0 0 -inf\n".into(),
+                Some(1),
+                "coordinate `-inf` is not finite",
+            ),
+            (
+                "\n\nv 0 0x1 0\n".into(),
+                Some(3),
+                "`0x1` is not a number",
+            ),
+            (
+                "v 0 0 0 1 abc 3\n".into(),
+                Some(1),
+                "`abc` is not a number",
+            ),
+            (
+                "v 0 0\n".into(),
+                Some(1),
+                "vertex has 2 values; expected x y z, x y z w or x y z r g b",
+            ),
+            (
+                "v 0 0 0 0 0\n".into(),
+                Some(1),
+                "vertex has 5 values; expected x y z, x y z w or x y z r g b",
+            ),
+            (SQUARE_V.into(), None, "empty mesh: no faces"),
+            (String::new(), None, "empty mesh: no faces"),
+        ];
+        for (text, line, message) in cases {
+            let e = err(&text);
+            let at = match line {
+                Some(l) => Location::line("t.obj", l),
+                None => Location::whole("t.obj"),
+            };
+            assert_eq!(e, Error::at(at, message), "{text:?}");
+        }
+    }
+
+    #[test]
+    fn topology_errors_are_placed_at_the_lines_read() {
+        // Comments, blank lines and a skipped directive shift the lines of `v` and `f`.
+        let text = "# square\n\nv 0 0 0\nvt 0 0\nv 1 0 0\nv 1 1 0\n\nv 0 1 0\nv 5 5 5\n# face\nf 1 2 3 4\n";
+        let p = parse("t.obj", text).unwrap();
+        assert_eq!(p.lines.vertices, vec![3, 5, 6, 8, 9]);
+        assert_eq!(p.lines.faces, vec![11]);
+        let e = Topology::build(&p.mesh).expect_err("open");
+        assert_eq!(
+            p.lines.locate("t.obj", &e).to_string(),
+            "t.obj:11: error: edge 1–2 of this face has no other face (open boundary; lsubdiv refines closed meshes)"
+        );
+        let isolated = TopologyError::IsolatedVertex { vertex: 4 };
+        assert_eq!(
+            p.lines.locate("t.obj", &isolated).to_string(),
+            "t.obj:9: error: vertex 5 is used by no face (isolated vertex)"
+        );
+        let duplicate = TopologyError::DuplicateFaces {
+            first: 0,
+            second: 0,
+        };
+        assert_eq!(
+            p.lines.locate("t.obj", &duplicate).to_string(),
+            "t.obj:11: error: duplicate face: the face at line 11 has the same vertices"
+        );
+    }
+
+    #[test]
+    fn long_tokens_are_shortened_in_messages() {
+        let long = "y".repeat(1000);
+        let e = err(&format!("v 0 0 {long}\n"));
+        let msg = e.to_string();
+        assert!(msg.len() < 100, "{msg}");
+        assert!(msg.contains('…'), "{msg}");
+    }
+
+    #[test]
+    fn obj_round_trip_is_bit_exact() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut m = torus(5, 7);
+        // Awkward values: tiny, huge, negative zero, subnormal, many digits.
+        m.positions[0] = [-0.0, 1e-300, 5e-324];
+        m.positions[1] = [1.7976931348623157e308, -1e22, 0.1 + 0.2];
+        for p in &mut m.positions[2..] {
+            for x in p.iter_mut() {
+                *x = f64::from_bits(rng.next() >> 2) * if rng.next() & 1 == 0 { 1.0 } else { -1.0 };
+                if !x.is_finite() {
+                    *x = 1.0 / 3.0;
+                }
+            }
+        }
+        for mesh in [m, cube(), klein_bottle(4, 5)] {
+            let text = format(&mesh);
+            let (back, warnings) = parse_obj(&text).unwrap();
+            assert!(warnings.is_empty());
+            assert_eq!(back.faces, mesh.faces);
+            assert_eq!(back.positions.len(), mesh.positions.len());
+            for (a, b) in back.positions.iter().zip(&mesh.positions) {
+                for c in 0..3 {
+                    assert_eq!(a[c].to_bits(), b[c].to_bits());
+                }
+            }
+        }
+    }
+
+    /// Parsing, topology building and placing its errors never panic, whatever the input.
+    #[test]
+    fn garbage_never_panics() {
+        let mut rng = Rng(12345);
+        let base = format(&torus(3, 4));
+        let alphabet = b"0123456789 -+/.\nfvte#\r\tnai\xff";
+        let mut checked = 0;
+        for round in 0..600 {
+            let text = if round % 3 == 0 {
+                // Random bytes.
+                let n = rng.below(200);
+                let bytes: Vec<u8> = (0..n).map(|_| rng.next() as u8).collect();
+                String::from_utf8_lossy(&bytes).into_owned()
+            } else if round % 3 == 1 {
+                // Random strings over an OBJ-ish alphabet.
+                let n = rng.below(300);
+                let bytes: Vec<u8> = (0..n)
+                    .map(|_| alphabet[rng.below(alphabet.len())])
+                    .collect();
+                String::from_utf8_lossy(&bytes).into_owned()
+            } else {
+                // A valid file with a few mutations.
+                let mut bytes = base.clone().into_bytes();
+                for _ in 0..1 + rng.below(4) {
+                    let at = rng.below(bytes.len());
+                    match rng.below(4) {
+                        0 => {
+                            bytes.remove(at);
+                        }
+                        1 => bytes.insert(at, alphabet[rng.below(alphabet.len())]),
+                        2 => bytes[at] = alphabet[rng.below(alphabet.len())],
+                        _ => {
+                            let len = rng.below(40).min(bytes.len() - at);
+                            bytes.drain(at..at + len);
+                        }
+                    }
+                }
+                String::from_utf8_lossy(&bytes).into_owned()
+            };
+            if let Ok(p) = parse("t.obj", &text) {
+                if let Err(e) = Topology::build(&p.mesh).and_then(|t| t.check_valences()) {
+                    let _ = p.lines.locate("t.obj", &e);
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 20, "only {checked} inputs parsed");
+    }
+}
