@@ -65,30 +65,22 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         &format!("{steps} steps of {scheme} on {mesh}"),
         limit.bytes(),
     )?;
-    let name = &r.ls.name;
-    let r = if f32 {
-        bench::measure::<f32>(
-            name,
-            &surface,
-            &m,
-            &topology,
-            implementation,
-            threads,
-            steps,
-            runs,
-        )
+    // The scalar type is the only difference: one function pointer for both.
+    let measure = if f32 {
+        bench::measure::<f32>
     } else {
-        bench::measure::<f64>(
-            name,
-            &surface,
-            &m,
-            &topology,
-            implementation,
-            threads,
-            steps,
-            runs,
-        )
-    }
+        bench::measure::<f64>
+    };
+    let r = measure(
+        &r.ls.name,
+        &surface,
+        &m,
+        &topology,
+        implementation,
+        threads,
+        steps,
+        runs,
+    )
     .map_err(Error::input)?;
     println!(
         "{}",
