@@ -21,7 +21,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let coarse = lsubdiv::Curve::with_axiom(&my_scheme::TABLES, polygon, true);
     let fine = lsubdiv::refine(&my_scheme::Scheme, &coarse, 4)?;
-    println!("polygon: {} points → {} points", coarse.points.len(), fine.points.len());
+    println!(
+        "polygon: {} points → {} points",
+        coarse.points.len(),
+        fine.points.len()
+    );
 
     // A quad mesh of any topology: read (errors name the file's line) or built.
     let (mesh, topology) = match args.next() {
