@@ -63,3 +63,9 @@ macro_rules! include_scheme {
         $crate::runtime::include_scheme!($name, runtime = $crate::runtime);
     };
 }
+
+/// Writes `bytes` to `path` whole or not at all (a temporary file beside it, then a rename); the
+/// error names the path.
+pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), Error> {
+    lsubdiv_compiler::write_atomic(path, bytes).map_err(|e| Error::io(path, &e))
+}

@@ -418,6 +418,11 @@ pub fn read(path: &Path) -> Result<Checked, Error> {
     })
 }
 
+/// Writes `mesh` to `path` as OBJ ([`format`]), whole or not at all.
+pub fn write(path: &Path, mesh: &QuadMesh) -> Result<(), Error> {
+    crate::write_atomic(path, format(mesh).as_bytes())
+}
+
 /// OBJ text: a comment line, `v` lines at full round-trip f64 precision (`{:?}` of f64), then
 /// `f` lines (1-based). Non-finite coordinates are written as they are (`NaN`, `inf`), which
 /// [`parse`] rejects.

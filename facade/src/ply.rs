@@ -3,6 +3,11 @@
 use lsubdiv_runtime::mesh::QuadMesh;
 use std::fmt::Write as _;
 
+/// Writes `mesh` to `path` as ASCII PLY ([`format`]), whole or not at all.
+pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), crate::Error> {
+    crate::write_atomic(path, format(mesh).as_bytes())
+}
+
 /// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list.
 pub fn format(mesh: &QuadMesh) -> String {
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 256);

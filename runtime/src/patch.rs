@@ -37,9 +37,6 @@ use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
 
-/// A refined mesh: the name the generated registry's `subdivide` gives [`QuadMesh`]`<T>`.
-pub type Refined<T> = QuadMesh<T>;
-
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
 /// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept
 /// in gather form: per new point, its parents among the old points and their weights, summed

@@ -437,7 +437,7 @@ impl Codegen {
                 mesh: &#rt::mesh::QuadMesh,
                 steps: usize,
                 threads: usize,
-            ) -> Option<Result<#rt::patch::Refined<T>, #rt::surface::SurfaceError>> {
+            ) -> Option<Result<#rt::mesh::QuadMesh<T>, #rt::surface::SurfaceError>> {
                 match name {
                     #(#surfaces => Some(#rt::patch::subdivide(&#smods::Scheme, mesh, steps, threads)),)*
                     _ => None,

@@ -21,7 +21,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let coarse = lsubdiv::Curve::with_axiom(&my_scheme::TABLES, polygon, true);
     let fine = lsubdiv::refine(&my_scheme::Scheme, &coarse, 4)?;
-    println!("polygon: {} points → {} points", coarse.points.len(), fine.points.len());
+    let (before, after) = (coarse.points.len(), fine.points.len());
+    println!("polygon: {before} points → {after} points");
 
     // A quad mesh of any topology: read (errors name the file's line) or built.
     let (mesh, topology) = match args.next() {
