@@ -17,9 +17,9 @@ fn writing() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 /// Writes `bytes` to `path` whole or not at all; the error names the path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     writing().push(path.to_path_buf());
-    let result = lsubdiv::compiler::write_atomic(path, bytes);
+    let result = lsubdiv::write_atomic(path, bytes);
     writing().retain(|p| p != path);
-    result.map_err(|e| Error::io(path, &e))
+    result
 }
 
 /// Removes the temporary files of the writes in progress (for a signal handler, which then
