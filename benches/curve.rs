@@ -1,6 +1,7 @@
 //! Curve refinement throughput (output points/s): the generated specialised stencils against the
 //! generic table-driven ones, on the same closed polygon, and one step of a 10 M-point polygon
 //! against the memory-bandwidth bound. Prints the ratios measured in this run.
+#![allow(missing_docs)] // criterion_group! defines a public function it does not document
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use lsubdiv::compiler::exact::Scheme;

@@ -1,5 +1,6 @@
 //! Criterion benchmarks of the surface kernel: `Refiner::refine` (positions only, buffers
 //! reused) on a 64×64 torus, generated against generic kernels, f64 and f32.
+#![allow(missing_docs)] // criterion_group! defines a public function it does not document
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use lsubdiv::runtime::generators::torus;

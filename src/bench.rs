@@ -160,7 +160,7 @@ pub fn measure<T: Real>(
         word = ls.rewrite(&word);
         prev = count(word.len());
     }
-    let size = std::mem::size_of::<T>();
+    let size = size_of::<T>();
     m.essential_bytes = v * 24 + (m.output_vertices + prev) * 3 * size;
     Ok(m)
 }

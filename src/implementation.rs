@@ -9,6 +9,7 @@ use lsubdiv::compiler::Error;
 /// `generic`: the generic table-driven path. (Plain comments on the variants: doc comments
 /// would turn `--help` into its long form.)
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[allow(missing_docs)]
 pub enum PathChoice {
     // Generated when there is one, else generic.
     Auto,

@@ -100,7 +100,7 @@ pub fn temporary_files(path: &Path) -> Vec<PathBuf> {
 mod tests {
     use super::*;
 
-    fn scratch_dir(tag: &str) -> std::path::PathBuf {
+    fn scratch_dir(tag: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!(
             "lsubdiv-mesh-{tag}-{}-{}",
             std::process::id(),

@@ -244,7 +244,7 @@ impl Plan {
     /// New points along a per strip: as many as `strip_bytes` of rows refined along a hold
     /// (at least one), so that a strip and its transpose stay in cache.
     fn strip_width<T>(&self, strip_bytes: usize) -> usize {
-        (strip_bytes / (self.old_side * 3 * std::mem::size_of::<T>())).max(1)
+        (strip_bytes / (self.old_side * 3 * size_of::<T>())).max(1)
     }
 
     /// The new rows a0..a0 + w refined along a (into `a`), transposed into `at` ([b][a'],
@@ -541,7 +541,7 @@ impl Numbering {
 impl Numbering {
     /// Face f's patch with its ring (side N+3): `put(x, y, i)` for each point and its index
     /// in this numbering; the diagonal point at an EV corner does not exist and is not handed.
-    fn gather(&self, base: &Base, f: u32, mut put: impl FnMut(i64, i64, usize)) {
+    fn gather(&self, base: &Base<'_>, f: u32, mut put: impl FnMut(i64, i64, usize)) {
         let n = self.n;
         let kk = (n - 1) as usize;
         let fu = f as usize;
@@ -1337,7 +1337,7 @@ fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, fi: usize, dst
 
 /// The EV child from the old 1-ring: (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)).
 fn ev_child<T: Real>(
-    base: &Base,
+    base: &Base<'_>,
     level: &Fans<'_, T>,
     v: u32,
     alpha: f64,

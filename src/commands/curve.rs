@@ -75,7 +75,7 @@ struct CurveJob<'a> {
 fn refine_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
-    job: &CurveJob,
+    job: &CurveJob<'_>,
 ) -> Result<Vec<[f64; D]>, Error> {
     let steps = job.steps;
     let mut generic = GenericScheme::new(build(r)?);

@@ -92,7 +92,7 @@ pub fn refine_mesh(
     r: &Resolved,
     m: &QuadMesh,
     topology: &Topology,
-    job: &MeshJob,
+    job: &MeshJob<'_>,
 ) -> Result<QuadMesh, Error> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
     let MeshJob {

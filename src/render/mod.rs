@@ -213,7 +213,7 @@ impl<'m> Scene<'m> {
     /// Marks the quad edges, one pixel wide. A sample shows the line unless a surface other than
     /// the edge's two faces is in front of it by more than a small depth offset (0.2 % of the
     /// depth), which keeps lines whole over their own faces at grazing angles.
-    fn wireframe(&self, projected: &Projected, frame: &mut Frame, s: usize) {
+    fn wireframe(&self, projected: &Projected<'_>, frame: &mut Frame, s: usize) {
         for e in 0..self.topology.edge_count() as u32 {
             let [a, b] = self.topology.edge_vertices(e);
             let faces = self.topology.edge_faces(e).map(|(f, _)| f);
