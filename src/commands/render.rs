@@ -64,8 +64,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     )?;
     let (width, height) = lsubdiv_cli::picture::parse_size(&a.size)?;
     let (width, height) = (width as usize, height as usize);
-    let numbers =
-        |flag: &str, text: &str, n| render::parse_numbers(flag, text, n).map_err(Error::input);
+    let numbers = render::parse_numbers;
     let view = match (&a.camera, &a.eye) {
         (_, Some(eye)) => {
             let eye = numbers("--eye", eye, 3..=3)?;

@@ -1,7 +1,5 @@
 //! An 8-bit RGB image and its encodings: PNG (the `png` crate) and binary PPM.
 
-use std::path::Path;
-
 /// Row-major RGB pixels, top row first.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {
@@ -13,30 +11,13 @@ pub struct Image {
     pub pixels: Vec<[u8; 3]>,
 }
 
-/// An image file format, chosen by the output's extension.
+/// An image file format (the command line picks it by the output's extension).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     /// `.png`
     Png,
     /// `.ppm` (binary P6)
     Ppm,
-}
-
-impl Format {
-    /// The format named by `path`'s extension (case-insensitive).
-    pub fn of(path: &Path) -> Result<Format, String> {
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        match ext.as_deref() {
-            Some("png") => Ok(Format::Png),
-            Some("ppm") => Ok(Format::Ppm),
-            Some(e) => Err(format!(
-                "unknown image format `.{e}` (the name must end in .png or .ppm)"
-            )),
-            None => Err("no image format (the name must end in .png or .ppm)".into()),
-        }
-    }
 }
 
 impl Image {
@@ -85,8 +66,5 @@ mod tests {
         assert_eq!(&buf[..info.buffer_size()], img.pixels.concat().as_slice());
         let ppm = img.encode(Format::Ppm).unwrap();
         assert!(ppm.starts_with(b"P6\n3 2\n255\n") && ppm.len() == 11 + 18);
-        assert_eq!(Format::of(Path::new("a/b.PNG")), Ok(Format::Png));
-        assert!(Format::of(Path::new("b.jpg")).unwrap_err().contains(".jpg"));
-        assert!(Format::of(Path::new("b")).is_err());
     }
 }

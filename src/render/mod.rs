@@ -69,26 +69,26 @@ pub struct Scene<'m> {
     radius: f64,
 }
 
-/// Parses `n` comma-separated finite numbers.
+/// Parses `n` comma-separated finite numbers, the value of `flag` (a `--camera`-style argument).
 pub fn parse_numbers(
     flag: &str,
     text: &str,
     n: std::ops::RangeInclusive<usize>,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, lsubdiv::Error> {
     let values: Vec<f64> = text
         .split(',')
         .map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
         .collect::<Option<_>>()
         .filter(|v: &Vec<f64>| n.contains(&v.len()))
         .ok_or_else(|| {
-            format!(
+            lsubdiv::Error::input(format!(
                 "{flag} `{text}`: expected {} comma-separated numbers",
                 if n.start() == n.end() {
                     n.start().to_string()
                 } else {
                     format!("{} to {}", n.start(), n.end())
                 }
-            )
+            ))
         })?;
     Ok(values)
 }
