@@ -17,10 +17,13 @@
 mod common;
 
 use common::{read_dump, report, write_dump, Args, Obj};
-use lsubdiv::bench;
-use lsubdiv::runtime::mesh::{to_obj, QuadMesh};
+use lsubdiv::obj;
+use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::Refiner;
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv::runtime::topology::Topology;
+use lsubdiv_cli::bench;
+use lsubdiv_cli::implementation::Implementation;
 use std::collections::{BTreeMap, HashSet};
 
 const SCHEME: &str = "uniform-binary";
@@ -49,9 +52,9 @@ fn meshes(a: &Args) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{dir}: {e}"))?;
     let surface = bench::surface(SCHEME)?;
     for (name, spec) in [("torus", "torus:256:256"), ("cube", "cube"), ("star", "star")] {
-        let mesh = bench::mesh(spec)?;
+        let (mesh, _) = bench::mesh(spec).map_err(|e| e.to_string())?;
         let path = format!("{dir}/{name}.obj");
-        std::fs::write(&path, to_obj(&mesh)).map_err(|e| format!("{path}: {e}"))?;
+        std::fs::write(&path, obj::format(&mesh)).map_err(|e| format!("{path}: {e}"))?;
         let levels = bench::steps_for(&surface, &mesh, target);
         println!(
             "MESH {name} {path} {levels} {}",
@@ -70,13 +73,14 @@ fn output_vertices(mesh: &QuadMesh, n: usize) -> usize {
 /// Refines once with the same Refiner (f64, 1 thread) and returns positions and faces.
 struct Dump<'m> {
     mesh: &'m QuadMesh,
+    topology: &'m Topology,
     steps: usize,
 }
 
 impl SurfaceVisitor for Dump<'_> {
     type Output = Result<(Vec<[f64; 3]>, Vec<[u32; 4]>), String>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
-        let mut r = Refiner::<S, f64>::new(scheme, self.mesh, self.steps, 1)
+        let mut r = Refiner::<S, f64>::new(scheme, self.topology, self.steps, 1)
             .map_err(|e| e.to_string())?;
         let p = r
             .refine(&self.mesh.positions)
@@ -93,14 +97,15 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
         levels,
         runs,
     } = a.run()?;
-    let mesh = bench::mesh(obj)?;
+    let (mesh, topology) = bench::mesh(obj).map_err(|e| e.to_string())?;
     let surface = bench::surface(SCHEME)?;
     if a.get("dump").is_none() || runs > 0 {
         let m = bench::measure::<f64>(
             SCHEME,
             &surface,
             &mesh,
-            bench::Path::Generated,
+            &topology,
+            Implementation::Generated,
             1,
             levels,
             runs,
@@ -110,6 +115,7 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
     if let Some(path) = a.get("dump") {
         let dump = Dump {
             mesh: &mesh,
+            topology: &topology,
             steps: levels,
         };
         let (p, f) = lsubdiv::generated::visit_surface(SCHEME, dump)
