@@ -5,6 +5,21 @@
 //! Counting rule (\[G\] §5.2): the masks of a degree-d scheme are the (d+1)-words in F_s for some
 //! s, F_0 being the (d+1)-factors of the axiom repeated ([`lsubdiv_compiler::exact::graph`]); a word and its mirror
 //! σ̄(w) count once ("we count as one each pair of symmetric words"). `words` is the raw count.
+//!
+//! # Quick start
+//!
+//! The family of eq. (44), L→LC, C→w, R→CR, holds the Binary-Ternary scheme (w = LCR, ρ = 1 + √2):
+//!
+//! ```
+//! use lsubdiv_explorer::{enumerate, Enumeration, Family};
+//!
+//! let opts = Enumeration { max_word_len: 3, unconstrained: false, include_integer: false, degree: 3 };
+//! let rows = enumerate(Family::Lcr, opts)?;
+//! let bt = rows.iter().find(|r| r.pi_c == "LCR").expect("Binary-Ternary is in the family");
+//! assert_eq!(bt.rho_text, "1 + √2");
+//! assert!(bt.valid.is_ok() && bt.surface.is_ok()); // a surface scheme ([G] §4.2)
+//! # Ok::<(), lsubdiv_compiler::Error>(())
+//! ```
 
 use lsubdiv_compiler::exact::ev;
 use lsubdiv_compiler::exact::field::FieldRef;
