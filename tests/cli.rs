@@ -428,3 +428,54 @@ fn progress_shows_on_a_terminal_only() {
         assert!(shown.contains(stage), "{stage} missing from {shown:?}");
     }
 }
+
+/// Outputs that are not regular files are written, never renamed over: `-` is standard output
+/// (no file named `-` appears), a full device fails with exit 2 and stays a device.
+#[test]
+fn special_outputs_are_written_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let pts = write(dir.path(), "p.txt", "0 0 0\n1 0 0\n1 1 0\n0 1 0\n");
+    let o = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+        .current_dir(dir.path())
+        .args([
+            "curve",
+            "uniform-binary",
+            "--steps",
+            "1",
+            "--closed",
+            &pts,
+            "-o",
+            "-",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 8);
+    assert!(!dir.path().join("-").exists());
+
+    use std::os::unix::fs::FileTypeExt as _;
+    let full = Path::new("/dev/full");
+    if !fs_is_char_device(full) {
+        return; // no /dev/full on this system
+    }
+    let o = lsubdiv(&[
+        "curve",
+        "uniform-binary",
+        "--steps",
+        "1",
+        &pts,
+        "-o",
+        "/dev/full",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("/dev/full: error:"), "{}", stderr(&o));
+    assert!(std::fs::metadata(full)
+        .unwrap()
+        .file_type()
+        .is_char_device());
+}
+
+fn fs_is_char_device(p: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt as _;
+    std::fs::metadata(p).is_ok_and(|m| m.file_type().is_char_device())
+}

@@ -1,6 +1,8 @@
 //! Outputs written whole or not at all: a temporary file beside the output, then a rename.
+//! Outputs that are not regular files (devices, FIFOs, `-` for standard output) are written
+//! directly, never renamed over; a symbolic link is followed, and its target replaced.
 
-use std::ffi::OsString;
+use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io::{self, Write as _};
 use std::path::{Path, PathBuf};
@@ -8,28 +10,92 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// Writes bytes to `path` atomically: a temporary file `.NAME.PID.N.tmp` in the same directory
-/// (synced), then rename; on error the temporary file is removed and a previous file at `path`
-/// is intact. The permissions of a previous file are kept. A program interrupted by a signal
-/// removes its own `.NAME.PID.*.tmp` files ([`temporary_files`]).
+/// Bytes of the output's name kept in a temporary name: `.NAME.PID.N.tmp` must fit the
+/// 255-byte name limit of common file systems (PID and N take at most 31 bytes).
+const MAX_TEMP_STEM: usize = 200;
+
+/// `.NAME.PID.`, NAME cut to [`MAX_TEMP_STEM`] bytes: the start of this process's temporary
+/// names for an output called `name`.
+fn temp_prefix(name: &OsStr) -> OsString {
+    let mut prefix = OsString::from(".");
+    if name.len() <= MAX_TEMP_STEM {
+        prefix.push(name);
+    } else {
+        let lossy = name.to_string_lossy();
+        let mut cut = MAX_TEMP_STEM.min(lossy.len());
+        while !lossy.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        prefix.push(&lossy[..cut]);
+    }
+    prefix.push(format!(".{}.", std::process::id()));
+    prefix
+}
+
+/// The folder an output lives in (`.` for a bare name).
+fn folder(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Writes bytes to `path` whole or not at all.
+///
+/// - `-` is standard output; an existing path that is not a regular file or a folder (a
+///   device such as `/dev/null` or `/dev/full`, a FIFO, a socket) is opened and written
+///   directly: it is never replaced. A full device fails with the system's error.
+/// - A symbolic link is followed: its target is replaced, the link stays.
+/// - Otherwise the bytes go to a temporary file `.NAME.PID.N.tmp` in the same folder
+///   (synced), which is then renamed over `path`; on error the temporary file is removed and a
+///   previous file at `path` is intact. The permissions of a previous file are kept. A program
+///   interrupted by a signal removes its own temporary files ([`temporary_files`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    match destination(path)? {
+        Some(file) => replace(&file, bytes),
+        None if path.as_os_str() == "-" => {
+            let mut out = io::stdout().lock();
+            out.write_all(bytes)?;
+            out.flush()
+        }
+        None => {
+            let mut file = fs::OpenOptions::new().write(true).open(path)?;
+            file.write_all(bytes)?;
+            file.flush()
+        }
+    }
+}
+
+/// The regular file that writing `path` replaces: `path` itself, or the target of a symbolic
+/// link (a dangling link names the file to create, relative to the link's folder); `None` for
+/// `-` and for what is written directly (devices, FIFOs, sockets).
+fn destination(path: &Path) -> io::Result<Option<PathBuf>> {
+    if path.as_os_str() == "-" || fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        return Ok(None);
+    }
+    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return fs::canonicalize(path)
+            .or_else(|_| fs::read_link(path).map(|t| folder(path).join(t)))
+            .map(Some);
+    }
+    Ok(Some(path.to_path_buf()))
+}
+
+/// Writes a regular file by a temporary file and a rename (see [`write_atomic`]).
+fn replace(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let name = path.file_name().ok_or_else(|| {
         io::Error::new(
             io::ErrorKind::InvalidInput,
             format!("{}: not a file path", path.display()),
         )
     })?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = folder(path);
+    let prefix = temp_prefix(name);
     let mut attempt = 0;
     let (tmp, mut file) = loop {
-        let mut tmp_name = OsString::from(".");
-        tmp_name.push(name);
+        let mut tmp_name = prefix.clone();
         tmp_name.push(format!(
-            ".{}.{}.tmp",
-            std::process::id(),
+            "{}.tmp",
             TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
         ));
         let tmp = dir.join(tmp_name);
@@ -72,18 +138,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
 /// The temporary files this process may have left beside `path` (`.NAME.PID.*.tmp`): what a
 /// signal handler removes before exiting, so that an interrupted run leaves no partial file.
 pub fn temporary_files(path: &Path) -> Vec<PathBuf> {
-    let (Some(name), dir) = (path.file_name(), path.parent()) else {
+    let Ok(Some(file)) = destination(path) else {
         return Vec::new();
     };
-    let dir = match dir {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
+    let Some(name) = file.file_name() else {
+        return Vec::new();
     };
-    let mut prefix = OsString::from(".");
-    prefix.push(name);
-    prefix.push(format!(".{}.", std::process::id()));
-    let prefix = prefix.to_string_lossy().into_owned();
-    fs::read_dir(dir)
+    let prefix = temp_prefix(name).to_string_lossy().into_owned();
+    fs::read_dir(folder(&file))
         .into_iter()
         .flatten()
         .flatten()
@@ -163,6 +225,67 @@ mod tests {
         fs::write(&mine, b"partial").unwrap();
         fs::write(dir.join(".out.obj.1.7.tmp"), b"another process").unwrap();
         assert_eq!(temporary_files(&path), vec![mine]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_symbolic_link_keeps_pointing_at_its_replaced_target() {
+        let dir = scratch_dir("link");
+        let (real, link) = (dir.join("real.obj"), dir.join("link.obj"));
+        fs::write(&real, b"old").unwrap();
+        std::os::unix::fs::symlink("real.obj", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+        // A dangling link: its target is created, the link stays.
+        let dangling = dir.join("dangling.obj");
+        std::os::unix::fs::symlink("made.obj", &dangling).unwrap();
+        write_atomic(&dangling, b"made").unwrap();
+        assert!(fs::symlink_metadata(&dangling)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(fs::read(dir.join("made.obj")).unwrap(), b"made");
+        assert_eq!(
+            entries(&dir),
+            vec!["dangling.obj", "link.obj", "made.obj", "real.obj"]
+        );
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_fifo_is_written_not_replaced() {
+        let dir = scratch_dir("fifo");
+        let fifo = dir.join("out.pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            eprintln!("no mkfifo here: skipped");
+            return;
+        }
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || fs::read(fifo).unwrap())
+        };
+        write_atomic(&fifo, b"through the pipe").unwrap();
+        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        use std::os::unix::fs::FileTypeExt as _;
+        assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        assert_eq!(entries(&dir), vec!["out.pipe"]);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_long_name_gets_a_temporary_name_within_the_limit() {
+        let dir = scratch_dir("long");
+        let path = dir.join(format!("{}.obj", "é".repeat(123))); // 250 bytes
+        write_atomic(&path, b"long").unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"long");
+        let tmp = temp_prefix(path.file_name().unwrap());
+        assert!(tmp.len() + 24 <= 255, "{}", tmp.len());
+        assert_eq!(entries(&dir).len(), 1);
         fs::remove_dir_all(&dir).unwrap();
     }
 }
