@@ -428,7 +428,7 @@ fn too_large_requests_are_refused_before_refining() {
     let dir = tempfile::tempdir().unwrap();
     let cube = write(dir.path(), "cube.obj", CUBE);
     let square = write(dir.path(), "square.txt", "0 0\n1 0\n1 1\n0 1\n");
-    let out = dir.path().join("out");
+    let out = dir.path().join("out.obj");
     let out_s = out.display().to_string();
     let started = std::time::Instant::now();
     for (args, expect) in [

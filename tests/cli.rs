@@ -479,3 +479,42 @@ fn fs_is_char_device(p: &Path) -> bool {
     use std::os::unix::fs::FileTypeExt as _;
     std::fs::metadata(p).is_ok_and(|m| m.file_type().is_char_device())
 }
+
+/// `subdivide` picks its output format by extension in any case, and refuses one it does not
+/// write before refining (it used to write OBJ text under any name).
+#[test]
+fn subdivide_output_format_comes_from_the_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = dir.path().join("cube.obj");
+    lsubdiv::obj::write(&cube, &lsubdiv::runtime::generators::cube()).unwrap();
+    let cube = cube.display().to_string();
+    let ply = dir.path().join("fine.PLY");
+    let o = lsubdiv(&[
+        "subdivide",
+        "uniform-binary",
+        "--steps",
+        "1",
+        &cube,
+        "-o",
+        &ply.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read_to_string(&ply).unwrap().starts_with("ply\n"));
+    let stl = dir.path().join("fine.stl");
+    let o = lsubdiv(&[
+        "subdivide",
+        "uniform-binary",
+        "--steps",
+        "1",
+        &cube,
+        "-o",
+        &stl.display().to_string(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("unknown mesh format `.stl`; the file name must end in .obj or .ply"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stl.exists());
+}

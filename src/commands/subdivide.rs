@@ -8,7 +8,7 @@ use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::Subdivide;
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
-use lsubdiv_cli::output::{extension, write_atomic};
+use lsubdiv_cli::output::{format_by_extension, write_atomic};
 use lsubdiv_cli::Resolved;
 
 /// Arguments of `lsubdiv subdivide`.
@@ -18,12 +18,20 @@ pub struct SubdivideArgs {
     refine: RefineArgs,
     /// Input mesh (OBJ).
     input: std::path::PathBuf,
-    /// Output mesh: OBJ, or PLY when the name ends in `.ply` (written whole or not at all).
+    /// Output mesh: `.obj` or `.ply` (any case), or `-` for OBJ on standard output (written
+    /// whole or not at all).
     #[arg(short, long)]
     output: std::path::PathBuf,
     /// Worker threads (the result does not depend on it); default: all cores.
     #[arg(long)]
     threads: Option<usize>,
+}
+
+/// The output formats of `subdivide`, by extension.
+#[derive(Clone, Copy)]
+enum MeshFormat {
+    Obj,
+    Ply,
 }
 
 /// Reads an OBJ, refines it (patch path), writes OBJ or PLY atomically.
@@ -35,6 +43,15 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: t,
     } = a;
     check_output(&output)?;
+    let format = if output.as_os_str() == "-" {
+        MeshFormat::Obj
+    } else {
+        format_by_extension(
+            &output,
+            "mesh",
+            &[("obj", MeshFormat::Obj), ("ply", MeshFormat::Ply)],
+        )?
+    };
     let r = load(&refine.scheme, None)?;
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
@@ -56,10 +73,9 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         fine.faces.len(),
         output.display()
     ));
-    let bytes = if extension(&output).as_deref() == Some("ply") {
-        lsubdiv::ply::format(&fine)
-    } else {
-        lsubdiv::obj::format(&fine)
+    let bytes = match format {
+        MeshFormat::Obj => lsubdiv::obj::format(&fine),
+        MeshFormat::Ply => lsubdiv::ply::format(&fine),
     };
     write_atomic(&output, bytes.as_bytes())
 }
