@@ -45,16 +45,18 @@ pub fn builtin_names() -> Vec<&'static str> {
     builtin::BUILTIN.iter().map(|(n, _, _)| *n).collect()
 }
 
-/// Resolves `arg`: a path to a scheme file, or the name of a shipped scheme.
+/// Resolves `arg`: a path to a scheme file, or the name of a shipped scheme. A file wins over a
+/// shipped name; a folder of the same name does not hide the shipped scheme.
 pub fn resolve(arg: &str) -> Result<Resolved, Error> {
     let path = Path::new(arg);
-    if path.exists() {
+    let shipped = builtin::BUILTIN.iter().find(|(n, _, _)| *n == arg);
+    if path.is_file() || (shipped.is_none() && path.exists()) {
         return Ok(Resolved {
             ls: scheme::load(path)?,
             builtin: false,
         });
     }
-    match builtin::BUILTIN.iter().find(|(n, _, _)| *n == arg) {
+    match shipped {
         Some((_, file, text)) => Ok(Resolved {
             ls: scheme::parse(file, text)?,
             builtin: true,

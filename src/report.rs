@@ -245,13 +245,13 @@ pub fn dot(s: &Scheme) -> String {
     let ls = &s.ls;
     let mut out = format!(
         "digraph \"{}\" {{\n  rankdir=LR;\n  node [shape=box, fontname=\"monospace\"];\n",
-        ls.name
+        dot_escape(&ls.name)
     );
     let in_scc: Vec<Option<usize>> = (0..s.graph.words.len())
         .map(|i| s.graph.sccs.iter().position(|c| c.contains(&i)))
         .collect();
     for (i, w) in s.graph.words.iter().enumerate() {
-        let mut attrs = vec![format!("label=\"{}\"", ls.word_str(&w.word))];
+        let mut attrs = vec![format!("label=\"{}\"", dot_escape(&ls.word_str(&w.word)))];
         if let Some(c) = in_scc[i] {
             attrs.push(format!(
                 "style=filled, fillcolor=\"{}\"",
@@ -270,6 +270,12 @@ pub fn dot(s: &Scheme) -> String {
     }
     out.push_str("}\n");
     out
+}
+
+/// `text` inside a DOT double-quoted string: `"` and `\` escaped, so that any symbol name
+/// (scheme files allow both) gives well-formed DOT.
+fn dot_escape(text: &str) -> String {
+    text.replace('\\', "\\\\").replace('"', "\\\"")
 }
 
 /// The text report of `lsubdiv ev`: the EV conditions, the configuration per step, the exact

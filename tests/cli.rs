@@ -518,3 +518,32 @@ fn subdivide_output_format_comes_from_the_extension() {
     );
     assert!(!stl.exists());
 }
+
+/// A folder named like a shipped scheme does not hide it; `graph --dot` quotes any symbol name
+/// (scheme files allow `"` and `\` in names) into well-formed DOT.
+#[test]
+fn a_folder_named_like_a_scheme_and_quoted_symbols() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("fibonacci")).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+        .current_dir(dir.path())
+        .args(["inspect", "fibonacci"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let scheme = write(
+        dir.path(),
+        "q.toml",
+        "name = \"q\"\ndegree = 1\naxiom = 'a\"'\n[rules]\n'a\"' = 'a\" b\\'\n'b\\' = 'a\"'\n",
+    );
+    let o = lsubdiv(&["graph", &scheme, "--dot"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dot = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(dot.contains(r#"label="a\" b\\""#), "{dot}");
+    // Every line's quotes pair up once escapes are taken out.
+    for line in dot.lines() {
+        let unescaped = line.replace(r"\\", "").replace(r#"\""#, "");
+        assert_eq!(unescaped.matches('"').count() % 2, 0, "{line}");
+    }
+}
