@@ -547,3 +547,70 @@ fn a_folder_named_like_a_scheme_and_quoted_symbols() {
         assert_eq!(unescaped.matches('"').count() % 2, 0, "{line}");
     }
 }
+
+/// A byte-order mark hides nothing, a Latin-1 comment passes, and a number with a non-UTF-8
+/// byte is refused at its line (OBJ and point files).
+#[test]
+fn byte_order_marks_and_latin1_bytes_in_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let pts = d.join("p.txt");
+    std::fs::write(&pts, b"\xEF\xBB\xBF0 0\n# caf\xE9\n1 0\n1 1\n0 1\n").unwrap();
+    let out = d.join("o.txt").display().to_string();
+    let o = lsubdiv(&[
+        "curve",
+        "uniform-binary",
+        "--steps",
+        "1",
+        "--closed",
+        &pts.display().to_string(),
+        "-o",
+        &out,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 8);
+
+    let mut obj = b"\xEF\xBB\xBF# r\xE9sum\xE9\n".to_vec();
+    obj.extend(lsubdiv::obj::format(&lsubdiv::runtime::generators::cube()).bytes());
+    let cube = d.join("cube.obj");
+    std::fs::write(&cube, &obj).unwrap();
+    let fine = d.join("fine.obj").display().to_string();
+    let o = lsubdiv(&[
+        "subdivide",
+        "uniform-binary",
+        "--steps",
+        "1",
+        &cube.display().to_string(),
+        "-o",
+        &fine,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    std::fs::write(&pts, b"0 0\n1 0\n1 \xE9\n").unwrap();
+    let o = lsubdiv(&[
+        "curve",
+        "uniform-binary",
+        "--steps",
+        "1",
+        &pts.display().to_string(),
+        "-o",
+        &out,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("p.txt:3:"), "{}", stderr(&o));
+}
+
+/// Errors about the polygon a point file holds name the file.
+#[test]
+fn too_few_points_names_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = write(dir.path(), "one.txt", "0 0\n");
+    let out = dir.path().join("o.txt").display().to_string();
+    let o = lsubdiv(&["curve", "fibonacci", "--steps", "1", &one, "-o", &out]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("one.txt: error: 1 control points given, at least 4 needed"),
+        "{}",
+        stderr(&o)
+    );
+}

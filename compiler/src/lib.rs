@@ -73,8 +73,10 @@
 mod config;
 mod error;
 pub mod exact;
+mod input;
 mod output;
 
 pub use config::{compile, Config};
 pub use error::{Error, Kind, Location};
+pub use input::read_text;
 pub use output::{temporary_files, write_atomic};

@@ -402,7 +402,7 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
 /// the vertex or edge.
 pub fn read(path: &Path) -> Result<Checked, Error> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    let text = lsubdiv_compiler::read_text(path)?;
     let Parsed {
         mesh,
         lines,

@@ -118,6 +118,6 @@ pub fn polygon<const D: usize>(
 
 /// Reads a points file (2 or 3 coordinates per line).
 pub fn read_points(path: &std::path::Path) -> Result<Points, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    let text = lsubdiv::compiler::read_text(path)?;
     lsubdiv::points::parse(&path.display().to_string(), &text)
 }

@@ -8,7 +8,7 @@ use lsubdiv::points::{self, Points};
 use lsubdiv::CurveError;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::write_atomic;
-use lsubdiv_cli::{input_error, Resolved};
+use lsubdiv_cli::Resolved;
 
 /// Arguments of `lsubdiv curve`.
 #[derive(clap::Args)]
@@ -43,6 +43,7 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = CurveJob {
+        file: &in_name,
         what: format!("{steps} steps of {} on {in_name}", r.ls.name),
         polygon: &polygon,
         steps,
@@ -60,6 +61,8 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
 
 /// What `lsubdiv curve` was asked to do, apart from the points.
 struct CurveJob<'a> {
+    /// The points file, named by the errors about the polygon it holds.
+    file: &'a str,
     /// `N steps of SCHEME on FILE`, for the size guard's message.
     what: String,
     polygon: &'a PolygonArgs,
@@ -78,6 +81,7 @@ fn refine_cli<const D: usize>(
     job: &CurveJob<'_>,
 ) -> Result<Vec<[f64; D]>, Error> {
     let steps = job.steps;
+    let input_error = |e: CurveError| Error::in_file(job.file, e.to_string());
     let mut generic = GenericScheme::new(build(r)?);
     let closed = job.polygon.closed;
     let curve = polygon(r, &generic, points, closed, job.polygon.labels.as_deref())?;

@@ -29,7 +29,7 @@ pub fn scheme_files(dir: &Path) -> Result<Vec<PathBuf>, Error> {
 
 /// Reads and parses a scheme file.
 pub fn load(path: &Path) -> Result<LSystem, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
+    let text = crate::read_text(path)?;
     parse(&path.display().to_string(), &text)
 }
 
