@@ -235,6 +235,14 @@ const SCHEMES: &[(&str, Run, &str, &str, &str)] = &[
         "ρ·a must equal the sum of the lengths of π(A)",
     ),
     (
+        // Eq. (3) holds (A and B each double), but σ swaps A and B of different lengths.
+        "name = \"x\"\ndegree = 2\naxiom = \"AB\"\n[rules]\nA = \"AA\"\nB = \"BB\"\n[symmetry]\nA = \"B\"\n[lengths]\nA = \"1\"\nB = \"2\"\n",
+        Run::Inspect,
+        "10:5",
+        "`[lengths]` are not σ-invariant: `A` has length 1 but its twin `B` has 2",
+        "needs twins of equal length",
+    ),
+    (
         "name = \"x\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"LR\"\nL = \"LC\"\nC = \"L\"\nD = \"R\"\nR = \"DR\"\n[lengths]\nS = \"1\"\n",
         Run::Inspect,
         "10:2",

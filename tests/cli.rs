@@ -614,3 +614,31 @@ fn too_few_points_names_the_file() {
         stderr(&o)
     );
 }
+
+/// A thread count beyond any machine is refused as such, by every command that takes one.
+#[test]
+fn thread_counts_are_bounded() {
+    for args in [
+        vec![
+            "subdivide",
+            "fibonacci",
+            "--steps",
+            "1",
+            "in.obj",
+            "-o",
+            "o.obj",
+            "--threads",
+            "100000",
+        ],
+        vec!["render", "cube", "-o", "o.png", "--threads", "0"],
+        vec!["bench", "--mesh", "cube", "--threads", "100000"],
+    ] {
+        let o = lsubdiv(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&o).contains("expected 1 to 1024 worker threads"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+}

@@ -121,3 +121,15 @@ pub fn read_points(path: &std::path::Path) -> Result<Points, Error> {
     let text = lsubdiv::compiler::read_text(path)?;
     lsubdiv::points::parse(&path.display().to_string(), &text)
 }
+
+/// Most worker threads a command accepts: each holds its own buffers, so a number far beyond
+/// any machine's cores only exhausts memory.
+pub const MAX_THREADS: usize = 1024;
+
+/// `--threads N`: 1 to [`MAX_THREADS`] (clap reports the error, exit status 2).
+pub fn thread_count(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if (1..=MAX_THREADS).contains(&n) => Ok(n),
+        _ => Err(format!("expected 1 to {MAX_THREADS} worker threads")),
+    }
+}

@@ -19,7 +19,7 @@ pub struct BenchArgs {
     /// Steps; default: closest to 4.2 M output vertices.
     #[arg(long)]
     steps: Option<usize>,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::commands::args::thread_count)]
     threads: usize,
     /// Which implementation refines (`auto`: generated when available).
     #[arg(long, value_enum, default_value_t = PathChoice::Generated)]

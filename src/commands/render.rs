@@ -46,7 +46,7 @@ pub struct RenderArgs {
     #[arg(long)]
     curvature_range: Option<f64>,
     /// Worker threads for the refinement; default: all cores.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::commands::args::thread_count)]
     threads: Option<usize>,
     #[command(flatten)]
     limit: MemoryLimit,

@@ -23,7 +23,7 @@ pub struct SubdivideArgs {
     #[arg(short, long)]
     output: std::path::PathBuf,
     /// Worker threads (the result does not depend on it); default: all cores.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::commands::args::thread_count)]
     threads: Option<usize>,
 }
 

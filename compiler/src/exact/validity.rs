@@ -297,6 +297,23 @@ fn lengths_for(
                 ));
             }
         }
+        // [G] §4.1: a symmetric system's knot intervals must mirror, a_σ(A) = a_A (Prop. 5.1).
+        if let Some(sigma) = &ls.symmetry {
+            if let Some(i) = (0..n).find(|&i| a[i] != a[sigma[i] as usize]) {
+                let t = sigma[i] as usize;
+                return Err(ls.error(
+                    Part::Length(i),
+                    format!(
+                        "`[lengths]` are not σ-invariant: `{}` has length {} but its twin `{}` has {}",
+                        ls.symbols[i], a[i], ls.symbols[t], a[t]
+                    ),
+                    Some(format!(
+                        "a symmetric L-system ([G] §4.1, Prop. 5.1) needs twins of equal length: give `{}` and `{}` the same length",
+                        ls.symbols[i], ls.symbols[t]
+                    )),
+                ));
+            }
+        }
         return Ok(Ok((normalise(a), LengthSource::Declared)));
     }
     let (basis, source) = if eigen.len() == 1 {
