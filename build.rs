@@ -27,13 +27,9 @@ fn main() {
     }
     out.push_str("];\n");
     let dest = PathBuf::from(std::env::var_os("OUT_DIR").expect("OUT_DIR")).join("builtin.rs");
-    // Rewritten only when it changes (so that the crate is not rebuilt for nothing), and then
-    // whole or not at all (temporary file and rename): an interrupted build leaves no partial
-    // file behind.
-    if std::fs::read_to_string(&dest).ok().as_deref() != Some(out.as_str()) {
-        lsubdiv_compiler::write_atomic(&dest, out.as_bytes()).unwrap_or_else(|e| {
-            eprintln!("{}: {e}", dest.display());
-            std::process::exit(1)
-        });
-    }
+    // Rewritten only when it changes, and then whole or not at all.
+    lsubdiv_compiler::write_if_changed(&dest, &out).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(1)
+    });
 }

@@ -109,12 +109,12 @@ impl Config {
                 directive(format!("cargo:warning={w}"));
             }
             let file = out_dir.join(format!("{}.rs", module_name(name)));
-            write_if_changed(&file, &codegen.scheme(&t))?;
+            crate::output::write_if_changed(&file, &codegen.scheme(&t))?;
             compiled.push(t);
         }
         if let Some(r) = &self.registry {
             let all: Vec<&Tables> = compiled.iter().collect();
-            write_if_changed(&out_dir.join(r), &codegen.registry(&all))?;
+            crate::output::write_if_changed(&out_dir.join(r), &codegen.registry(&all))?;
         }
         Ok(compiled
             .into_iter()
@@ -140,15 +140,6 @@ fn curves_only_warning(path: &Path, t: &Tables) -> Option<String> {
 /// Compiles scheme files into `OUT_DIR` with the default configuration.
 pub fn compile(paths: &[impl AsRef<Path>]) -> Result<Vec<String>, Error> {
     Config::new().compile(paths)
-}
-
-/// Writes `text` to `path` unless it already holds exactly that; writes go to a temporary file
-/// renamed into place, so the output is whole or absent.
-fn write_if_changed(path: &Path, text: &str) -> Result<(), Error> {
-    if std::fs::read_to_string(path).is_ok_and(|old| old == text) {
-        return Ok(());
-    }
-    crate::output::write_atomic(path, text.as_bytes()).map_err(|e| Error::io(path, &e))
 }
 
 #[cfg(test)]

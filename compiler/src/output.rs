@@ -2,6 +2,7 @@
 //! Outputs that are not regular files (devices, FIFOs, `-` for standard output) are written
 //! directly, never renamed over; a symbolic link is followed, and its target replaced.
 
+use crate::error::Error;
 use std::ffi::{OsStr, OsString};
 use std::fs;
 use std::io::{self, Write as _};
@@ -50,7 +51,14 @@ fn folder(path: &Path) -> &Path {
 ///   (synced), which is then renamed over `path`; on error the temporary file is removed and a
 ///   previous file at `path` is intact. The permissions of a previous file are kept. A program
 ///   interrupted by a signal removes its own temporary files ([`temporary_files`]).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
+///
+/// The error names the path.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    write(path, bytes).map_err(|e| Error::io(path, &e))
+}
+
+/// [`write_atomic`] before its error is placed.
+fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
     match destination(path)? {
         Some(file) => replace(&file, bytes),
         None if path.as_os_str() == "-" => {
@@ -79,6 +87,15 @@ fn destination(path: &Path) -> io::Result<Option<PathBuf>> {
             .map(Some);
     }
     Ok(Some(path.to_path_buf()))
+}
+
+/// Writes `text` to `path` unless it already holds exactly that (so that cargo sees no change
+/// and rebuilds nothing), then whole or not at all ([`write_atomic`]).
+pub fn write_if_changed(path: &Path, text: &str) -> Result<(), Error> {
+    if fs::read_to_string(path).is_ok_and(|old| old == text) {
+        return Ok(());
+    }
+    write_atomic(path, text.as_bytes())
 }
 
 /// Writes a regular file by a temporary file and a rename (see [`write_atomic`]).

@@ -46,7 +46,7 @@ pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
 pub use lsubdiv_runtime::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 
-pub use lsubdiv_compiler::{Error, Location};
+pub use lsubdiv_compiler::{write_atomic, Error, Location};
 pub use obj::read as read_obj;
 
 pub mod generic;
@@ -62,10 +62,4 @@ macro_rules! include_scheme {
     ($name:ident) => {
         $crate::runtime::include_scheme!($name, runtime = $crate::runtime);
     };
-}
-
-/// Writes `bytes` to `path` whole or not at all (a temporary file beside it, then a rename); the
-/// error names the path.
-pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), Error> {
-    lsubdiv_compiler::write_atomic(path, bytes).map_err(|e| Error::io(path, &e))
 }
