@@ -78,5 +78,5 @@ mod output;
 
 pub use config::{compile, Config};
 pub use error::{Error, Kind, Location};
-pub use input::read_text;
+pub use input::{read_bytes, read_text, text};
 pub use output::{temporary_files, write_atomic, write_if_changed};

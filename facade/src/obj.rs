@@ -402,7 +402,7 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
 /// the vertex or edge.
 pub fn read(path: &Path) -> Result<Checked, Error> {
     let name = path.display().to_string();
-    let text = lsubdiv_compiler::read_text(path)?;
+    let text = lsubdiv_compiler::read_text(path, u64::MAX)?;
     let Parsed {
         mesh,
         lines,

@@ -118,7 +118,7 @@ pub fn polygon<const D: usize>(
 
 /// Reads a points file (2 or 3 coordinates per line).
 pub fn read_points(path: &std::path::Path) -> Result<Points, Error> {
-    let text = lsubdiv::compiler::read_text(path)?;
+    let text = lsubdiv::compiler::read_text(path, u64::MAX)?;
     lsubdiv::points::parse(&path.display().to_string(), &text)
 }
 

@@ -27,9 +27,13 @@ pub fn scheme_files(dir: &Path) -> Result<Vec<PathBuf>, Error> {
     Ok(files)
 }
 
-/// Reads and parses a scheme file.
+/// The largest scheme file read, in bytes (1 MiB): a pipe or device given as a scheme is read
+/// no further.
+pub const MAX_SCHEME_BYTES: u64 = 1 << 20;
+
+/// Reads (at most [`MAX_SCHEME_BYTES`]) and parses a scheme file.
 pub fn load(path: &Path) -> Result<LSystem, Error> {
-    let text = crate::read_text(path)?;
+    let text = crate::read_text(path, MAX_SCHEME_BYTES)?;
     parse(&path.display().to_string(), &text)
 }
 
