@@ -38,7 +38,7 @@ fn bench(c: &mut Criterion) {
         .sample_size(20);
     for name in ["fibonacci", "binary-ternary", "uniform-binary"] {
         let r = resolve(name).unwrap();
-        let generic = GenericScheme::new(Scheme::build(r.ls).unwrap());
+        let generic = GenericScheme::new(Scheme::build(r.ls).unwrap()).unwrap();
         let coarse = Curve::with_axiom(&generic.tables(), polygon(1000), true);
         // Enough steps for ~1e6 output points.
         let mut steps = 0;
@@ -86,7 +86,7 @@ fn bandwidth(_: &mut Criterion) {
     let bytes_per_s = 2.0 * (n * 24) as f64 / copy;
     for name in ["uniform-binary", "binary-ternary", "fibonacci"] {
         let r = resolve(name).unwrap();
-        let generic = GenericScheme::new(Scheme::build(r.ls).unwrap());
+        let generic = GenericScheme::new(Scheme::build(r.ls).unwrap()).unwrap();
         let coarse = Curve::with_axiom(&generic.tables(), src.clone(), true);
         // Buffers reused across runs, as an application refining every frame would.
         let mut refiner = CurveRefiner::default();

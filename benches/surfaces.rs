@@ -41,7 +41,7 @@ fn compile_times() {
                 let start = std::time::Instant::now();
                 let r = lsubdiv_cli::resolve(name).expect("shipped scheme");
                 let s = lsubdiv::compiler::exact::Scheme::build(r.ls).expect("compiles");
-                let t = lsubdiv::compiler::exact::Tables::new(s);
+                let t = lsubdiv::compiler::exact::Tables::new(s).unwrap();
                 std::hint::black_box(lsubdiv::compiler::exact::codegen::generate(&t));
                 start.elapsed().as_secs_f64() * 1e3
             })

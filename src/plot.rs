@@ -88,7 +88,7 @@ pub fn limit(
         labels: labels.clone(),
         closed: false,
     };
-    scheme.prepare(&fine);
+    scheme.prepare(&fine)?;
     loop {
         let longest = fine
             .points
@@ -203,7 +203,7 @@ pub fn plot(
     steps: usize,
     size: (u32, u32),
 ) -> Result<Picture, Error> {
-    scheme.prepare(curve);
+    scheme.prepare(curve)?;
     let all = levels(&scheme, curve, steps)?;
     let s = scheme.scheme();
     let ls = &s.ls;

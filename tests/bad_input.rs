@@ -351,6 +351,7 @@ fn every_scheme_diagnostic_names_file_line_column_and_hint() {
 fn generic(name: &str) -> lsubdiv::generic::GenericScheme {
     let r = lsubdiv_cli::resolve(name).unwrap();
     lsubdiv::generic::GenericScheme::new(lsubdiv::compiler::exact::Scheme::build(r.ls).unwrap())
+        .unwrap()
 }
 
 #[test]
@@ -378,7 +379,7 @@ fn predicted_curve_sizes_are_exact() {
         labels,
         closed: false,
     };
-    s.prepare(&c);
+    s.prepare(&c).unwrap();
     cases.push((s, c));
     for (s, c) in &cases {
         let t = s.tables();
@@ -885,4 +886,78 @@ fn an_interrupted_run_leaves_the_previous_output_and_no_temporary_file() {
         return;
     }
     panic!("could not interrupt a run while it wrote its output");
+}
+
+/// `n` symbols `A0 …`, rule i given by `rule(i)`: the large alphabets of issue 14 (kind 4).
+fn alphabet(n: usize, rule: impl Fn(usize) -> String) -> String {
+    let rules: String = (0..n).map(|i| format!("A{i} = \"{}\"\n", rule(i))).collect();
+    format!("name = \"big\"\ndegree = 3\naxiom = \"A0\"\n[rules]\n{rules}")
+}
+
+/// Small scheme files whose exact compilation would take minutes or not end: each is refused,
+/// quickly, with the limit it passes named at its place (docs/schemes.md, "Limits"); a long rule
+/// that used to take minutes (quadratic mask copies) compiles.
+#[test]
+fn exact_work_is_bounded_with_located_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let free = |b: &str| {
+        format!(
+            "name = \"x\"\ndegree = 3\naxiom = \"AB\"\n[rules]\nA = \"AA\"\nB = \"BB\"\n[lengths]\nA = \"1\"\nB = \"{b}\"\n"
+        )
+    };
+    let n = 255;
+    let rows: Vec<(String, &str, &str, &str)> = vec![
+        // ρ = 2^(1/255): degree 255 over Q.
+        (
+            alphabet(n, |i| {
+                if i + 1 < n {
+                    format!("A{}", i + 1)
+                } else {
+                    "A0 A0".into()
+                }
+            }),
+            "4:2",
+            "ρ has degree 255 over Q (its minimal polynomial x^255 - 2); at most 64 is supported",
+            "use fewer symbols",
+        ),
+        // ρ = 2 over Q, but 255 symbols in one class: the analysis runs out of work.
+        (
+            alphabet(n, |i| format!("A{} A{}", (i + 1) % n, (i * 7 + 3) % n)),
+            "4:2",
+            "the analysis ([N] §3) of `big` needs more exact work than the limit",
+            "use fewer symbols, shorter rules or smaller numbers",
+        ),
+        // [lengths] with numbers far too large.
+        (
+            free("(123456789012345678901234567890^64)^64"),
+            "9:5",
+            "`[lengths]` entry for `B`: a value has a",
+            "expressions in `rho`",
+        ),
+        (
+            free(&"7".repeat(2000)),
+            "9:5",
+            "`[lengths]` entry for `B`: a number of 2000 digits; expressions are limited to 4096 bits",
+            "expressions in `rho`",
+        ),
+    ];
+    for (i, (text, at, message, hint)) in rows.iter().enumerate() {
+        let name = format!("work{i}.toml");
+        let f = write(dir.path(), &name, text);
+        let o = lsubdiv(&["inspect", &f]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "row {i}: {e}");
+        assert!(e.contains(&format!("{name}:{at}: error: ")), "row {i}: {e}");
+        assert!(e.contains(message), "row {i}: {e}");
+        assert!(e.contains(hint), "row {i}: {e}");
+    }
+    // A rule 2000 letters long compiles (its masks are 8000 long).
+    let long = format!(
+        "name = \"long\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"{}{}\"\nR = \"LR\"\n",
+        "L".repeat(1000),
+        "R".repeat(1000)
+    );
+    let f = write(dir.path(), "long.toml", &long);
+    let o = lsubdiv(&["inspect", &f]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }

@@ -32,7 +32,7 @@ fn generic(name: &str, degree: Option<usize>) -> GenericScheme {
     if let Some(d) = degree {
         r.ls.degree = d;
     }
-    GenericScheme::new(Scheme::build(r.ls).expect("compiles"))
+    GenericScheme::new(Scheme::build(r.ls).expect("compiles")).expect("tabulates")
 }
 
 /// Checks that `fine` (after `steps` steps of `coarse`) is the same spline, at 401 parameters.
@@ -150,7 +150,7 @@ fn user_labels_outside_the_tables_use_masks_computed_on_demand() {
         lsubdiv::refine(&s, &curve, 2),
         Err(CurveError::UnknownWord(_))
     ));
-    s.prepare(&curve);
+    s.prepare(&curve).unwrap();
     let fine = lsubdiv::refine(&s, &curve, 3).unwrap();
     assert_same_spline(&s, &curve, &fine, 3);
 }

@@ -120,9 +120,9 @@ fn limit_curve_pieces_meet_at_the_knots() {
     // curve is (h_{k+2} P_k + h_{k+1} P_{k+1}) / (h_{k+1} + h_{k+2}), h the interval lengths.
     let s = scheme("fibonacci-curve");
     let h: Vec<f64> = s.lengths.iter().map(|e| e.to_f64()).collect();
-    let mut g = GenericScheme::new(s);
+    let mut g = GenericScheme::new(s).unwrap();
     let curve = Curve::with_axiom(&g.tables(), lsubdiv_cli::plot::hexagon(), true);
-    g.prepare(&curve);
+    g.prepare(&curve).unwrap();
     let last = lsubdiv::refine(&g, &curve, 3).unwrap();
     let (p, l, m) = (&last.points, &last.labels, last.points.len());
     let knots: Vec<[f64; 2]> = (0..m)

@@ -116,12 +116,12 @@ fn cases(symmetric: f64) -> impl Strategy<Value = Case> {
         .prop_map(|((text, ls), word, points, closed, drawn, steps, affine)| {
             let s = Scheme::build(ls)
                 .unwrap_or_else(|e| panic!("valid but does not compile: {e}\n{text}"));
-            let mut generic = GenericScheme::new(s);
+            let mut generic = GenericScheme::new(s).unwrap();
             let mut curve = Curve::with_axiom(&generic.tables(), points, closed);
             if let Some(labels) = drawn {
                 curve.labels = labels[..curve.labels.len()].to_vec();
             }
-            generic.prepare(&curve);
+            generic.prepare(&curve).unwrap();
             Case {
                 text,
                 generic,

@@ -25,7 +25,10 @@ fn exact_tables_of_shipped_schemes() {
 fn generated_source_of_fibonacci_curve() {
     let r = resolve("fibonacci-curve").unwrap();
     let s = Scheme::build(r.ls).unwrap();
-    insta::assert_snapshot!("codegen_fibonacci_curve", generate(&Tables::new(s)));
+    insta::assert_snapshot!(
+        "codegen_fibonacci_curve",
+        generate(&Tables::new(s).unwrap())
+    );
 }
 
 #[test]

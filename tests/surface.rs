@@ -74,7 +74,7 @@ fn uniform_binary_on_the_torus_is_catmull_clark() {
 /// Refines a periodic grid of points as closed curves along rows, then along columns.
 fn tensor_product(name: &str, grid: &[Vec<[f64; 3]>], steps: usize) -> Vec<[f64; 3]> {
     let r = resolve(name).unwrap();
-    let g = GenericScheme::new(Scheme::build(r.ls).unwrap());
+    let g = GenericScheme::new(Scheme::build(r.ls).unwrap()).unwrap();
     let rows: Vec<Vec<[f64; 3]>> = grid
         .iter()
         .map(|row| {

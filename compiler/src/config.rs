@@ -96,7 +96,7 @@ impl Config {
         for p in paths {
             let p = p.as_ref();
             directive(format!("cargo:rerun-if-changed={}", p.display()));
-            let t = Tables::new(Scheme::build(scheme::load(p)?)?);
+            let t = Tables::new(Scheme::build(scheme::load(p)?)?)?;
             let name = &t.scheme().ls.name;
             if compiled.iter().any(|c| c.scheme().ls.name == *name) {
                 return Err(Error::at(

@@ -9,7 +9,7 @@
 //!
 //! let text = "name = \"chaikin\"\ndegree = 2\naxiom = \"A\"\n[rules]\nA = \"AA\"\n";
 //! let scheme = Scheme::build(scheme::parse("chaikin.toml", text)?)?;
-//! let chaikin = GenericScheme::new(scheme);
+//! let chaikin = GenericScheme::new(scheme)?;
 //! let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
 //! let coarse = Curve::with_axiom(&chaikin.tables(), square, true);
 //! let fine = lsubdiv::refine(&chaikin, &coarse, 2)?;
@@ -31,11 +31,12 @@ pub struct GenericScheme {
 }
 
 impl GenericScheme {
-    /// Tables of every word reachable from the axiom.
-    pub fn new(scheme: Scheme) -> GenericScheme {
-        GenericScheme {
-            tables: Tables::new(scheme),
-        }
+    /// Tables of every word reachable from the axiom; the error says when computing them
+    /// exceeds the exact work bound (`lsubdiv_compiler::exact::work`).
+    pub fn new(scheme: Scheme) -> Result<GenericScheme, Error> {
+        Ok(GenericScheme {
+            tables: Tables::new(scheme)?,
+        })
     }
 
     /// The exact scheme behind the tables.
@@ -44,16 +45,17 @@ impl GenericScheme {
     }
 
     /// Adds the masks of the curve's words and of every word reachable from them (nothing for
-    /// a curve the tables cannot refine: refining it reports why).
-    pub fn prepare<const D: usize>(&mut self, curve: &Curve<D>) {
+    /// a curve the tables cannot refine: refining it reports why). The error says when their
+    /// masks exceed the exact work bound; the tables are then as they were.
+    pub fn prepare<const D: usize>(&mut self, curve: &Curve<D>) -> Result<(), Error> {
         let t = self.tables.curve();
         if curve.check(&t).is_err() {
-            return;
+            return Ok(());
         }
         let start: Vec<Word> = (0..curve.points.len())
             .map(|k| curve.word(k, t.degree))
             .collect();
-        self.tables.add_reachable(start);
+        self.tables.add_reachable(start)
     }
 }
 
@@ -73,7 +75,7 @@ impl GenericSurface {
     /// Checks the surface conditions (\[G\] §4.2) and prepares the tables; the error names the
     /// condition that fails.
     pub fn new(scheme: Scheme) -> Result<GenericSurface, Error> {
-        let tables = Tables::new(scheme);
+        let tables = Tables::new(scheme)?;
         match tables.curves_only() {
             Some(e) => Err(e.clone()),
             None => Ok(GenericSurface { tables }),

@@ -18,7 +18,7 @@
 //! let path = dir.join("golden.toml");
 //! std::fs::write(&path, "name = \"golden\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LS\"\nS = \"L\"\n")?;
 //! // Exact compilation (errors name file, line and column), then run-time tables.
-//! let mut golden = GenericScheme::new(Scheme::build(scheme::load(&path)?)?);
+//! let mut golden = GenericScheme::new(Scheme::build(scheme::load(&path)?)?)?;
 //! let hexagon: Vec<[f64; 3]> = (0..6)
 //!     .map(|k| {
 //!         let a = k as f64 * std::f64::consts::TAU / 6.0;
@@ -26,7 +26,7 @@
 //!     })
 //!     .collect();
 //! let coarse = Curve::with_axiom(&golden.tables(), hexagon, true);
-//! golden.prepare(&coarse); // masks of words the axiom never makes, if the labels have any
+//! golden.prepare(&coarse)?; // masks of words the axiom never makes, if the labels have any
 //! let fine = lsubdiv::refine(&golden, &coarse, 4)?;
 //! assert!(fine.points.len() > 6 * 4);
 //! # std::fs::remove_dir_all(&dir)?;

@@ -20,6 +20,6 @@ pub struct CodegenArgs {
 /// Writes the generated source, whole or not at all.
 pub fn run(a: CodegenArgs) -> Result<(), Error> {
     let s = build(&load(&a.scheme, a.degree)?)?;
-    write_atomic(&a.output, generate(&Tables::new(s)).as_bytes())?;
+    write_atomic(&a.output, generate(&Tables::new(s)?).as_bytes())?;
     Ok(())
 }

@@ -82,7 +82,7 @@ fn refine_cli<const D: usize>(
 ) -> Result<Vec<[f64; D]>, Error> {
     let steps = job.steps;
     let input_error = |e: CurveError| Error::in_file(job.file, e.to_string());
-    let mut generic = GenericScheme::new(build(r)?);
+    let mut generic = GenericScheme::new(build(r)?)?;
     let closed = job.polygon.closed;
     let curve = polygon(r, &generic, points, closed, job.polygon.labels.as_deref())?;
     let t = lsubdiv::CurveScheme::tables(&generic);
@@ -103,7 +103,7 @@ fn refine_cli<const D: usize>(
     let refined = match generated {
         Some(c) => c,
         None => {
-            generic.prepare(&curve);
+            generic.prepare(&curve)?;
             lsubdiv::refine(&generic, &curve, steps).map_err(input_error)?
         }
     };

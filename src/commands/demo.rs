@@ -76,7 +76,7 @@ pub fn run() -> Result<(), Error> {
             [t.cos(), t.sin(), if i % 2 == 0 { 0.25 } else { -0.25 }]
         })
         .collect();
-    let generic = GenericScheme::new(s);
+    let generic = GenericScheme::new(s)?;
     let curve = polygon(&r, &generic, points, true, None)?;
     let steps = 8;
     let (a, generic_ms) = timed(|| lsubdiv::refine(&generic, &curve, steps));

@@ -36,10 +36,14 @@ pub fn run(a: EvArgs) -> Result<(), Error> {
 }
 
 /// Parses `n`, `a..b` or `a..=b` (both inclusive).
+/// The largest valence `ev` analyses (meshes have no limit: their EVs are refined whatever
+/// their valence).
+const MAX_VALENCE: usize = 10_000;
+
 fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Error> {
     let bad_range = || {
         Error::input(format!(
-            "--valence `{text}`: expected `n` or `a..b` with 3 ≤ a ≤ b"
+            "--valence `{text}`: expected `n` or `a..b` with 3 ≤ a ≤ b ≤ {MAX_VALENCE}"
         ))
     };
     let parse = |s: &str| s.trim().parse::<usize>().map_err(|_| bad_range());
@@ -50,7 +54,7 @@ fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Error> {
             (n, n)
         }
     };
-    if a < 3 || b < a || b > 10_000 {
+    if a < 3 || b < a || b > MAX_VALENCE {
         return Err(bad_range());
     }
     Ok(a..=b)

@@ -62,7 +62,7 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
             }
         },
     };
-    let generic = GenericScheme::new(build(&r)?);
+    let generic = GenericScheme::new(build(&r)?)?;
     let curve = polygon(&r, &generic, pts, closed, labels.as_deref())?;
     let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size)?;
     picture::save(&pic, &output)

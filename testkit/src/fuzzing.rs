@@ -258,7 +258,7 @@ pub fn check_pipeline(data: &[u8]) -> Outcome {
     if m * max_rule.pow(steps as u32) > MAX_CURVE_POINTS {
         return Err("refined curve too large".into());
     }
-    let mut generic = GenericScheme::new(scheme.clone());
+    let mut generic = GenericScheme::new(scheme.clone()).map_err(|e| e.to_string())?;
     let mut curve = Curve::with_axiom(&generic.tables(), points, closed);
     if bool::arbitrary(&mut u).map_err(|e| e.to_string())? {
         let n = scheme.ls.n() as u8;
@@ -266,7 +266,7 @@ pub fn check_pipeline(data: &[u8]) -> Outcome {
             *l = u.int_in_range(0..=n - 1).map_err(|e| e.to_string())?;
         }
     }
-    generic.prepare(&curve);
+    generic.prepare(&curve).map_err(|e| e.to_string())?;
     let fine = refine(&generic, &curve, steps).map_err(|e| e.to_string())?;
     let extra = if closed { 0 } else { d };
     assert_eq!(fine.labels.len(), fine.points.len() + extra, "label count");

@@ -11,6 +11,7 @@ use crate::exact::field::Elem;
 use crate::exact::lsystem::{LSystem, Part, Sym, Word};
 use crate::exact::pipeline::Scheme;
 use crate::exact::symmetry::{involutions, is_symmetry};
+use crate::exact::work;
 use lsubdiv_runtime::ev::EvCoefficients;
 
 /// The EV configuration at one step.
@@ -95,8 +96,15 @@ fn contained(ls: &LSystem, ray: &[Sym]) -> bool {
     splits.len() <= 1 && splits.iter().all(|&l| l <= 2)
 }
 
-/// Analyses a compiled scheme for surfaces; refuses with the failing condition named.
+/// Analyses a compiled scheme for surfaces, within the work bound of [`crate::exact::work`];
+/// refuses with the failing condition named.
 pub fn analyse(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
+    work::stage(&s.ls, "the surface analysis ([G] §4)", || {
+        analyse_unbounded(s)
+    })
+}
+
+fn analyse_unbounded(s: &Scheme) -> Result<SurfaceAnalysis, Error> {
     let ls = &s.ls;
     let refuse =
         |part: Part, message: String, hint: &str| Err(ls.error(part, message, Some(hint.into())));

@@ -8,6 +8,7 @@
 
 use crate::exact::poly::{refine_root, QPoly};
 use crate::exact::scheme::parse_rational;
+use crate::exact::work::{charge, horner, limbs, Sizes};
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_rational::BigRational;
@@ -186,12 +187,14 @@ impl Elem {
 
     /// Sum.
     pub fn add(&self, o: &Elem) -> Elem {
+        charge_sum(&self.c, &o.c);
         let c = self.c.iter().zip(&o.c).map(|(a, b)| a + b).collect();
         Elem::from_coeffs(&self.field, c)
     }
 
     /// Difference.
     pub fn sub(&self, o: &Elem) -> Elem {
+        charge_sum(&self.c, &o.c);
         let c = self.c.iter().zip(&o.c).map(|(a, b)| a - b).collect();
         Elem::from_coeffs(&self.field, c)
     }
@@ -235,6 +238,9 @@ impl Elem {
     /// Interval containing the value, from ρ's current interval (Horner in interval arithmetic).
     fn value_interval(&self) -> (BigRational, BigRational) {
         let (lo, hi) = self.field.interval();
+        let d = self.c.len() as u64;
+        let l = limbs(&lo).max(limbs(&hi));
+        charge(4 * horner(d, l, Sizes::rationals(&self.c).largest()));
         let mut r = (BigRational::zero(), BigRational::zero());
         for c in self.c.iter().rev() {
             let p = [&r.0 * &lo, &r.0 * &hi, &r.1 * &lo, &r.1 * &hi];
@@ -305,6 +311,11 @@ impl Elem {
     }
 }
 
+/// Charges a coefficient-wise sum or difference ([`crate::exact::work`]).
+fn charge_sum(a: &[BigRational], b: &[BigRational]) {
+    charge(Sizes::rationals(a).pairwise(Sizes::rationals(b)));
+}
+
 fn sign_of(r: &BigRational) -> i8 {
     if r.is_positive() {
         1
@@ -315,25 +326,35 @@ fn sign_of(r: &BigRational) -> i8 {
     }
 }
 
-/// n = k²·s with s squarefree (n > 0), by trial division.
+/// Trial divisors of [`split_square`]: the square part of a discriminant is taken out of its
+/// prime factors below this bound.
+const SQUARE_TRIAL_LIMIT: u64 = 100_000;
+
+/// n = k²·s (n > 0) with s free of squares of primes below [`SQUARE_TRIAL_LIMIT`] and not itself
+/// a square (the rest of n is kept whole in s, so k√s is exact, only not always reduced).
 fn split_square(n: &BigInt) -> (BigInt, BigInt) {
     let mut rest = n.clone();
     let mut k = BigInt::one();
     let mut s = BigInt::one();
-    let mut f = BigInt::from(2);
-    while &f * &f <= rest {
+    let mut f = 2u64;
+    while f <= SQUARE_TRIAL_LIMIT && BigInt::from(f) * f <= rest {
         let mut e = 0u32;
-        while rest.is_multiple_of(&f) {
-            rest /= &f;
+        while rest.is_multiple_of(&BigInt::from(f)) {
+            rest /= f;
             e += 1;
         }
-        k *= f.pow(e / 2);
+        k *= BigInt::from(f).pow(e / 2);
         if e % 2 == 1 {
-            s *= &f;
+            s *= f;
         }
         f += 1;
     }
-    (k, s * rest)
+    let root = rest.sqrt();
+    if &root * &root == rest {
+        (k * root, s)
+    } else {
+        (k, s * rest)
+    }
 }
 
 /// Formats `num/den` pieces: writes "(body)/den" or "body".
@@ -454,6 +475,11 @@ pub fn parse_expr(field: &FieldRef, text: &str) -> Result<Elem, String> {
 
 /// Largest |exponent| after `^` (ρ^e costs |e| products).
 const MAX_EXPONENT: i64 = 64;
+/// Largest numerator or denominator, in bits, of any coordinate of any value an expression
+/// computes (so that `[lengths]` stay small numbers: 4096 bits is some 1200 digits).
+pub const MAX_EXPR_BITS: u64 = 4096;
+/// Longest number written in an expression: 4096 bits hold 1233 decimal digits.
+const MAX_EXPR_DIGITS: usize = 1233;
 /// Deepest nesting of parentheses and unary minus.
 const MAX_DEPTH: usize = 64;
 
@@ -487,6 +513,15 @@ fn tokenize(text: &str) -> Result<Vec<Tok>, String> {
             while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
                 i += 1;
             }
+            // Digits past what MAX_EXPR_BITS holds are refused before parsing (which is
+            // quadratic in the length).
+            if i - start > MAX_EXPR_DIGITS {
+                return Err(format!(
+                    "a number of {} digits; expressions are limited to {MAX_EXPR_BITS} bits \
+                     ({MAX_EXPR_DIGITS} digits)",
+                    i - start
+                ));
+            }
             let s: String = chars[start..i].iter().collect();
             out.push(Tok::Num(parse_rational(&s)?));
         } else if c == 'ρ' {
@@ -503,6 +538,21 @@ fn tokenize(text: &str) -> Result<Vec<Tok>, String> {
         }
     }
     Ok(out)
+}
+
+/// `v`, or the error that one of its coordinates exceeds [`MAX_EXPR_BITS`].
+fn small(v: Elem) -> Result<Elem, String> {
+    let bits =
+        v.c.iter()
+            .map(|r| r.numer().bits().max(r.denom().bits()))
+            .max()
+            .unwrap_or(0);
+    if bits > MAX_EXPR_BITS {
+        return Err(format!(
+            "a value has a {bits}-bit coefficient; expressions are limited to {MAX_EXPR_BITS} bits"
+        ));
+    }
+    Ok(v)
 }
 
 struct ExprParser<'a> {
@@ -527,9 +577,9 @@ impl ExprParser<'_> {
         let mut v = self.product()?;
         loop {
             if self.eat('+') {
-                v = v.add(&self.product()?);
+                v = small(v.add(&self.product()?))?;
             } else if self.eat('-') {
-                v = v.sub(&self.product()?);
+                v = small(v.sub(&self.product()?))?;
             } else {
                 return Ok(v);
             }
@@ -540,9 +590,9 @@ impl ExprParser<'_> {
         let mut v = self.power()?;
         loop {
             if self.eat('*') {
-                v = v.mul(&self.power()?);
+                v = small(v.mul(&self.power()?))?;
             } else if self.eat('/') {
-                v = v.div(&self.power()?).ok_or("division by zero")?;
+                v = small(v.div(&self.power()?).ok_or("division by zero")?)?;
             } else {
                 return Ok(v);
             }
@@ -563,8 +613,12 @@ impl ExprParser<'_> {
                     .to_i64()
                     .filter(|e| *e <= MAX_EXPONENT)
                     .ok_or_else(|| format!("exponent {n} is larger than {MAX_EXPONENT}"))?;
-                base.pow(if neg { -e } else { e })
-                    .ok_or_else(|| "zero to a negative power".to_string())
+                // One factor at a time, each product checked against MAX_EXPR_BITS.
+                let base = small(
+                    base.pow(if neg { -1 } else { 1 })
+                        .ok_or("zero to a negative power")?,
+                )?;
+                (0..e).try_fold(Elem::one(self.field), |acc, _| small(acc.mul(&base)))
             }
             _ => Err("`^` needs an integer exponent".into()),
         }
@@ -593,7 +647,7 @@ impl ExprParser<'_> {
         match self.tokens.get(self.at).cloned() {
             Some(Tok::Num(n)) => {
                 self.at += 1;
-                Ok(Elem::rational(self.field, n))
+                small(Elem::rational(self.field, n))
             }
             Some(Tok::Rho) => {
                 self.at += 1;

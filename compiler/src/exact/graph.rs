@@ -7,6 +7,7 @@
 //! the others are *transitional*: they form a DAG, so they appear only in the first steps.
 
 use crate::exact::lsystem::{LSystem, Word};
+use crate::exact::work;
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::{DiGraph, NodeIndex};
 use std::collections::{BTreeSet, HashMap};
@@ -87,7 +88,10 @@ pub fn reach_from(ls: &LSystem, k: usize, start: Vec<Word>) -> Reach {
     let mut i = 0;
     while i < words.len() {
         let mut out = Vec::new();
-        for f in factors(&ls.rewrite(&words[i]), k) {
+        let image = ls.rewrite(&words[i]);
+        // Hashing the |π(w)| factors of length k: about k·|π(w)|/8 units (exact::work).
+        work::charge(1 + (k * image.len()) as u64 / 8);
+        for f in factors(&image, k) {
             let j = *index.entry(f.clone()).or_insert_with(|| {
                 words.push(f);
                 first.push(first[i] + 1);
@@ -126,6 +130,7 @@ pub fn reach_from(ls: &LSystem, k: usize, start: Vec<Word>) -> Reach {
     let mut level: BTreeSet<usize> = (0..words.len()).filter(|&i| first[i] == 0).collect();
     let transitional_count = recurring.iter().filter(|r| !**r).count();
     for s in 0..=transitional_count {
+        work::charge(1 + level.len() as u64);
         for &v in &level {
             if !recurring[v] {
                 steps[v].push(s);

@@ -1,10 +1,13 @@
 //! Exact linear algebra over Q(ρ): null spaces by Gauss–Jordan elimination.
 
 use crate::exact::field::{Elem, FieldRef};
+use crate::exact::work;
 
 /// A basis of the null space of the r×c matrix `a` (rows of `Elem`), in reduced form: basis
 /// vector j has a 1 at the j-th free column and 0 at the other free columns.
 pub fn null_space(field: &FieldRef, a: &[Vec<Elem>], cols: usize) -> Vec<Vec<Elem>> {
+    // Copying a matrix of Elems: one unit per coordinate (exact::work).
+    work::charge((a.len() * cols * field.degree()) as u64);
     let mut m: Vec<Vec<Elem>> = a.to_vec();
     let mut pivots: Vec<usize> = Vec::new();
     let mut row = 0;

@@ -55,8 +55,7 @@ pub fn mask(ls: &LSystem, lengths: &[Elem], w: &[Sym]) -> Mask {
             continue;
         }
         let mu = knots.iter().rposition(|&k| k < x).expect("u_0 < x");
-        coeffs = boehm(&u, &knots, &coeffs, d, mu, x);
-        knots.insert(mu + 1, x);
+        boehm(&u, &mut knots, &mut coeffs, d, mu, x);
     }
     debug_assert_eq!(coeffs.len(), refined.len() - d);
     let contributions = coeffs
@@ -77,32 +76,32 @@ pub fn mask(ls: &LSystem, lengths: &[Elem], w: &[Sym]) -> Mask {
     }
 }
 
-/// One knot insertion (Boehm 1980): the knot u[x] enters between knots[mu] and knots[mu+1];
-/// returns the coefficients on the refined B-splines, c'_j = β_j c_j + (1 − β_j) c_{j−1} with
-/// β_j = (x − t_j)/(t_{j+d} − t_j) for μ−d < j ≤ μ, 1 before and 0 after.
-fn boehm(u: &[Elem], knots: &[usize], c: &[Elem], d: usize, mu: usize, x: usize) -> Vec<Elem> {
+/// One knot insertion (Boehm 1980), in place: the knot u[x] enters between knots[mu] and
+/// knots[mu+1], and the coefficients become those on the refined B-splines,
+/// c'_j = β_j c_j + (1 − β_j) c_{j−1} with β_j = (x − t_j)/(t_{j+d} − t_j) for μ−d < j ≤ μ,
+/// c_j before and c_{j−1} after: only d coefficients are computed, so a mask costs O(d) field
+/// operations per new knot whatever the length of π(w).
+fn boehm(u: &[Elem], knots: &mut Vec<usize>, c: &mut Vec<Elem>, d: usize, mu: usize, x: usize) {
     let field = u[0].field();
     let zero = Elem::zero(field);
-    let get = |j: isize| -> &Elem {
-        if j < 0 || j as usize >= c.len() {
-            &zero
-        } else {
-            &c[j as usize]
-        }
-    };
-    (0..=c.len())
+    // c'_j for j ≤ μ−d is c_j, for j > μ it is c_{j−1}; between, it is new (j ≤ |c|, the
+    // last index of c'). So c' = c[..first] ++ new ++ c[last..], one longer than c.
+    let first = (mu + 1).saturating_sub(d);
+    let last = mu.min(c.len());
+    let new: Vec<Elem> = (first..=last)
         .map(|j| {
-            let (ji, mui, di) = (j as isize, mu as isize, d as isize);
-            if ji <= mui - di {
-                get(ji).clone()
-            } else if ji > mui {
-                get(ji - 1).clone()
+            let (tj, tjd) = (&u[knots[j]], &u[knots[j + d]]);
+            let beta = u[x].sub(tj).div(&tjd.sub(tj)).expect("distinct knots");
+            let one_minus = Elem::one(field).sub(&beta);
+            let prev = if j == 0 {
+                &zero
             } else {
-                let (tj, tjd) = (&u[knots[j]], &u[knots[j + d]]);
-                let beta = u[x].sub(tj).div(&tjd.sub(tj)).expect("distinct knots");
-                let one_minus = Elem::one(field).sub(&beta);
-                beta.mul(get(ji)).add(&one_minus.mul(get(ji - 1)))
-            }
+                c.get(j - 1).unwrap_or(&zero)
+            };
+            beta.mul(c.get(j).unwrap_or(&zero))
+                .add(&one_minus.mul(prev))
         })
-        .collect()
+        .collect();
+    c.splice(first..last, new);
+    knots.insert(mu + 1, x);
 }

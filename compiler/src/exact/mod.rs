@@ -19,6 +19,7 @@ pub mod scheme;
 pub mod symmetry;
 pub mod tables;
 pub mod validity;
+pub mod work;
 
 pub use pipeline::Scheme;
 pub use tables::Tables;

@@ -8,6 +8,8 @@ use crate::exact::lsystem::{LSystem, Part, Sym, Word};
 use crate::exact::masks::{mask, Mask};
 use crate::exact::symmetry::check_symmetry;
 use crate::exact::validity::{analyse, Analysis};
+use crate::exact::work;
+use std::borrow::Cow;
 
 /// A compiled scheme: every reachable mask, exact.
 #[derive(Clone, Debug)]
@@ -25,8 +27,16 @@ pub struct Scheme {
 }
 
 impl Scheme {
-    /// Analyses, derives every reachable mask and checks the certificates.
+    /// Analyses, derives every reachable mask and checks the certificates, within the work bound
+    /// of [`crate::exact::work`].
     pub fn build(ls: LSystem) -> Result<Scheme, Error> {
+        let stage = ls.clone();
+        work::stage(&stage, "the masks ([N] §2.2)", || {
+            Scheme::build_unbounded(ls)
+        })
+    }
+
+    fn build_unbounded(ls: LSystem) -> Result<Scheme, Error> {
         let analysis = analyse(&ls)?;
         let lengths = analysis.require_lengths(&ls)?.to_vec();
         if let Some(sigma) = &ls.symmetry {
@@ -50,11 +60,12 @@ impl Scheme {
         Ok(scheme)
     }
 
-    /// The mask of any (d+1)-word, from the table or computed now (words the axiom never makes).
-    pub fn mask_of(&self, w: &[Sym]) -> Mask {
+    /// The mask of any (d+1)-word, borrowed from the table or computed now (words the axiom
+    /// never makes).
+    pub fn mask_of(&self, w: &[Sym]) -> Cow<'_, Mask> {
         match self.graph.index.get(w) {
-            Some(&i) => self.masks[i].clone(),
-            None => mask(&self.ls, &self.lengths, w),
+            Some(&i) => Cow::Borrowed(&self.masks[i]),
+            None => Cow::Owned(mask(&self.ls, &self.lengths, w)),
         }
     }
 

@@ -15,6 +15,8 @@ use num_integer::Integer;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
+use crate::exact::work::{charge, horner, int_limbs, limbs, Sizes};
+
 /// Dense polynomial over Q, coefficients constant term first, never trailing zeros
 /// (zero polynomial = empty vec).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -82,6 +84,7 @@ impl QPoly {
     pub fn add(&self, o: &Self) -> Self {
         let z = BigRational::zero();
         let n = self.0.len().max(o.0.len());
+        charge(Sizes::rationals(&self.0).pairwise(Sizes::rationals(&o.0)));
         Self::new(
             (0..n)
                 .map(|i| self.0.get(i).unwrap_or(&z) + o.0.get(i).unwrap_or(&z))
@@ -93,6 +96,7 @@ impl QPoly {
     pub fn sub(&self, o: &Self) -> Self {
         let z = BigRational::zero();
         let n = self.0.len().max(o.0.len());
+        charge(Sizes::rationals(&self.0).pairwise(Sizes::rationals(&o.0)));
         Self::new(
             (0..n)
                 .map(|i| self.0.get(i).unwrap_or(&z) - o.0.get(i).unwrap_or(&z))
@@ -105,6 +109,7 @@ impl QPoly {
         if self.is_zero() || o.is_zero() {
             return Self::zero();
         }
+        charge(Sizes::rationals(&self.0).all_pairs(Sizes::rationals(&o.0)));
         let mut v = vec![BigRational::zero(); self.0.len() + o.0.len() - 1];
         for (i, a) in self.0.iter().enumerate() {
             if a.is_zero() {
@@ -127,6 +132,7 @@ impl QPoly {
         if c.is_zero() {
             return Self::zero();
         }
+        charge(Sizes::rationals(&self.0).each_with(limbs(c), 1));
         QPoly(self.0.iter().map(|a| a * c).collect())
     }
 
@@ -145,6 +151,9 @@ impl QPoly {
         let inv = dl.recip();
         let mut r = self.0.clone();
         let mut q = vec![BigRational::zero(); r.len() - m];
+        charge(
+            Sizes::rationals(&d.0).each_with(Sizes::rationals(&self.0).largest(), q.len() as u64),
+        );
         for i in (0..q.len()).rev() {
             let c = &r[i + m] * &inv;
             if !c.is_zero() {
@@ -236,6 +245,8 @@ impl QPoly {
 
     /// Value at `x` (Horner).
     pub fn eval(&self, x: &BigRational) -> BigRational {
+        let n = self.0.len() as u64;
+        charge(horner(n, limbs(x), Sizes::rationals(&self.0).largest()));
         let mut acc = BigRational::zero();
         for c in self.0.iter().rev() {
             acc = acc * x + c;
@@ -365,6 +376,10 @@ fn zp_prem_positive(a: &[BigInt], b: &[BigInt]) -> Vec<BigInt> {
     let mut r = a.to_vec();
     zp_trim(&mut r);
     while r.len() > m {
+        charge(
+            Sizes::integers(&r).each_with(int_limbs(&alb), 1)
+                + Sizes::integers(b).each_with(Sizes::integers(&r).largest(), 1),
+        );
         let k = r.len() - 1 - m;
         let lr = r.pop().expect("nonempty") * &sb;
         for c in &mut r {
@@ -382,6 +397,7 @@ fn zp_mul(a: &[BigInt], b: &[BigInt]) -> Vec<BigInt> {
     if a.is_empty() || b.is_empty() {
         return Vec::new();
     }
+    charge(Sizes::integers(a).all_pairs(Sizes::integers(b)));
     let mut v = vec![BigInt::zero(); a.len() + b.len() - 1];
     for (i, x) in a.iter().enumerate() {
         if x.is_zero() {
@@ -407,6 +423,7 @@ fn zp_div_exact(a: &[BigInt], b: &[BigInt]) -> Option<Vec<BigInt>> {
     let m = b.len() - 1;
     let mut r = a.to_vec();
     let mut q = vec![BigInt::zero(); a.len() - m];
+    charge(Sizes::integers(b).each_with(Sizes::integers(a).largest(), q.len() as u64));
     for i in (0..q.len()).rev() {
         let (c, rem) = r[i + m].div_rem(lb);
         if !rem.is_zero() {
@@ -433,6 +450,8 @@ fn zp_sign_at(a: &[BigInt], x: &BigRational) -> i8 {
         return 0;
     };
     let (num, den) = (x.numer(), x.denom()); // den > 0
+    let n = a.len() as u64;
+    charge(horner(n, limbs(x), Sizes::integers(a).largest()));
     let mut s = top.clone();
     let mut dpow = BigInt::one();
     for c in a.iter().rev().skip(1) {
@@ -491,6 +510,11 @@ pub fn char_poly(m: &[Vec<i64>]) -> QPoly {
 
 fn mat_mul(a: &[Vec<BigInt>], b: &[Vec<BigInt>]) -> Vec<Vec<BigInt>> {
     let n = a.len();
+    // Each entry a_ik meets the n entries of row k of b: all pairs over n.
+    charge(
+        Sizes::integers(a.iter().flatten()).all_pairs(Sizes::integers(b.iter().flatten()))
+            / n as u64,
+    );
     let mut out = vec![vec![BigInt::zero(); n]; n];
     for i in 0..n {
         for k in 0..n {

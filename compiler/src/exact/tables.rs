@@ -13,6 +13,7 @@ use crate::exact::field::Elem;
 use crate::exact::graph::reach_from;
 use crate::exact::lsystem::{Part, Word};
 use crate::exact::pipeline::Scheme;
+use crate::exact::work;
 use lsubdiv_runtime::curve::NO_CHILD;
 use lsubdiv_runtime::ev::EvCoefficients;
 use lsubdiv_runtime::surface::SurfaceTables;
@@ -75,8 +76,14 @@ impl Surface {
 
 impl Tables {
     /// The tables of every word reachable from the axiom, and the surface data when the scheme
-    /// passes \[G\] §4.2 (else the reason, [`Tables::curves_only`]).
-    pub fn new(scheme: Scheme) -> Tables {
+    /// passes \[G\] §4.2 (else the reason, [`Tables::curves_only`]); within the work bound of
+    /// [`crate::exact::work`] (the f64 weights are decided exactly, by refining ρ).
+    pub fn new(scheme: Scheme) -> Result<Tables, Error> {
+        let ls = scheme.ls.clone();
+        work::stage(&ls, "the tables", || Ok(Tables::new_unbounded(scheme)))
+    }
+
+    fn new_unbounded(scheme: Scheme) -> Tables {
         let surface = ev::analyse(&scheme).and_then(|a| Surface::new(&scheme, a));
         let mut rule_offsets = vec![0u32];
         let mut rule_symbols = Vec::new();
@@ -167,44 +174,63 @@ impl Tables {
     }
 
     /// Appends the masks of `start` and of every word reachable from them, exactly (words the
-    /// axiom never makes, say from a curve's own labels); known words are skipped.
-    pub fn add_reachable(&mut self, start: Vec<Word>) {
+    /// axiom never makes, say from a curve's own labels); known words are skipped. Within the
+    /// work bound of [`crate::exact::work`].
+    pub fn add_reachable(&mut self, start: Vec<Word>) -> Result<(), Error> {
         let start: Vec<Word> = start
             .into_iter()
             .filter(|w| !self.index.contains_key(w))
             .collect();
         if start.is_empty() {
-            return;
+            return Ok(());
         }
-        let reach = reach_from(&self.scheme.ls, self.scheme.ls.degree + 1, start);
-        self.add_words(reach.words.into_iter().map(|w| w.word).collect());
+        let ls = self.scheme.ls.clone();
+        work::stage(&ls, "the masks of the curve's labels", || {
+            let reach = reach_from(&self.scheme.ls, self.scheme.ls.degree + 1, start);
+            self.add_words(reach.words.into_iter().map(|w| w.word).collect());
+            Ok(())
+        })
     }
 
+    /// Tabulates the masks of `words` (closed under refinement with the words already known).
+    /// Everything is computed before anything is appended, so that running out of work
+    /// ([`Tables::add_reachable`]) leaves the tables as they were.
     fn add_words(&mut self, words: Vec<Word>) {
+        let mut index = HashMap::new();
         let mut new = Vec::new();
         for w in words {
-            if !self.index.contains_key(&w) {
-                self.index.insert(w.clone(), self.index.len() as u32);
-                self.words.extend_from_slice(&w);
+            if !self.index.contains_key(&w) && !index.contains_key(&w) {
+                index.insert(w.clone(), (self.index.len() + new.len()) as u32);
                 new.push(w);
             }
         }
+        let (mut mask_words, mut mask_weights, mut exact_weights) = (vec![], vec![], vec![]);
+        let (mut mask_offsets, mut mask_children, mut ring_weights) = (vec![], vec![], vec![]);
         for w in &new {
             let m = self.scheme.mask_of(w);
             for c in &m.contributions {
-                self.mask_words.push(self.index[&c.word]);
-                self.mask_weights.push(c.weight.to_f64());
+                let at = self.index.get(&c.word).or_else(|| index.get(&c.word));
+                mask_words.push(*at.expect("reachable words are closed under refinement"));
+                mask_weights.push(c.weight.to_f64());
+                exact_weights.push(c.weight.clone());
             }
-            self.mask_offsets.push(self.mask_words.len() as u32);
-            self.mask_children
-                .push(m.child.map_or(NO_CHILD, |c| c as u32));
-            if let Ok(s) = &mut self.surface {
-                s.ring_weights.push(m.child.map_or(0.0, |c| {
-                    ev::ring_weight(&m.contributions[c].weight).to_f64()
-                }));
-            }
-            self.exact_weights
-                .extend(m.contributions.into_iter().map(|c| c.weight));
+            mask_offsets.push((self.mask_words.len() + mask_words.len()) as u32);
+            mask_children.push(m.child.map_or(NO_CHILD, |c| c as u32));
+            ring_weights.push(m.child.map_or(0.0, |c| {
+                ev::ring_weight(&m.contributions[c].weight).to_f64()
+            }));
+        }
+        for w in &new {
+            self.words.extend_from_slice(w);
+        }
+        self.index.extend(index);
+        self.mask_words.extend(mask_words);
+        self.mask_weights.extend(mask_weights);
+        self.exact_weights.extend(exact_weights);
+        self.mask_offsets.extend(mask_offsets);
+        self.mask_children.extend(mask_children);
+        if let Ok(s) = &mut self.surface {
+            s.ring_weights.extend(ring_weights);
         }
     }
 }
@@ -215,7 +241,7 @@ mod tests {
     use crate::exact::scheme;
 
     fn tables(text: &str) -> Tables {
-        Tables::new(Scheme::build(scheme::parse("t.toml", text).unwrap()).unwrap())
+        Tables::new(Scheme::build(scheme::parse("t.toml", text).unwrap()).unwrap()).unwrap()
     }
 
     /// Every view stays in step with the masks, also after words the axiom never makes.
@@ -255,7 +281,7 @@ mod tests {
         assert_eq!(t.first_step(0), Some(0));
         // LLLL: never made from the axiom.
         assert_eq!(t.word_index(&[0; 4]), None);
-        t.add_reachable(vec![vec![0; 4]]);
+        t.add_reachable(vec![vec![0; 4]]).unwrap();
         assert!(t.curve().word_count() > n);
         assert_eq!(t.first_step(n), None);
         check(&t);

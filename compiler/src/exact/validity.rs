@@ -11,6 +11,7 @@ use crate::exact::field::{parse_expr, Elem, Field, FieldRef};
 use crate::exact::linalg::{null_space, shifted, transpose};
 use crate::exact::lsystem::{LSystem, Part};
 use crate::exact::poly::{char_poly, factor, isolate_real_roots, QPoly, Sturm};
+use crate::exact::work;
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
 
@@ -115,8 +116,16 @@ fn perron_field(cp: &QPoly) -> Result<FieldRef, String> {
     Ok(Field::new(f, lo, hi))
 }
 
-/// Analyses an L-system.
+/// The largest degree of Q(ρ) over Q compiled: an element holds that many rationals, and a
+/// matrix of them n² times as many.
+pub const MAX_FIELD_DEGREE: usize = 64;
+
+/// Analyses an L-system, within the work bound of [`crate::exact::work`].
 pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
+    work::stage(ls, "the analysis ([N] §3)", || analyse_unbounded(ls))
+}
+
+fn analyse_unbounded(ls: &LSystem) -> Result<Analysis, Error> {
     let m = ls.matrix();
     let n = ls.n();
     let cp = char_poly(&m);
@@ -126,6 +135,18 @@ pub fn analyse(ls: &LSystem) -> Result<Analysis, Error> {
             format!("the Perron root of M: {e}"),
         )
     })?;
+    if field.degree() > MAX_FIELD_DEGREE {
+        return Err(ls.error(
+            Part::Rules,
+            format!(
+                "ρ has degree {} over Q (its minimal polynomial {}); at most {MAX_FIELD_DEGREE} \
+                 is supported",
+                field.degree(),
+                field.minpoly()
+            ),
+            Some("ρ's degree is at most the number of symbols of its class: use fewer symbols in the cycles of the rules".into()),
+        ));
+    }
     let rho = field.rho();
     let one = Elem::one(&field);
 
