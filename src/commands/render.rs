@@ -134,11 +134,20 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
         if !scene.orientable() {
             stages.note(&format!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh));
         }
+        let label = render::legend::label;
+        let what = if r.relative {
+            "mean curvature H times the bounding box's half side (H itself is beyond f64 at this scale)"
+        } else {
+            "mean curvature H"
+        };
+        let values = if r.finite == 0 {
+            format!("{what}: no vertex in view has one")
+        } else {
+            format!("{what} in view from {} to {}", label(r.min), label(r.max))
+        };
         stages.note(&format!(
-            "mean curvature H in view from {:.4} to {:.4}; colours span ±{:.4} ({})",
-            r.min,
-            r.max,
-            r.span,
+            "{values}; colours span ±{} ({})",
+            label(r.span),
             if r.percentile {
                 "98th percentile of |H| over the vertices in view"
             } else {
