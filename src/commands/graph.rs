@@ -45,7 +45,7 @@ pub fn run(a: GraphArgs) -> Result<(), Error> {
     match (svg, output) {
         (false, None) => print!("{}", report::dot(&s)),
         (false, Some(o)) => write_atomic(&o, report::dot(&s).as_bytes())?,
-        (true, None) => print!("{}", lsubdiv_cli::graph_picture::picture(&s, size).svg()),
+        (true, None) => print!("{}", lsubdiv_cli::graph_picture::picture(&s, size).svg()?),
         (true, Some(o)) => picture::save(&lsubdiv_cli::graph_picture::picture(&s, size), &o)?,
     }
     Ok(())
