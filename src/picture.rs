@@ -333,11 +333,20 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), Error> {
     Ok((w, h))
 }
 
-/// Writes the picture to `path` in the format its extension names, whole or not at all.
-pub fn save(picture: &Picture, path: &Path) -> Result<(), Error> {
+/// Writes the picture to `path` in the format its extension names, whole or not at all; a PNG
+/// whose rasterising would hold more than `max_memory` bytes is refused first
+/// ([`crate::limits::picture`]).
+pub fn save(picture: &Picture, path: &Path, max_memory: u64) -> Result<(), Error> {
     let bytes = match format_of(path)? {
         Format::Svg => picture.svg()?.into_bytes(),
-        Format::Png => picture.png()?,
+        Format::Png => {
+            crate::limits::picture(
+                (picture.width, picture.height),
+                picture.body.len() as u128,
+                max_memory,
+            )?;
+            picture.png()?
+        }
     };
     write_atomic(path, &bytes)
 }

@@ -38,8 +38,7 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    lsubdiv_cli::limits::input(&input, refine.limit.bytes())?;
-    let pts = read_points(&input)?;
+    let pts = read_points(&input, refine.limit.bytes())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = CurveJob {

@@ -97,7 +97,7 @@ pub fn parse_numbers(
 }
 
 /// Samples per pixel side: 3 × 3 while the frame stays under ~9.4 M samples, else fewer.
-fn supersampling(width: usize, height: usize) -> usize {
+pub fn supersampling(width: usize, height: usize) -> usize {
     (1..=3)
         .rev()
         .find(|s| width * height * s * s <= 9 << 20)
