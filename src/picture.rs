@@ -460,6 +460,16 @@ mod tests {
     }
 
     #[test]
+    fn a_picture_with_a_non_finite_coordinate_is_refused() {
+        let mut p = Picture::new(20, 20);
+        p.line([0.0, 0.0], [5.0, 5.0], &Style::stroke("black", 1.0), "");
+        assert!(p.svg().is_ok());
+        p.line([0.0, 0.0], [f64::NAN, 5.0], &Style::stroke("black", 1.0), "");
+        assert!(p.svg().unwrap_err().message.contains("not finite"));
+        assert!(p.pixmap().is_err());
+    }
+
+    #[test]
     fn text_renders_with_the_embedded_font() {
         // A black word on white: some pixels must be dark, which needs the font.
         let mut p = Picture::new(120, 40);

@@ -86,7 +86,7 @@ mod tests {
 
     #[test]
     fn scaling_by_powers_of_two_is_exact_and_round_trips() {
-        for x in [1.0, -3.75, 1e300, 1.7e308, 5e-324, 1e-310, 0.1] {
+        for x in [1.0f64, -3.75, 1e300, 1.7e308, 5e-324, 1e-310, 0.1] {
             let e = exponent(x.abs());
             let y = ldexp(ldexp(x, -e), e);
             assert_eq!(y, x, "{x}");
