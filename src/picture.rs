@@ -251,7 +251,7 @@ impl Picture {
     /// Notes coordinates that are not finite (or beyond what [`num`] writes): such a picture
     /// is refused by [`Picture::svg`].
     fn check(&mut self, points: &[[f64; 2]]) {
-        self.non_finite |= points.iter().flatten().any(|x| !(x.abs() < 1e15));
+        self.non_finite |= points.iter().flatten().any(|x| !x.is_finite() || x.abs() >= 1e15);
     }
 
     /// The SVG document, refused when a coordinate was not finite (an SVG with `NaN` in it is
@@ -464,7 +464,12 @@ mod tests {
         let mut p = Picture::new(20, 20);
         p.line([0.0, 0.0], [5.0, 5.0], &Style::stroke("black", 1.0), "");
         assert!(p.svg().is_ok());
-        p.line([0.0, 0.0], [f64::NAN, 5.0], &Style::stroke("black", 1.0), "");
+        p.line(
+            [0.0, 0.0],
+            [f64::NAN, 5.0],
+            &Style::stroke("black", 1.0),
+            "",
+        );
         assert!(p.svg().unwrap_err().message.contains("not finite"));
         assert!(p.pixmap().is_err());
     }

@@ -67,10 +67,10 @@ pub fn refine_scaled<const D: usize, R>(
     }
     // `reached` is the scaled result's magnitude: finite unless the refinement itself failed.
     let magnitude = if reached.is_finite() {
-        format!(
-            "reaches ~{:.2e}",
-            10f64.powf(reached.log10() + f64::from(e) * std::f64::consts::LOG10_2)
-        )
+        // log10 of the magnitude, split so that neither part overflows.
+        let log = reached.log10() + f64::from(e) * std::f64::consts::LOG10_2;
+        let exponent = log.floor();
+        format!("reaches ~{:.2}e{exponent}", 10f64.powf(log - exponent))
     } else {
         "is not finite".to_string()
     };
@@ -100,8 +100,9 @@ mod tests {
 
     #[test]
     fn sums_that_overflow_unscaled_are_finite_scaled_and_real_overflow_is_refused() {
-        // The mean of 200 points at 1e307: the sum overflows unscaled.
-        let points = vec![[1e307, -1e307]; 200];
+        // The mean of 200 points at 2^1020: the sum overflows unscaled.
+        let big = 2f64.powi(1020);
+        let points = vec![[big, -big]; 200];
         let mean = |p: &[[f64; 2]]| -> Result<((), Vec<[f64; 2]>), Error> {
             let s = p.iter().fold([0.0; 2], |s, q| [s[0] + q[0], s[1] + q[1]]);
             Ok(((), vec![s.map(|x| x / p.len() as f64)]))
@@ -109,7 +110,7 @@ mod tests {
         assert!(mean(&points).unwrap().1[0][0].is_infinite());
         let scaled = |q: Option<Vec<[f64; 2]>>| mean(q.as_deref().unwrap_or(&points));
         let ((), out) = refine_scaled("t", &points, scaled).unwrap();
-        assert_eq!(out, vec![[1e307, -1e307]]);
+        assert_eq!(out, vec![[big, -big]]);
         // 2a − b with a = 1e308, b = −1e308 is 3e308: beyond f64.
         let extrapolate = |q: Option<Vec<[f64; 1]>>| {
             let p = q.unwrap_or_else(|| vec![[1e308], [-1e308]]);

@@ -83,7 +83,13 @@ fn coordinates_near_the_ends_of_f64_refine_exactly_as_at_scale_one() {
 
 #[test]
 fn huge_curves_refine_exactly_and_finite() {
-    let square = [[1.0, 1.0], [-1.0, 0.75], [-0.5, -1.0], [1.0, -0.5], [0.25, 0.0]];
+    let square = [
+        [1.0, 1.0],
+        [-1.0, 0.75],
+        [-0.5, -1.0],
+        [1.0, -0.5],
+        [0.25, 0.0],
+    ];
     let dir = tempfile::tempdir().unwrap();
     let points = |s: f64| -> String {
         square
@@ -220,27 +226,80 @@ fn image_buffers_and_streamed_point_files_are_bounded_by_max_memory() {
     // (arguments, what the message says, the output that must not appear)
     let rows: [(Vec<&str>, &[&str], &str); 5] = [
         (
-            vec!["render", "cube", "-o", png, "--size", "10000x10000", "--max-memory", "100M"],
-            &["10000x10000 picture", "--max-memory is ~100.0 MiB", "--size"],
+            vec![
+                "render",
+                "cube",
+                "-o",
+                png,
+                "--size",
+                "10000x10000",
+                "--max-memory",
+                "100M",
+            ],
+            &[
+                "10000x10000 picture",
+                "--max-memory is ~100.0 MiB",
+                "--size",
+            ],
             png,
         ),
         (
-            vec!["render", "torus:300:300", "-o", png, "--size", "2000x2000", "--max-memory", "150M"],
+            vec![
+                "render",
+                "torus:300:300",
+                "-o",
+                png,
+                "--size",
+                "2000x2000",
+                "--max-memory",
+                "150M",
+            ],
             &["of 90 000 quads", "--max-memory is ~150.0 MiB"],
             png,
         ),
         (
-            vec!["plot", "uniform-binary", "-o", svg_out, "--size", "10000x10000", "--max-memory", "64M"],
+            vec![
+                "plot",
+                "uniform-binary",
+                "-o",
+                svg_out,
+                "--size",
+                "10000x10000",
+                "--max-memory",
+                "64M",
+            ],
             &["10000x10000 picture", "--max-memory is ~64.0 MiB"],
             svg_out,
         ),
         (
-            vec!["curve", "uniform-binary", "/dev/zero", "-o", txt, "--steps", "1", "--max-memory", "10M"],
-            &["/dev/zero: error:", "more than 2097152 bytes", "--max-memory is 10485760"],
+            vec![
+                "curve",
+                "uniform-binary",
+                "/dev/zero",
+                "-o",
+                txt,
+                "--steps",
+                "1",
+                "--max-memory",
+                "10M",
+            ],
+            &[
+                "/dev/zero: error:",
+                "more than 2097152 bytes",
+                "--max-memory is 10485760",
+            ],
             txt,
         ),
         (
-            vec!["plot", "uniform-binary", "/dev/zero", "-o", svg_out, "--max-memory", "10M"],
+            vec![
+                "plot",
+                "uniform-binary",
+                "/dev/zero",
+                "-o",
+                svg_out,
+                "--max-memory",
+                "10M",
+            ],
             &["/dev/zero: error:", "more than 2097152 bytes"],
             svg_out,
         ),
@@ -255,7 +314,16 @@ fn image_buffers_and_streamed_point_files_are_bounded_by_max_memory() {
         assert!(!Path::new(output).exists(), "{args:?} wrote {output}");
     }
     // Within the limit the same render is drawn.
-    let o = lsubdiv(&["render", "cube", "-o", png, "--size", "400x300", "--max-memory", "100M"]);
+    let o = lsubdiv(&[
+        "render",
+        "cube",
+        "-o",
+        png,
+        "--size",
+        "400x300",
+        "--max-memory",
+        "100M",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
 

@@ -243,10 +243,11 @@ mod tests {
     #[test]
     fn ranges_scale_as_one_over_length_and_stay_finite() {
         let r = range(&[-2.0, 4.0], None);
-        let world = r.in_units_of(1e-300);
+        let k = 2f64.powi(1000);
+        let world = r.in_units_of(1.0 / k);
         assert_eq!(
             (world.min, world.max, world.relative),
-            (-2e300, 4e300, false)
+            (-2.0 * k, 4.0 * k, false)
         );
         let tiny = r.in_units_of(1e-310);
         assert_eq!((tiny.min, tiny.max, tiny.relative), (-2.0, 4.0, true));

@@ -66,7 +66,7 @@ fn inside(w: [i64; 3], step: [i64; 3], last: i64) -> std::ops::RangeInclusive<i6
                     .max((-w[i]).div_euclid(step[i]) + i64::from((-w[i]).rem_euclid(step[i]) != 0))
             }
             -1 => hi = hi.min(w[i].div_euclid(-step[i])),
-            _ if w[i] < 0 => return 1..=0,
+            _ if w[i] < 0 => hi = -1,
             _ => {}
         }
     }
