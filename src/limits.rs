@@ -157,18 +157,26 @@ pub fn render(
         + h * LEGEND_ROW
         + vertices as u128 * RENDER_VERTEX
         + quads as u128 * RENDER_QUAD;
-    if bytes <= u128::from(max) {
-        return Ok(());
-    }
-    Err(Error::input(format!(
-        "a {}x{} picture ({samples}x{samples} samples per pixel){} would hold {}; --max-memory is {}; use a smaller --size or raise --max-memory",
+    let what = format!(
+        "a {}x{} picture ({samples}x{samples} samples per pixel){}",
         dims.0,
         dims.1,
         if quads == 0 {
             String::new()
         } else {
             format!(" of {} quads", count(quads as u128))
-        },
+        }
+    );
+    refuse_image(&what, bytes, max)
+}
+
+/// Refuses an image whose buffers would hold `bytes`, over `max`, with `what` it is.
+fn refuse_image(what: &str, bytes: u128, max: u64) -> Result<(), Error> {
+    if bytes <= u128::from(max) {
+        return Ok(());
+    }
+    Err(Error::input(format!(
+        "{what} would hold {}; --max-memory is {}; use a smaller --size or raise --max-memory",
         size(bytes),
         size(u128::from(max))
     )))
@@ -180,16 +188,7 @@ pub fn render(
 pub fn picture(dims: (u32, u32), svg: u128, max: u64) -> Result<(), Error> {
     let pixels = u128::from(dims.0) * u128::from(dims.1);
     let bytes = svg * 4 + pixels * (4 + IMAGE_PIXEL);
-    if bytes <= u128::from(max) {
-        return Ok(());
-    }
-    Err(Error::input(format!(
-        "a {}x{} picture would hold {}; --max-memory is {}; use a smaller --size or raise --max-memory",
-        dims.0,
-        dims.1,
-        size(bytes),
-        size(u128::from(max))
-    )))
+    refuse_image(&format!("a {}x{} picture", dims.0, dims.1), bytes, max)
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)

@@ -251,7 +251,10 @@ impl Picture {
     /// Notes coordinates that are not finite (or beyond what [`num`] writes): such a picture
     /// is refused by [`Picture::svg`].
     fn check(&mut self, points: &[[f64; 2]]) {
-        self.non_finite |= points.iter().flatten().any(|x| !x.is_finite() || x.abs() >= 1e15);
+        self.non_finite |= points
+            .iter()
+            .flatten()
+            .any(|x| !x.is_finite() || x.abs() >= 1e15);
     }
 
     /// The SVG document, refused when a coordinate was not finite (an SVG with `NaN` in it is
