@@ -117,6 +117,80 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
     ))
 }
 
+/// The most bytes of text an input read from a pipe or a device may have under `--max-memory`
+/// `max`: its text plus what is parsed from it, 5 times its size, as [`input`] counts.
+pub fn input_text(max: u64) -> u64 {
+    max / 5
+}
+
+/// Bytes per sample of the render frame: 1/depth (f32), triangle id (u32), two barycentric
+/// weights (f32) and the wireframe flag.
+const FRAME_SAMPLE: u128 = 4 + 4 + 8 + 1;
+/// Bytes per pixel of an image and its encoding: the RGB pixels, the bytes handed to the PNG
+/// encoder, the encoded file (at most the raw size and a little, deflate's stored blocks)
+/// and the encoder's own row buffers (two filtered rows per pixel row).
+const IMAGE_PIXEL: u128 = 3 + 3 + 4 + 2 * 3;
+/// Bytes per vertex while drawing: the mesh and its normalised copy, camera-space positions and
+/// clip codes, normals, curvature values and the vertex-in-view flags.
+const RENDER_VERTEX: u128 = 24 + 24 + 24 + 1 + 24 + 8 + 8 + 1;
+/// Bytes per quad while drawing: the mesh's faces, its normalised copy's, their topology (six
+/// half-edge and edge words and four wedges), orientation and area vectors.
+const RENDER_QUAD: u128 = 16 + 16 + 4 * 4 * 6 + 4 * 8 + 1 + 1 + 24 + 2 * 8 + 1;
+/// Bytes per pixel row of the curvature legend: its RGBA pixmap and the SVG text of its bar.
+const LEGEND_ROW: u128 = 4 * 100 + 160;
+
+/// Refuses a `render` of `width` × `height` pixels (`samples` × `samples` per pixel) of a mesh
+/// of `vertices` and `quads` whose buffers would exceed `max` bytes: the supersampled frame,
+/// the image and its encoding, the legend and the mesh's drawing data, all allocated only after
+/// this check.
+pub fn render(
+    dims: (usize, usize),
+    samples: usize,
+    vertices: usize,
+    quads: usize,
+    max: u64,
+) -> Result<(), Error> {
+    let (w, h) = (dims.0 as u128, dims.1 as u128);
+    let s = samples as u128;
+    let bytes = (w * h * s * s) * FRAME_SAMPLE
+        + w * h * IMAGE_PIXEL
+        + h * LEGEND_ROW
+        + vertices as u128 * RENDER_VERTEX
+        + quads as u128 * RENDER_QUAD;
+    let what = format!(
+        "a {}x{} picture ({samples}x{samples} samples per pixel){}",
+        dims.0,
+        dims.1,
+        if quads == 0 {
+            String::new()
+        } else {
+            format!(" of {} quads", count(quads as u128))
+        }
+    );
+    refuse_image(&what, bytes, max)
+}
+
+/// Refuses an image whose buffers would hold `bytes`, over `max`, with `what` it is.
+fn refuse_image(what: &str, bytes: u128, max: u64) -> Result<(), Error> {
+    if bytes <= u128::from(max) {
+        return Ok(());
+    }
+    Err(Error::input(format!(
+        "{what} would hold {}; --max-memory is {}; use a smaller --size or raise --max-memory",
+        size(bytes),
+        size(u128::from(max))
+    )))
+}
+
+/// Refuses a picture (`plot`, `graph`, `ev --characteristic-map`) of `width` × `height` pixels
+/// and about `svg` bytes of SVG text whose rendering would exceed `max` bytes: the text, its
+/// parsed tree (a few times the text), the RGBA pixmap and the PNG encoding.
+pub fn picture(dims: (u32, u32), svg: u128, max: u64) -> Result<(), Error> {
+    let pixels = u128::from(dims.0) * u128::from(dims.1);
+    let bytes = svg * 4 + pixels * (4 + IMAGE_PIXEL);
+    refuse_image(&format!("a {}x{} picture", dims.0, dims.1), bytes, max)
+}
+
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
 /// on `mesh`, positions of `scalar` bytes; `text`: the output file is built in memory. The
 /// refiner's own memory is its [`footprint`]; the file text comes after refining.

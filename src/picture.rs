@@ -100,6 +100,8 @@ pub struct Picture {
     width: u32,
     height: u32,
     body: String,
+    /// Some coordinate given was not finite (the picture is refused, never written).
+    non_finite: bool,
 }
 
 /// A coordinate with at most 2 decimals (enough for pixels, keeps files small).
@@ -135,6 +137,7 @@ impl Picture {
             width,
             height,
             body: String::new(),
+            non_finite: false,
         };
         p.rect(
             [0.0, 0.0],
@@ -157,6 +160,7 @@ impl Picture {
 
     /// A straight line.
     pub fn line(&mut self, a: [f64; 2], b: [f64; 2], style: &Style, class: &str) {
+        self.check(&[a, b]);
         let _ = writeln!(
             self.body,
             "<line{} x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" {}/>",
@@ -171,6 +175,7 @@ impl Picture {
 
     /// A polyline through `points`, closed into a polygon when `closed`.
     pub fn polyline(&mut self, points: &[[f64; 2]], closed: bool, style: &Style, class: &str) {
+        self.check(points);
         let coords: Vec<String> = points
             .iter()
             .map(|p| format!("{},{}", num(p[0]), num(p[1])))
@@ -187,6 +192,7 @@ impl Picture {
 
     /// An axis-aligned rectangle from its top-left corner and size.
     pub fn rect(&mut self, at: [f64; 2], size: [f64; 2], style: &Style, class: &str) {
+        self.check(&[at, size]);
         let _ = writeln!(
             self.body,
             "<rect{} x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" rx=\"{}\" {}/>",
@@ -202,6 +208,7 @@ impl Picture {
 
     /// A circle.
     pub fn circle(&mut self, centre: [f64; 2], r: f64, style: &Style, class: &str) {
+        self.check(&[centre, [r, 0.0]]);
         let _ = writeln!(
             self.body,
             "<circle{} cx=\"{}\" cy=\"{}\" r=\"{}\" {}/>",
@@ -225,6 +232,7 @@ impl Picture {
 
     /// Text with its baseline at `at`.
     pub fn text(&mut self, at: [f64; 2], text: &str, size: f64, anchor: Anchor, colour: &str) {
+        self.check(&[at, [size, 0.0]]);
         let anchor = match anchor {
             Anchor::Start => "start",
             Anchor::Middle => "middle",
@@ -240,14 +248,29 @@ impl Picture {
         );
     }
 
-    /// The SVG document.
-    pub fn svg(&self) -> String {
-        format!(
+    /// Notes coordinates that are not finite (or beyond what [`num`] writes): such a picture
+    /// is refused by [`Picture::svg`].
+    fn check(&mut self, points: &[[f64; 2]]) {
+        self.non_finite |= points
+            .iter()
+            .flatten()
+            .any(|x| !x.is_finite() || x.abs() >= 1e15);
+    }
+
+    /// The SVG document, refused when a coordinate was not finite (an SVG with `NaN` in it is
+    /// broken) or too large to mean a pixel.
+    pub fn svg(&self) -> Result<String, Error> {
+        if self.non_finite {
+            return Err(Error::input(
+                "the picture would have coordinates that are not finite numbers (the data are beyond the f64 range once scaled to pixels); nothing was written",
+            ));
+        }
+        Ok(format!(
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n{}</svg>\n",
             self.body,
             w = self.width,
             h = self.height
-        )
+        ))
     }
 
     /// The picture rasterised by resvg (text in the embedded font): premultiplied RGBA.
@@ -259,7 +282,7 @@ impl Picture {
         };
         opt.fontdb_mut()
             .load_font_data(dejavu::sans::regular().to_vec());
-        let tree = usvg::Tree::from_str(&self.svg(), &opt)
+        let tree = usvg::Tree::from_str(&self.svg()?, &opt)
             .map_err(|e| Error::internal(None, format!("the picture is not valid SVG: {e}")))?;
         let mut pixmap = tiny_skia::Pixmap::new(self.width, self.height).ok_or_else(|| {
             Error::input(format!(
@@ -313,11 +336,20 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), Error> {
     Ok((w, h))
 }
 
-/// Writes the picture to `path` in the format its extension names, whole or not at all.
-pub fn save(picture: &Picture, path: &Path) -> Result<(), Error> {
+/// Writes the picture to `path` in the format its extension names, whole or not at all; a PNG
+/// whose rasterising would hold more than `max_memory` bytes is refused first
+/// ([`crate::limits::picture`]).
+pub fn save(picture: &Picture, path: &Path, max_memory: u64) -> Result<(), Error> {
     let bytes = match format_of(path)? {
-        Format::Svg => picture.svg().into_bytes(),
-        Format::Png => picture.png()?,
+        Format::Svg => picture.svg()?.into_bytes(),
+        Format::Png => {
+            crate::limits::picture(
+                (picture.width, picture.height),
+                picture.body.len() as u128,
+                max_memory,
+            )?;
+            picture.png()?
+        }
     };
     write_atomic(path, &bytes)
 }
@@ -339,32 +371,36 @@ pub struct Frame {
 impl Frame {
     /// Fits the data bounds `[xmin, xmax, ymin, ymax]` into the pixel box `[x, y, w, h]`.
     pub fn fit(bounds: [f64; 4], pixels: [f64; 4]) -> Frame {
-        let dx = (bounds[1] - bounds[0]).max(1e-300);
-        let dy = (bounds[3] - bounds[2]).max(1e-300);
-        let scale = (pixels[2] / dx).min(pixels[3] / dy);
-        let centre = [0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3])];
+        // Half sides and centre from halves: nothing overflows for data near ±f64::MAX.
+        let half = |lo: f64, hi: f64| (0.5 * hi - 0.5 * lo).max(f64::MIN_POSITIVE);
+        let (hx, hy) = (half(bounds[0], bounds[1]), half(bounds[2], bounds[3]));
+        let scale = (0.5 * pixels[2] / hx).min(0.5 * pixels[3] / hy);
+        let centre = [
+            0.5 * bounds[0] + 0.5 * bounds[1],
+            0.5 * bounds[2] + 0.5 * bounds[3],
+        ];
         let at = [pixels[0] + 0.5 * pixels[2], pixels[1] + 0.5 * pixels[3]];
         let hw = 0.5 * pixels[2] / scale;
         let hh = 0.5 * pixels[3] / scale;
+        let clamp = |x: f64| x.clamp(-f64::MAX, f64::MAX);
         Frame {
             centre,
             scale,
             at,
             bounds: [
-                centre[0] - hw,
-                centre[0] + hw,
-                centre[1] - hh,
-                centre[1] + hh,
+                clamp(centre[0] - hw),
+                clamp(centre[0] + hw),
+                clamp(centre[1] - hh),
+                clamp(centre[1] + hh),
             ],
         }
     }
 
-    /// Pixel position of a data point.
+    /// Pixel position of a data point (its offset from the centre halved first, so that it
+    /// does not overflow).
     pub fn map(&self, p: [f64; 2]) -> [f64; 2] {
-        [
-            self.at[0] + (p[0] - self.centre[0]) * self.scale,
-            self.at[1] - (p[1] - self.centre[1]) * self.scale,
-        ]
+        let d = |c: usize| (0.5 * p[c] - 0.5 * self.centre[c]) * self.scale * 2.0;
+        [self.at[0] + d(0), self.at[1] - d(1)]
     }
 
     /// Pixels per data unit.
@@ -390,8 +426,22 @@ pub fn bounds<'a>(points: impl IntoIterator<Item = &'a [f64; 2]>, margin: f64) -
     if !b[0].is_finite() {
         return [-1.0, 1.0, -1.0, 1.0];
     }
-    let m = margin * (b[1] - b[0]).max(b[3] - b[2]).max(1e-12);
-    [b[0] - m, b[1] + m, b[2] - m, b[3] + m]
+    // A margin relative to the data's size (halves first, against overflow); a single point
+    // gets one relative to its magnitude, or 1 at the origin.
+    let side = (0.5 * b[1] - 0.5 * b[0]).max(0.5 * b[3] - 0.5 * b[2]) * 2.0;
+    let size = if side > 0.0 {
+        side
+    } else {
+        let at = b.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        if at > 0.0 {
+            at * 1e-6
+        } else {
+            1.0
+        }
+    };
+    let m = margin * size;
+    let grow = |x: f64, d: f64| (x + d).clamp(-f64::MAX, f64::MAX);
+    [grow(b[0], -m), grow(b[1], m), grow(b[2], -m), grow(b[3], m)]
 }
 
 #[cfg(test)]
@@ -410,6 +460,21 @@ mod tests {
             .unwrap_err()
             .message
             .contains(".svg or .png"));
+    }
+
+    #[test]
+    fn a_picture_with_a_non_finite_coordinate_is_refused() {
+        let mut p = Picture::new(20, 20);
+        p.line([0.0, 0.0], [5.0, 5.0], &Style::stroke("black", 1.0), "");
+        assert!(p.svg().is_ok());
+        p.line(
+            [0.0, 0.0],
+            [f64::NAN, 5.0],
+            &Style::stroke("black", 1.0),
+            "",
+        );
+        assert!(p.svg().unwrap_err().message.contains("not finite"));
+        assert!(p.pixmap().is_err());
     }
 
     #[test]

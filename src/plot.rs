@@ -125,20 +125,32 @@ pub fn limit(
 
 /// "Nice" tick positions covering [lo, hi]: multiples of 1, 2 or 5 × 10^k, about `count`.
 fn ticks(lo: f64, hi: f64, count: usize) -> Vec<f64> {
-    let raw = (hi - lo) / count.max(1) as f64;
+    // Halves first: the span of bounds near ±f64::MAX does not overflow.
+    let raw = (0.5 * hi - 0.5 * lo) / count.max(1) as f64 * 2.0;
     let mag = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 5.0, 10.0]
         .iter()
         .map(|m| m * mag)
         .find(|s| *s >= raw)
         .unwrap_or(10.0 * mag);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
-    (first..=last).map(|i| i as f64 * step).collect()
+    // Multiples of the step counted in f64, not i64 (which saturates past 9.2e18 steps).
+    let (first, last) = ((lo / step).ceil(), (hi / step).floor());
+    (0..=count.max(1) * 10 + 2)
+        .map(|k| (first + k as f64) * step)
+        .take_while(|&t| t / step <= last)
+        .collect()
 }
 
-/// A tick label without float noise.
+/// A tick label without float noise: fixed decimals for steps from 1e-6 to 1e6, else
+/// scientific notation with the digits the step needs.
 fn tick_label(x: f64, step: f64) -> String {
+    if !(1e-6..1e6).contains(&step) {
+        if x == 0.0 {
+            return "0".into();
+        }
+        let digits = (x.abs().log10().floor() - step.log10().floor()).max(0.0) as usize;
+        return format!("{x:.digits$e}");
+    }
     let decimals = (-step.log10().floor()).max(0.0) as usize;
     let s = format!("{x:.decimals$}");
     if s.starts_with('-') && s.trim_start_matches(['-', '0', '.']).is_empty() {

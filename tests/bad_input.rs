@@ -557,7 +557,7 @@ fn every_mesh_error_names_its_line_or_element() {
         let mut positions = c.positions.clone();
         positions.push([0.0, -1.0, -1.0]);
         let m = lsubdiv::runtime::generators::quad_split(&positions, &polys);
-        lsubdiv::obj::format(&m)
+        lsubdiv::obj::format(&m).unwrap()
     };
     let rows: Vec<(&str, String, &str)> = vec![
         (

@@ -571,7 +571,11 @@ fn byte_order_marks_and_latin1_bytes_in_inputs() {
     assert_eq!(std::fs::read_to_string(&out).unwrap().lines().count(), 8);
 
     let mut obj = b"\xEF\xBB\xBF# r\xE9sum\xE9\n".to_vec();
-    obj.extend(lsubdiv::obj::format(&lsubdiv::runtime::generators::cube()).bytes());
+    obj.extend(
+        lsubdiv::obj::format(&lsubdiv::runtime::generators::cube())
+            .unwrap()
+            .bytes(),
+    );
     let cube = d.join("cube.obj");
     std::fs::write(&cube, &obj).unwrap();
     let fine = d.join("fine.obj").display().to_string();

@@ -71,7 +71,7 @@ fn render(dir: &Path, name: &str, args: &[&str]) -> Picture {
 
 fn write_obj(dir: &Path, name: &str, m: &QuadMesh) -> String {
     let p = dir.join(name);
-    std::fs::write(&p, obj::format(m)).unwrap();
+    std::fs::write(&p, obj::format(m).unwrap()).unwrap();
     p.display().to_string()
 }
 

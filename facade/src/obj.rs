@@ -420,13 +420,14 @@ pub fn read(path: &Path) -> Result<Checked, Error> {
 
 /// Writes `mesh` to `path` as OBJ ([`format`]), whole or not at all.
 pub fn write(path: &Path, mesh: &QuadMesh) -> Result<(), Error> {
-    crate::write_atomic(path, format(mesh).as_bytes())
+    crate::write_atomic(path, format(mesh)?.as_bytes())
 }
 
 /// OBJ text: a comment line, `v` lines at full round-trip f64 precision (`{:?}` of f64), then
-/// `f` lines (1-based). Non-finite coordinates are written as they are (`NaN`, `inf`), which
-/// [`parse`] rejects.
-pub fn format(mesh: &QuadMesh) -> String {
+/// `f` lines (1-based). A non-finite coordinate (which [`parse`] would reject) is refused
+/// instead ([`crate::points::finite`]).
+pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
+    crate::points::finite("vertex", &mesh.positions)?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 64);
     let _ = writeln!(
         s,
@@ -441,7 +442,7 @@ pub fn format(mesh: &QuadMesh) -> String {
         let [a, b, c, d] = f.map(|i| u64::from(i) + 1);
         let _ = writeln!(s, "f {a} {b} {c} {d}");
     }
-    s
+    Ok(s)
 }
 
 #[cfg(test)]
@@ -747,7 +748,7 @@ mod tests {
             }
         }
         for mesh in [m, cube(), klein_bottle(4, 5)] {
-            let text = format(&mesh);
+            let text = format(&mesh).unwrap();
             let (back, warnings) = parse_obj(&text).unwrap();
             assert!(warnings.is_empty());
             assert_eq!(back.faces, mesh.faces);
@@ -764,7 +765,7 @@ mod tests {
     #[test]
     fn garbage_never_panics() {
         let mut rng = Rng(12345);
-        let base = format(&torus(3, 4));
+        let base = format(&torus(3, 4)).unwrap();
         let alphabet = b"0123456789 -+/.\nfvte#\r\tnai\xff";
         let mut checked = 0;
         for round in 0..600 {

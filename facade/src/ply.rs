@@ -5,11 +5,13 @@ use std::fmt::Write as _;
 
 /// Writes `mesh` to `path` as ASCII PLY ([`format`]), whole or not at all.
 pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), crate::Error> {
-    crate::write_atomic(path, format(mesh).as_bytes())
+    crate::write_atomic(path, format(mesh)?.as_bytes())
 }
 
-/// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list.
-pub fn format(mesh: &QuadMesh) -> String {
+/// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list; a
+/// non-finite coordinate is refused ([`crate::points::finite`]).
+pub fn format(mesh: &QuadMesh) -> Result<String, crate::Error> {
+    crate::points::finite("vertex", &mesh.positions)?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 256);
     let _ = write!(
         s,
@@ -25,7 +27,7 @@ pub fn format(mesh: &QuadMesh) -> String {
     for f in &mesh.faces {
         let _ = writeln!(s, "4 {} {} {} {}", f[0], f[1], f[2], f[3]);
     }
-    s
+    Ok(s)
 }
 
 #[cfg(test)]
@@ -36,7 +38,7 @@ mod tests {
     #[test]
     fn ply_header_and_body() {
         let m = cube();
-        let ply = format(&m);
+        let ply = format(&m).unwrap();
         let lines: Vec<&str> = ply.lines().collect();
         assert_eq!(
             &lines[..10],

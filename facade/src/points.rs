@@ -70,12 +70,28 @@ pub fn parse(file: &str, text: &str) -> Result<Points, Error> {
     }
 }
 
-/// Formats points at full (round-trip) f64 precision, one per line.
-pub fn format<const D: usize>(points: &[[f64; D]]) -> String {
+/// Refuses a point or vertex with a non-finite coordinate before anything is written: lsubdiv
+/// writes finite numbers only (its readers refuse `NaN` and `inf`). `what` names the element
+/// (`vertex`, `point`), counted from 1 as in the files.
+pub fn finite<const D: usize>(what: &str, points: &[[f64; D]]) -> Result<(), Error> {
+    match points.iter().position(|p| !p.iter().all(|x| x.is_finite())) {
+        None => Ok(()),
+        Some(i) => Err(Error::input(format!(
+            "{what} {} has a non-finite coordinate ({}); nothing was written",
+            i + 1,
+            points[i].map(|x| format!("{x:?}")).join(" ")
+        ))),
+    }
+}
+
+/// Formats points at full (round-trip) f64 precision, one per line; refuses a non-finite
+/// coordinate ([`finite`]).
+pub fn format<const D: usize>(points: &[[f64; D]]) -> Result<String, Error> {
+    finite("point", points)?;
     let mut s = String::new();
     for p in points {
         let coords: Vec<String> = p.iter().map(|x| format!("{x:?}")).collect();
         let _ = writeln!(s, "{}", coords.join(" "));
     }
-    s
+    Ok(s)
 }

@@ -38,8 +38,7 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    lsubdiv_cli::limits::input(&input, refine.limit.bytes())?;
-    let pts = read_points(&input)?;
+    let pts = read_points(&input, refine.limit.bytes())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = CurveJob {
@@ -52,8 +51,8 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         max_memory: refine.limit.bytes(),
     };
     let out = match pts {
-        Points::D2(p) => points::format(&refine_cli(&r, p, &job)?),
-        Points::D3(p) => points::format(&refine_cli(&r, p, &job)?),
+        Points::D2(p) => points::format(&refine_cli(&r, p, &job)?)?,
+        Points::D3(p) => points::format(&refine_cli(&r, p, &job)?)?,
     };
     stages.next(format!("writing {}", output.display()));
     write_atomic(&output, out.as_bytes())
@@ -89,23 +88,33 @@ fn refine_cli<const D: usize>(
     curve.check(&t).map_err(input_error)?;
     lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
         .check(&job.what, job.max_memory)?;
-    let generated = match job.implementation {
-        Implementation::Generated => {
-            match lsubdiv::generated::refine_curve(&r.ls.name, &curve, steps).ok_or_else(|| {
-                Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
-            })? {
-                Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => None,
-                c => Some(c.map_err(input_error)?),
+    // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
+    let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
+        let scaled = scaled.map(|points| lsubdiv::Curve {
+            points,
+            labels: curve.labels.clone(),
+            closed,
+        });
+        let curve = scaled.as_ref().unwrap_or(&curve);
+        let generated = match job.implementation {
+            Implementation::Generated => {
+                match lsubdiv::generated::refine_curve(&r.ls.name, curve, steps).ok_or_else(
+                    || Error::internal(None, format!("`{}` is not in the registry", r.ls.name)),
+                )? {
+                    Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => None,
+                    c => Some(c.map_err(input_error)?),
+                }
             }
-        }
-        Implementation::Generic => None,
-    };
-    let refined = match generated {
-        Some(c) => c,
-        None => {
-            generic.prepare(&curve)?;
-            lsubdiv::refine(&generic, &curve, steps).map_err(input_error)?
-        }
-    };
-    Ok(refined.points)
+            Implementation::Generic => None,
+        };
+        let refined = match generated {
+            Some(c) => c,
+            None => {
+                generic.prepare(curve)?;
+                lsubdiv::refine(&generic, curve, steps).map_err(input_error)?
+            }
+        };
+        Ok(((), refined.points))
+    })?;
+    Ok(points)
 }

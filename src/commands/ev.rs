@@ -25,12 +25,14 @@ pub struct EvArgs {
     /// Picture size in pixels, WxH.
     #[arg(long, default_value = "800x800")]
     size: String,
+    #[command(flatten)]
+    limit: crate::commands::args::MemoryLimit,
 }
 
 /// The spectrum per valence, or the characteristic map's picture.
 pub fn run(a: EvArgs) -> Result<(), Error> {
-    match a.output {
-        Some(out) if a.characteristic_map => charmap(&a.scheme, &a.valence, &out, &a.size),
+    match &a.output {
+        Some(out) if a.characteristic_map => charmap(&a, out),
         _ => ev_report(&a.scheme, &a.valence, a.json),
     }
 }
@@ -90,10 +92,11 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Error> {
 
 /// `lsubdiv ev --characteristic-map`: finds the control net numerically, checks λ1 against
 /// the closed form, draws it ([`lsubdiv_cli::charmap`]).
-fn charmap(scheme: &str, valence: &str, output: &std::path::Path, size: &str) -> Result<(), Error> {
+fn charmap(a: &EvArgs, output: &std::path::Path) -> Result<(), Error> {
     use lsubdiv_cli::picture;
+    let (scheme, valence) = (&a.scheme, &a.valence);
     picture::format_of(output)?;
-    let size = picture::parse_size(size)?;
+    let size = picture::parse_size(&a.size)?;
     let range = valences(valence)?;
     let n = *range.start();
     if range.end() != range.start() {
@@ -142,5 +145,6 @@ fn charmap(scheme: &str, valence: &str, output: &std::path::Path, size: &str) ->
     picture::save(
         &lsubdiv_cli::charmap::picture(&name, &map, closed, size),
         output,
+        a.limit.bytes(),
     )
 }

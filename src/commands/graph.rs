@@ -24,6 +24,8 @@ pub struct GraphArgs {
     /// Picture size in pixels, WxH (with --svg); default: the layout's natural size.
     #[arg(long)]
     size: Option<String>,
+    #[command(flatten)]
+    limit: crate::commands::args::MemoryLimit,
 }
 
 /// DOT or a picture of the transition graph, to a file or standard output.
@@ -35,6 +37,7 @@ pub fn run(a: GraphArgs) -> Result<(), Error> {
         svg,
         output,
         size,
+        limit,
         ..
     } = a;
     let size = size.as_deref().map(picture::parse_size).transpose()?;
@@ -45,8 +48,12 @@ pub fn run(a: GraphArgs) -> Result<(), Error> {
     match (svg, output) {
         (false, None) => print!("{}", report::dot(&s)),
         (false, Some(o)) => write_atomic(&o, report::dot(&s).as_bytes())?,
-        (true, None) => print!("{}", lsubdiv_cli::graph_picture::picture(&s, size).svg()),
-        (true, Some(o)) => picture::save(&lsubdiv_cli::graph_picture::picture(&s, size), &o)?,
+        (true, None) => print!("{}", lsubdiv_cli::graph_picture::picture(&s, size).svg()?),
+        (true, Some(o)) => picture::save(
+            &lsubdiv_cli::graph_picture::picture(&s, size),
+            &o,
+            limit.bytes(),
+        )?,
     }
     Ok(())
 }

@@ -1,6 +1,6 @@
 //! `lsubdiv plot`: control polygons of successive steps and the limit curve ([N] Fig. 2).
 
-use crate::commands::args::{polygon, read_points, PolygonArgs};
+use crate::commands::args::{polygon, read_points, MemoryLimit, PolygonArgs};
 use crate::commands::{build, load};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericScheme;
@@ -24,6 +24,8 @@ pub struct PlotArgs {
     /// Picture size in pixels, WxH.
     #[arg(long, default_value = "800x600")]
     size: String,
+    #[command(flatten)]
+    limit: MemoryLimit,
 }
 
 /// Refines a planar polygon (a closed hexagon without input) with the generic path and draws
@@ -41,9 +43,11 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
             degree,
         },
         size,
+        limit,
     } = a;
     picture::format_of(&output)?;
     let size = picture::parse_size(&size)?;
+    let max = limit.bytes();
     if steps > 12 {
         return Err(Error::input(format!(
             "--steps {steps}: plot draws at most 12 steps"
@@ -52,7 +56,7 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
     let r = load(&scheme, degree)?;
     let (pts, closed) = match input {
         None => (lsubdiv_cli::plot::hexagon(), true),
-        Some(path) => match read_points(&path)? {
+        Some(path) => match read_points(&path, max)? {
             Points::D2(p) => (p, closed),
             Points::D3(_) => {
                 return Err(Error::in_file(
@@ -64,6 +68,22 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
     };
     let generic = GenericScheme::new(build(&r)?)?;
     let curve = polygon(&r, &generic, pts, closed, labels.as_deref())?;
+    let t = lsubdiv::CurveScheme::tables(&generic);
+    curve.check(&t).map_err(lsubdiv_cli::input_error)?;
+    // Every level is kept and drawn (some 40 bytes of SVG text a point): the sum over them.
+    let levels: Vec<_> = (0..=steps)
+        .map(|k| lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), 2, k))
+        .collect();
+    let sum = |f: fn(&lsubdiv_cli::limits::Prediction) -> u128| {
+        levels.iter().map(f).fold(0u128, u128::saturating_add)
+    };
+    lsubdiv_cli::limits::Prediction {
+        vertices: sum(|p| p.vertices),
+        quads: None,
+        bytes: sum(|p| p.bytes),
+    }
+    .check(&format!("{steps} steps of {} in a plot", r.ls.name), max)?;
+    lsubdiv_cli::limits::picture(size, sum(|p| p.vertices).saturating_mul(40), max)?;
     let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size)?;
-    picture::save(&pic, &output)
+    picture::save(&pic, &output, max)
 }

@@ -95,6 +95,12 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
             )));
         }
     }
+    // The picture's buffers alone, before any mesh is read; again with the mesh before drawing.
+    let samples = render::supersampling(width, height);
+    let image_limit = |vertices: usize, quads: usize| {
+        lsubdiv_cli::limits::render((width, height), samples, vertices, quads, a.limit.bytes())
+    };
+    image_limit(0, 0)?;
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
     let (mesh, topology) = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
@@ -119,6 +125,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
         }
         _ => (mesh, topology),
     };
+    image_limit(mesh.positions.len(), mesh.faces.len())?;
     stages.next(format!("drawing {} quads", mesh.faces.len()));
     let scene = render::Scene::new(&mesh, &topology).map_err(|e| Error::in_file(&a.mesh, e))?;
     let opts = render::Options {
@@ -134,11 +141,20 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
         if !scene.orientable() {
             stages.note(&format!("{}: warning: the mesh is not orientable: the sign of the mean curvature flips across a seam", a.mesh));
         }
+        let label = render::legend::label;
+        let what = if r.relative {
+            "mean curvature H times the bounding box's half side (H itself is beyond f64 at this scale)"
+        } else {
+            "mean curvature H"
+        };
+        let values = if r.finite == 0 {
+            format!("{what}: no vertex in view has one")
+        } else {
+            format!("{what} in view from {} to {}", label(r.min), label(r.max))
+        };
         stages.note(&format!(
-            "mean curvature H in view from {:.4} to {:.4}; colours span ±{:.4} ({})",
-            r.min,
-            r.max,
-            r.span,
+            "{values}; colours span ±{} ({})",
+            label(r.span),
             if r.percentile {
                 "98th percentile of |H| over the vertices in view"
             } else {

@@ -74,8 +74,8 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         output.display()
     ));
     let bytes = match format {
-        MeshFormat::Obj => lsubdiv::obj::format(&fine),
-        MeshFormat::Ply => lsubdiv::ply::format(&fine),
+        MeshFormat::Obj => lsubdiv::obj::format(&fine)?,
+        MeshFormat::Ply => lsubdiv::ply::format(&fine)?,
     };
     write_atomic(&output, bytes.as_bytes())
 }
@@ -131,24 +131,34 @@ pub fn refine_mesh(
         &format!("{steps} steps of {} on {name}", r.ls.name),
         job.max_memory,
     )?;
-    let refine = Subdivide {
-        mesh: m,
-        topology,
-        steps,
-        threads,
-    };
-    let result = match job.path.pick(r, Geometry::Surface)? {
-        Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
-            .ok_or_else(|| {
-                Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
-            })?,
-        Implementation::Generic => refine.visit(&surface),
-    };
-    result.map_err(|e| match e {
-        SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
-        SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
-        e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
-            Error::internal(None, e.to_string())
-        }
-    })
+    let implementation = job.path.pick(r, Geometry::Surface)?;
+    // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
+    let (faces, positions) = lsubdiv_cli::scale::refine_scaled(name, &m.positions, |scaled| {
+        let scaled = scaled.map(|positions| QuadMesh {
+            positions,
+            faces: m.faces.clone(),
+        });
+        let refine = Subdivide {
+            mesh: scaled.as_ref().unwrap_or(m),
+            topology,
+            steps,
+            threads,
+        };
+        let result = match implementation {
+            Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
+                .ok_or_else(|| {
+                    Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
+                })?,
+            Implementation::Generic => refine.visit(&surface),
+        };
+        let fine = result.map_err(|e| match e {
+            SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
+            SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
+            e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
+                Error::internal(None, e.to_string())
+            }
+        })?;
+        Ok((fine.faces, fine.positions))
+    })?;
+    Ok(QuadMesh { positions, faces })
 }

@@ -81,18 +81,23 @@ pub fn mean_curvature(mesh: &QuadMesh, topo: &Topology, normals: &[[f64; 3]]) ->
 /// The values of H and the symmetric range the colours span.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Range {
-    /// Smallest finite H.
+    /// Smallest finite H (0 when there is none).
     pub min: f64,
-    /// Largest finite H.
+    /// Largest finite H (0 when there is none).
     pub max: f64,
     /// Colours span [−span, span]; values beyond saturate.
     pub span: f64,
     /// The span is the 98th percentile of |H| (else it was given).
     pub percentile: bool,
+    /// Vertices with a finite H.
+    pub finite: usize,
+    /// The values are H times the bounding box's half side, because the mesh's own are beyond
+    /// the f64 range (a mesh smaller than ~1e-300); see [`Range::in_units_of`].
+    pub relative: bool,
 }
 
 /// The robust symmetric range: the 98th percentile of |H| over the vertices with a value, unless
-/// `given`. A mesh whose curvature is all zero gets span 1.
+/// `given`. A mesh whose curvature is all zero (or has none) gets span 1.
 pub fn range(h: &[f64], given: Option<f64>) -> Range {
     let mut abs: Vec<f64> = h
         .iter()
@@ -105,6 +110,7 @@ pub fn range(h: &[f64], given: Option<f64>) -> Range {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
+    let finite = abs.len();
     let span = given.unwrap_or_else(|| {
         if abs.is_empty() {
             return 1.0;
@@ -113,11 +119,35 @@ pub fn range(h: &[f64], given: Option<f64>) -> Range {
         let (_, p, _) = abs.select_nth_unstable_by(k, f64::total_cmp);
         *p
     });
+    let (min, max) = if finite == 0 { (0.0, 0.0) } else { (min, max) };
     Range {
         min,
         max,
         span: if span > 0.0 { span } else { 1.0 },
         percentile: given.is_none(),
+        finite,
+        relative: false,
+    }
+}
+
+impl Range {
+    /// The range of curvatures measured on the mesh divided by `scale`, in the mesh's own units
+    /// (H scales as 1/length), or left relative when those are not all finite.
+    pub fn in_units_of(self, scale: f64) -> Range {
+        let [min, max, span] = [self.min, self.max, self.span].map(|x| x / scale);
+        if [min, max, span].iter().all(|x| x.is_finite()) && span > 0.0 {
+            Range {
+                min,
+                max,
+                span,
+                ..self
+            }
+        } else {
+            Range {
+                relative: true,
+                ..self
+            }
+        }
     }
 }
 
@@ -203,6 +233,24 @@ mod tests {
         );
         assert_eq!(range(&h, Some(3.0)).span, 3.0);
         assert_eq!(range(&[0.0, 0.0], None).span, 1.0);
+        let none = range(&[f64::NAN], None);
+        assert_eq!(
+            (none.min, none.max, none.span, none.finite),
+            (0.0, 0.0, 1.0, 0)
+        );
+    }
+
+    #[test]
+    fn ranges_scale_as_one_over_length_and_stay_finite() {
+        let r = range(&[-2.0, 4.0], None);
+        let k = 2f64.powi(1000);
+        let world = r.in_units_of(1.0 / k);
+        assert_eq!(
+            (world.min, world.max, world.relative),
+            (-2.0 * k, 4.0 * k, false)
+        );
+        let tiny = r.in_units_of(1e-310);
+        assert_eq!((tiny.min, tiny.max, tiny.relative), (-2.0, 4.0, true));
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! The colour bar of the curvature map, labelled with its range: drawn by the picture layer
 //! (SVG rasterised by resvg, text in the embedded DejaVu Sans) and copied into the image.
 
-use super::curvature::colour;
+use super::curvature::{colour, Range};
 use super::image::Image;
 use crate::picture::{Anchor, Picture, Style};
 
@@ -34,8 +34,9 @@ fn hex(t: f64) -> String {
 }
 
 /// The bar as a picture [`WIDTH`] wide and `height` high: +span at the top, −span at the
-/// bottom, labelled.
-fn picture(height: usize, span: f64) -> Picture {
+/// bottom, labelled (`H·r` when the range is relative to the bounding box's half side r).
+fn picture(height: usize, range: &Range) -> Picture {
+    let span = range.span;
     let mut p = Picture::new(WIDTH as u32, height as u32);
     let (x0, x1) = (WIDTH as f64 - 30.0, WIDTH as f64 - 16.0);
     let (y0, y1) = ((height / 5) as f64, (height - height / 5) as f64);
@@ -54,7 +55,7 @@ fn picture(height: usize, span: f64) -> Picture {
     let right = x0 - 4.0;
     p.text(
         [(x0 + x1) / 2.0, y0 - 8.0],
-        "H",
+        if range.relative { "H·r" } else { "H" },
         12.0,
         Anchor::Middle,
         "black",
@@ -69,13 +70,14 @@ fn picture(height: usize, span: f64) -> Picture {
     p
 }
 
-/// Draws the bar into the right [`WIDTH`] pixels of `img` (nothing if it does not fit).
-pub fn bar(img: &mut Image, span: f64) -> Result<(), String> {
+/// Draws the bar of `range` into the right [`WIDTH`] pixels of `img` (nothing if it does not
+/// fit).
+pub fn bar(img: &mut Image, range: &Range) -> Result<(), String> {
     let (w, h) = (img.width, img.height);
     if !fits(w, h) {
         return Ok(());
     }
-    let pixmap = picture(h, span).pixmap().map_err(|e| e.message)?;
+    let pixmap = picture(h, range).pixmap().map_err(|e| e.message)?;
     // The picture's background is opaque white, so its premultiplied pixels are the colours.
     for (y, row) in pixmap.pixels().chunks_exact(WIDTH).enumerate() {
         for (x, px) in row.iter().enumerate() {
@@ -105,7 +107,7 @@ mod tests {
             height: 200,
             pixels: vec![[7; 3]; 300 * 200],
         };
-        bar(&mut img, 1.5).unwrap();
+        bar(&mut img, &crate::render::curvature::range(&[1.5], None)).unwrap();
         let at = |x: usize, y: usize| img.pixels[y * 300 + x];
         let x = 300 - 23;
         let (top, bottom) = (at(x, 200 / 5 + 2), at(x, 200 - 200 / 5 - 2));

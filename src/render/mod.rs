@@ -8,6 +8,7 @@
 
 pub mod camera;
 pub mod curvature;
+pub mod framing;
 pub mod image;
 pub mod legend;
 pub mod raster;
@@ -15,6 +16,7 @@ pub mod shade;
 pub mod surface;
 
 use camera::{Camera, View};
+use framing::Framing;
 use image::Image;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::topology::Topology;
@@ -60,12 +62,13 @@ pub struct Rendered {
     pub curvature: Option<curvature::Range>,
 }
 
-/// A mesh ready to draw: connectivity checked, faces oriented, normals and bounding sphere.
+/// A mesh ready to draw: connectivity checked, faces oriented, normals and bounding sphere, in
+/// the picture's normalised coordinates ([`framing`]).
 pub struct Scene<'m> {
-    mesh: &'m QuadMesh,
+    mesh: QuadMesh,
     topology: &'m Topology,
     oriented: surface::Oriented,
-    centre: [f64; 3],
+    framing: Framing,
     radius: f64,
 }
 
@@ -94,7 +97,7 @@ pub fn parse_numbers(
 }
 
 /// Samples per pixel side: 3 × 3 while the frame stays under ~9.4 M samples, else fewer.
-fn supersampling(width: usize, height: usize) -> usize {
+pub fn supersampling(width: usize, height: usize) -> usize {
     (1..=3)
         .rev()
         .find(|s| width * height * s * s <= 9 << 20)
@@ -104,34 +107,22 @@ fn supersampling(width: usize, height: usize) -> usize {
 impl<'m> Scene<'m> {
     /// Orients the mesh (a closed 2-manifold quad mesh of topology `topology`, as for
     /// `subdivide`) and measures it.
-    pub fn new(mesh: &'m QuadMesh, topology: &'m Topology) -> Result<Scene<'m>, String> {
-        let (lo, hi) = mesh.positions.iter().fold(
-            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-            |(lo, hi), p| {
-                (
-                    [0, 1, 2].map(|c| lo[c].min(p[c])),
-                    [0, 1, 2].map(|c| hi[c].max(p[c])),
-                )
-            },
-        );
-        let centre = [0, 1, 2].map(|c| 0.5 * (lo[c] + hi[c]));
+    pub fn new(mesh: &QuadMesh, topology: &'m Topology) -> Result<Scene<'m>, String> {
+        let framing = Framing::of(&mesh.positions)?;
+        let mesh = framing.normalise(mesh);
+        // At most √3: the box is [−1, 1]³.
         let radius = mesh
             .positions
             .iter()
-            .map(|&p| surface::dot(surface::sub(p, centre), surface::sub(p, centre)))
+            .map(|&p| surface::dot(p, p))
             .fold(0.0, f64::max)
             .sqrt();
-        if !(radius > 0.0 && radius.is_finite()) {
-            return Err(format!(
-                "the mesh has no extent to draw (bounding radius {radius})"
-            ));
-        }
-        let oriented = surface::orient(mesh, topology);
+        let oriented = surface::orient(&mesh, topology);
         Ok(Scene {
             mesh,
             topology,
             oriented,
-            centre,
+            framing,
             radius,
         })
     }
@@ -149,9 +140,9 @@ impl<'m> Scene<'m> {
         // The curvature legend gets a strip at the right; the picture is framed beside it.
         let legend = opts.shading == Shading::Curvature && legend::fits(opts.width, opts.height);
         let viewport = w - if legend { legend::WIDTH * s } else { 0 };
-        let camera = Camera::new(&opts.view, self.centre, self.radius, viewport, h)?;
+        let camera = Camera::new(&self.view(&opts.view), [0.0; 3], self.radius, viewport, h)?;
         let mut frame = Frame::new(w, h);
-        let projected = Projected::new(self.mesh, &camera);
+        let projected = Projected::new(&self.mesh, &camera);
         for (f, face) in self.mesh.faces.iter().enumerate() {
             for (k, tri) in [[0, 1, 2], [0, 2, 3]].iter().enumerate() {
                 projected.triangle(
@@ -165,27 +156,48 @@ impl<'m> Scene<'m> {
             self.wireframe(&projected, &mut frame, s);
         }
         let (values, range) = if opts.shading == Shading::Curvature {
-            let h = curvature::mean_curvature(self.mesh, self.topology, &self.oriented.normals);
-            let range = curvature::range(&self.seen(&frame, &h), opts.curvature_range);
+            let h = curvature::mean_curvature(&self.mesh, self.topology, &self.oriented.normals);
+            // A given range is in the mesh's units: H scales as 1/length.
+            let given = opts.curvature_range.map(|r| r * self.framing.scale);
+            if given.is_some_and(|g| !(g > 0.0 && g.is_finite())) {
+                return Err(format!(
+                    "--curvature-range {:e} is outside the f64 range at this mesh's scale (bounding box half side {:e})",
+                    opts.curvature_range.unwrap_or_default(),
+                    self.framing.scale
+                ));
+            }
+            let range = curvature::range(&self.seen(&frame, &h), given);
             (Some(h), Some(range))
         } else {
             (None, None)
         };
         let shader = shade::Shader {
-            mesh: self.mesh,
+            mesh: &self.mesh,
             normals: &self.oriented.normals,
             curvature: values.as_deref().zip(range.map(|r| r.span)),
             camera: &camera,
             shading: opts.shading,
         };
         let mut image = shader.resolve(&frame, s);
+        let range = range.map(|r| r.in_units_of(self.framing.scale));
         if let (true, Some(r)) = (legend, &range) {
-            legend::bar(&mut image, r.span)?;
+            legend::bar(&mut image, r)?;
         }
         Ok(Rendered {
             image,
             curvature: range,
         })
+    }
+
+    /// `view` with world points (`--eye`, `--target`) in normalised coordinates.
+    fn view(&self, view: &View) -> View {
+        match *view {
+            View::LookAt { eye, target } => View::LookAt {
+                eye: self.framing.to_normalised(eye),
+                target: target.map(|t| self.framing.to_normalised(t)),
+            },
+            orbit => orbit,
+        }
     }
 
     /// The values at the vertices of the faces seen in `frame`, each vertex once.

@@ -55,6 +55,24 @@ fn owns(a: [i64; 2], b: [i64; 2]) -> bool {
     dy > 0 || (dy == 0 && dx < 0)
 }
 
+/// The steps k in 0..=last where every edge function `w[i] + step[i] · k` is ≥ 0, exactly: the
+/// row's span inside the triangle (empty: start > end).
+fn inside(w: [i64; 3], step: [i64; 3], last: i64) -> std::ops::RangeInclusive<i64> {
+    let (mut lo, mut hi) = (0, last);
+    for i in 0..3 {
+        match step[i].signum() {
+            1 => {
+                lo = lo
+                    .max((-w[i]).div_euclid(step[i]) + i64::from((-w[i]).rem_euclid(step[i]) != 0))
+            }
+            -1 => hi = hi.min(w[i].div_euclid(-step[i])),
+            _ if w[i] < 0 => hi = -1,
+            _ => {}
+        }
+    }
+    lo..=hi
+}
+
 /// Index range of the sample centres (i + ½) inside [lo, hi] (snapped units), within 0..n.
 fn centres(lo: i64, hi: i64, n: usize) -> std::ops::RangeInclusive<i64> {
     let first = (lo - SUB / 2 + SUB - 1).div_euclid(SUB).max(0);
@@ -116,10 +134,13 @@ impl Frame {
         let start = [*xs.start() * SUB + SUB / 2, *ys.start() * SUB + SUB / 2];
         let mut row = [0, 1, 2].map(|i| edge(ends[i].0, ends[i].1, start) + bias[i]);
         let inv_area = 1.0 / area as f64;
+        let x0 = *xs.start();
         for y in ys {
-            let mut w = row;
+            // Only the row's covered span is visited: a long thin triangle's box is mostly empty.
+            let span = inside(row, step_x, xs.end() - x0);
+            let mut w = [0, 1, 2].map(|i| row[i] + step_x[i] * span.start());
             let base = y as usize * self.width;
-            for x in xs.clone() {
+            for x in span.map(|k| x0 + k) {
                 if w[0] | w[1] | w[2] >= 0 {
                     let l = [0, 1, 2].map(|i| (w[i] - bias[i]) as f64 * inv_area);
                     let inv = l[0] * v[0].inv_depth + l[1] * v[1].inv_depth + l[2] * v[2].inv_depth;
@@ -324,6 +345,29 @@ mod tests {
                     assert_eq!(h, 1, "hole at ({x}, {y}), offset {o}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn row_spans_are_the_samples_every_edge_function_accepts() {
+        let mut seed = 12345u64;
+        let mut next = |m: i64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as i64 % (2 * m + 1) - m
+        };
+        for _ in 0..2000 {
+            let (w, step, last) = (
+                [next(500), next(500), next(500)],
+                [next(40), next(40), next(3)],
+                next(30).abs(),
+            );
+            let scan: Vec<i64> = (0..=last)
+                .filter(|&k| (0..3).all(|i| w[i] + step[i] * k >= 0))
+                .collect();
+            let span: Vec<i64> = inside(w, step, last).collect();
+            assert_eq!(span, scan, "{w:?} {step:?} {last}");
         }
     }
 

@@ -54,7 +54,8 @@ fn meshes(a: &Args) -> Result<(), String> {
     for (name, spec) in [("torus", "torus:256:256"), ("cube", "cube"), ("star", "star")] {
         let (mesh, _) = bench::mesh(spec).map_err(|e| e.to_string())?;
         let path = format!("{dir}/{name}.obj");
-        std::fs::write(&path, obj::format(&mesh)).map_err(|e| format!("{path}: {e}"))?;
+        let text = obj::format(&mesh).map_err(|e| e.to_string())?;
+        std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
         let levels = bench::steps_for(&surface, &mesh, target);
         println!(
             "MESH {name} {path} {levels} {}",
