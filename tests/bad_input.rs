@@ -890,7 +890,9 @@ fn an_interrupted_run_leaves_the_previous_output_and_no_temporary_file() {
 
 /// `n` symbols `A0 …`, rule i given by `rule(i)`: the large alphabets of issue 14 (kind 4).
 fn alphabet(n: usize, rule: impl Fn(usize) -> String) -> String {
-    let rules: String = (0..n).map(|i| format!("A{i} = \"{}\"\n", rule(i))).collect();
+    let rules: String = (0..n)
+        .map(|i| format!("A{i} = \"{}\"\n", rule(i)))
+        .collect();
     format!("name = \"big\"\ndegree = 3\naxiom = \"A0\"\n[rules]\n{rules}")
 }
 
