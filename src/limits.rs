@@ -12,6 +12,7 @@
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::footprint;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
@@ -115,6 +116,43 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
             size(u128::from(max))
         ),
     ))
+}
+
+/// The bytes of a mesh file read at most under `--max-memory max`: a fifth of it, as
+/// [`input`] assumes.
+pub fn mesh_input_bytes(max: u64) -> u64 {
+    max / 5
+}
+
+/// Reads a closed quad mesh and its topology from an OBJ or PLY file (by content:
+/// [`lsubdiv::mesh_file::Format::of`]); `-` is standard input. Bounded by `--max-memory max`: a
+/// regular file whose reading could exceed it is refused unread ([`input`]), a pipe or device is
+/// read only up to [`mesh_input_bytes`] and refused past them. Errors name the file's line (or
+/// a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
+pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<(QuadMesh, Topology), Error> {
+    let path = if path.as_os_str() == "-" {
+        std::path::Path::new("/dev/stdin")
+    } else {
+        path
+    };
+    input(path, max)?;
+    let regular = std::fs::metadata(path).map_or(true, |m| m.is_file());
+    let bytes = lsubdiv::compiler::read_bytes(path, mesh_input_bytes(max)).map_err(|e| {
+        if regular {
+            e
+        } else {
+            e.with_hint(format!(
+                "--max-memory is {}, so a mesh is read up to a fifth of it; raise --max-memory",
+                size(u128::from(max))
+            ))
+        }
+    })?;
+    let name = path.display().to_string();
+    let read = lsubdiv::mesh_file::parse(&name, bytes)?;
+    for w in read.warnings {
+        eprintln!("{name}: warning: {w}");
+    }
+    Ok((read.mesh, read.topology))
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)

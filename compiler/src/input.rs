@@ -73,9 +73,14 @@ mod tests {
         std::fs::write(&p, b"0123456789").unwrap();
         assert_eq!(read_bytes(&p, 10).unwrap().len(), 10);
         let e = read_bytes(&p, 9).unwrap_err().to_string();
-        assert!(e.contains("t.txt: error: the file has 10 bytes; at most 9"), "{e}");
+        assert!(
+            e.contains("t.txt: error: the file has 10 bytes; at most 9"),
+            "{e}"
+        );
         // A device with no end is read only to the bound.
-        let e = read_bytes(Path::new("/dev/zero"), 1000).unwrap_err().to_string();
+        let e = read_bytes(Path::new("/dev/zero"), 1000)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("/dev/zero: error: the input has more than 1000 bytes"),
             "{e}"
