@@ -103,7 +103,17 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
     let Ok(meta) = std::fs::metadata(path) else {
         return Ok(()); // reading it reports the problem
     };
-    let bytes = u128::from(meta.len()) * 5;
+    holding(path, meta.len(), 5, max)
+}
+
+/// Bytes a PLY reading holds per byte of file, at most: a binary vertex of three 1-byte
+/// coordinates (3 bytes) becomes a position (24 bytes) and its place (8), besides the file.
+const PLY_HELD_PER_BYTE: u128 = 12;
+
+/// Refuses a file of `len` bytes whose reading holds up to `per_byte` bytes per byte when that
+/// exceeds `max`.
+fn holding(path: &std::path::Path, len: u64, per_byte: u128, max: u64) -> Result<(), Error> {
+    let bytes = u128::from(len) * per_byte;
     if bytes <= u128::from(max) {
         return Ok(());
     }
@@ -111,7 +121,7 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
         path.display(),
         format!(
             "the file has {}, and reading it may hold {}; --max-memory is {}; raise --max-memory",
-            size(u128::from(meta.len())),
+            size(u128::from(len)),
             size(bytes),
             size(u128::from(max))
         ),
@@ -127,7 +137,8 @@ pub fn mesh_input_bytes(max: u64) -> u64 {
 /// Reads a closed quad mesh and its topology from an OBJ or PLY file (by content:
 /// [`lsubdiv::mesh_file::Format::of`]); `-` is standard input. Bounded by `--max-memory max`: a
 /// regular file whose reading could exceed it is refused unread ([`input`]), a pipe or device is
-/// read only up to [`mesh_input_bytes`] and refused past them. Errors name the file's line (or
+/// read only up to [`mesh_input_bytes`] and refused past them; a PLY file, once read, is refused
+/// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the file's line (or
 /// a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
 pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<(QuadMesh, Topology), Error> {
     let path = if path.as_os_str() == "-" {
@@ -148,6 +159,9 @@ pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<(QuadMesh, Topology
         }
     })?;
     let name = path.display().to_string();
+    if lsubdiv::mesh_file::Format::of(&name, &bytes) == lsubdiv::mesh_file::Format::Ply {
+        holding(path, bytes.len() as u64, PLY_HELD_PER_BYTE, max)?;
+    }
     let read = lsubdiv::mesh_file::parse(&name, bytes)?;
     for w in read.warnings {
         eprintln!("{name}: warning: {w}");
