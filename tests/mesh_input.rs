@@ -27,17 +27,25 @@ fn lsubdiv_piped(args: &[&str], input: &[u8]) -> Output {
     child.wait_with_output().expect("finishes")
 }
 
-/// `subdivide uniform-binary --steps 1 INPUT -o OUT` and the output's bytes.
-fn subdivide(input: &str, out: &Path) -> Vec<u8> {
-    let o = lsubdiv(&[
+/// Runs `subdivide uniform-binary --steps 1 INPUT -o OUT EXTRA…`, `stdin` on its standard input.
+fn one_step(input: &str, out: &Path, extra: &[&str], stdin: &[u8]) -> Output {
+    let out = out.display().to_string();
+    let mut args = vec![
         "subdivide",
         "uniform-binary",
         "--steps",
         "1",
         input,
         "-o",
-        &out.display().to_string(),
-    ]);
+        &out,
+    ];
+    args.extend(extra);
+    lsubdiv_piped(&args, stdin)
+}
+
+/// [`one_step`] that must succeed, and the output's bytes.
+fn subdivide(input: &str, out: &Path) -> Vec<u8> {
+    let o = one_step(input, out, &[], b"");
     assert!(o.status.success(), "{input}: {}", stderr(&o));
     std::fs::read(out).unwrap()
 }
@@ -65,17 +73,8 @@ fn ply_of_every_encoding_refines_as_the_same_obj() {
         assert!(got == expected, "{name} refines differently from the OBJ");
         // On a pipe, as `-` and as /dev/stdin.
         for arg in ["-", "/dev/stdin"] {
-            let out = d.join("piped.obj").display().to_string();
-            let args = [
-                "subdivide",
-                "uniform-binary",
-                "--steps",
-                "1",
-                arg,
-                "-o",
-                &out,
-            ];
-            let o = lsubdiv_piped(&args, &bytes);
+            let out = d.join("piped.obj");
+            let o = one_step(arg, &out, &[], &bytes);
             assert!(o.status.success(), "{name} on {arg}: {}", stderr(&o));
             assert!(std::fs::read(&out).unwrap() == expected, "{name} on {arg}");
         }
@@ -278,15 +277,7 @@ fn bad_ply_files_are_refused_at_their_place() {
         std::fs::write(&input, &bytes).unwrap();
         let input = input.display().to_string();
         let start = std::time::Instant::now();
-        let o = lsubdiv(&[
-            "subdivide",
-            "uniform-binary",
-            "--steps",
-            "1",
-            &input,
-            "-o",
-            &out.display().to_string(),
-        ]);
+        let o = one_step(&input, &out, &[], b"");
         let e = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{name}: {e}");
         assert!(
@@ -306,21 +297,8 @@ fn bad_ply_files_are_refused_at_their_place() {
 #[test]
 fn pipes_and_devices_are_read_only_up_to_the_memory_limit() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out.obj").display().to_string();
-    let run = |input: &str, stdin: &[u8]| {
-        let args = [
-            "subdivide",
-            "uniform-binary",
-            "--steps",
-            "1",
-            input,
-            "-o",
-            &out,
-            "--max-memory",
-            "1M",
-        ];
-        lsubdiv_piped(&args, stdin)
-    };
+    let out = dir.path().join("out.obj");
+    let run = |input: &str, stdin: &[u8]| one_step(input, &out, &["--max-memory", "1M"], stdin);
     // 1 MiB / 5 = 209715 bytes read at most.
     for (o, name) in [
         (run("/dev/zero", b""), "/dev/zero"),
@@ -335,7 +313,7 @@ fn pipes_and_devices_are_read_only_up_to_the_memory_limit() {
             "{e}"
         );
         assert!(e.contains("--max-memory is ~1.0 MiB"), "{e}");
-        assert!(!Path::new(&out).exists());
+        assert!(!out.exists());
     }
     // Under the limit, the same pipe is read.
     let o = run("-", lsubdiv::ply::format(&cube()).as_bytes());
@@ -344,17 +322,7 @@ fn pipes_and_devices_are_read_only_up_to_the_memory_limit() {
     let big = dir.path().join("big.ply");
     std::fs::write(&big, lsubdiv::ply::binary(&torus(60, 60), false)).unwrap();
     let big = big.display().to_string();
-    let o = lsubdiv(&[
-        "subdivide",
-        "uniform-binary",
-        "--steps",
-        "1",
-        &big,
-        "-o",
-        &out,
-        "--max-memory",
-        "1M",
-    ]);
+    let o = run(&big, b"");
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(e.starts_with(&format!("{big}: error: the file has")), "{e}");
@@ -402,15 +370,7 @@ fn obj_lines_continued_by_a_backslash() {
     let p = d.join("bad.obj");
     std::fs::write(&p, &bad).unwrap();
     let line = bad.lines().position(|l| l.ends_with(" x")).unwrap() + 1;
-    let o = lsubdiv(&[
-        "subdivide",
-        "uniform-binary",
-        "--steps",
-        "1",
-        &p.display().to_string(),
-        "-o",
-        &d.join("bad-out.obj").display().to_string(),
-    ]);
+    let o = one_step(&p.display().to_string(), &d.join("bad-out.obj"), &[], b"");
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(
