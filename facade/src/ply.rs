@@ -196,26 +196,24 @@ pub fn has_magic(bytes: &[u8]) -> bool {
         .is_some_and(|rest| rest.first().is_none_or(u8::is_ascii_whitespace))
 }
 
-/// The whitespace-separated words of a header line with their 1-based columns.
+/// The whitespace-separated words of a header line with their 1-based columns (characters).
 fn words(line: &str) -> Vec<(usize, &str)> {
     let mut out = Vec::new();
     let mut start = None;
-    for (i, c) in line
+    let ends = line
         .char_indices()
-        .chain(std::iter::once((line.len(), ' ')))
-    {
+        .chain(std::iter::once((line.len(), ' ')));
+    for (column, (i, c)) in ends.enumerate() {
         match (c.is_whitespace(), start) {
-            (true, Some(s)) => {
-                out.push((s, &line[s..i]));
+            (true, Some((s, col))) => {
+                out.push((col, &line[s..i]));
                 start = None;
             }
-            (false, None) => start = Some(i),
+            (false, None) => start = Some((i, column + 1)),
             _ => {}
         }
     }
-    out.into_iter()
-        .map(|(s, w)| (line[..s].chars().count() + 1, w))
-        .collect()
+    out
 }
 
 /// The names of the types, for messages.
