@@ -138,8 +138,8 @@ pub fn mesh_input_bytes(max: u64) -> u64 {
 /// [`lsubdiv::mesh_file::Format::of`]); `-` is standard input. Bounded by `--max-memory max`: a
 /// regular file whose reading could exceed it is refused unread ([`input`]), a pipe or device is
 /// read only up to [`mesh_input_bytes`] and refused past them; a PLY file, once read, is refused
-/// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the file's line (or
-/// a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
+/// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
+/// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
 pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<(QuadMesh, Topology), Error> {
     let path = if path.as_os_str() == "-" {
         std::path::Path::new("/dev/stdin")
