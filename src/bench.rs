@@ -17,8 +17,9 @@ use std::time::Instant;
 /// instead of failing to allocate.
 pub const MAX_TORUS_FACES: usize = 1 << 24;
 
-/// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ file, and its topology.
-pub fn mesh(spec: &str) -> Result<(QuadMesh, Topology), Error> {
+/// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ or PLY file read under
+/// `--max-memory max` ([`crate::limits::read_mesh`]), and its topology.
+pub fn mesh(spec: &str, max: u64) -> Result<(QuadMesh, Topology), Error> {
     let parts: Vec<&str> = spec.split(':').collect();
     let built = match parts.as_slice() {
         ["torus", r, c] => {
@@ -44,10 +45,7 @@ pub fn mesh(spec: &str) -> Result<(QuadMesh, Topology), Error> {
         }
         ["cube"] => cube(),
         ["star"] => star(),
-        _ => {
-            let read = lsubdiv::read_obj(std::path::Path::new(spec))?;
-            return Ok((read.mesh, read.topology));
-        }
+        _ => return crate::limits::read_mesh(std::path::Path::new(spec), max),
     };
     let topology = Topology::build(&built)
         .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;

@@ -12,6 +12,7 @@
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::footprint;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
@@ -102,7 +103,17 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
     let Ok(meta) = std::fs::metadata(path) else {
         return Ok(()); // reading it reports the problem
     };
-    let bytes = u128::from(meta.len()) * 5;
+    holding(path, meta.len(), 5, max)
+}
+
+/// Bytes a PLY reading holds per byte of file, at most: a binary vertex of three 1-byte
+/// coordinates (3 bytes) becomes a position (24 bytes) and its place (8), besides the file.
+const PLY_HELD_PER_BYTE: u128 = 12;
+
+/// Refuses a file of `len` bytes whose reading holds up to `per_byte` bytes per byte when that
+/// exceeds `max`.
+fn holding(path: &std::path::Path, len: u64, per_byte: u128, max: u64) -> Result<(), Error> {
+    let bytes = u128::from(len) * per_byte;
     if bytes <= u128::from(max) {
         return Ok(());
     }
@@ -110,16 +121,16 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
         path.display(),
         format!(
             "the file has {}, and reading it may hold {}; --max-memory is {}; raise --max-memory",
-            size(u128::from(meta.len())),
+            size(u128::from(len)),
             size(bytes),
             size(u128::from(max))
         ),
     ))
 }
 
-/// The most bytes of text an input read from a pipe or a device may have under `--max-memory`
-/// `max`: its text plus what is parsed from it, 5 times its size, as [`input`] counts.
-pub fn input_text(max: u64) -> u64 {
+/// The most bytes of an input file (a mesh or a point file) read under `--max-memory max`: its
+/// bytes plus what is parsed from them, 5 times its size, as [`input`] counts.
+pub fn input_bytes(max: u64) -> u64 {
     max / 5
 }
 
@@ -189,6 +200,48 @@ pub fn picture(dims: (u32, u32), svg: u128, max: u64) -> Result<(), Error> {
     let pixels = u128::from(dims.0) * u128::from(dims.1);
     let bytes = svg * 4 + pixels * (4 + IMAGE_PIXEL);
     refuse_image(&format!("a {}x{} picture", dims.0, dims.1), bytes, max)
+}
+
+/// Reads an input file (a mesh or a point file; `-` is standard input) under `--max-memory max`:
+/// a regular file whose reading could exceed it is refused unread ([`input`]), a pipe or device
+/// is read only up to [`input_bytes`] and refused past them (exit 2, naming the file and the
+/// limit). Returns the path read and its bytes.
+pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path, Vec<u8>), Error> {
+    let path = if path.as_os_str() == "-" {
+        std::path::Path::new("/dev/stdin")
+    } else {
+        path
+    };
+    input(path, max)?;
+    let regular = std::fs::metadata(path).map_or(true, |m| m.is_file());
+    let bytes = lsubdiv::compiler::read_bytes(path, input_bytes(max)).map_err(|e| {
+        if regular {
+            e
+        } else {
+            e.with_hint(format!(
+                "--max-memory is {}, so an input is read up to a fifth of it; raise --max-memory",
+                size(u128::from(max))
+            ))
+        }
+    })?;
+    Ok((path, bytes))
+}
+
+/// Reads a closed quad mesh and its topology from an OBJ or PLY file (by content:
+/// [`lsubdiv::mesh_file::Format::of`]) by [`read_input`]; a PLY file, once read, is refused
+/// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
+/// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
+pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<(QuadMesh, Topology), Error> {
+    let (path, bytes) = read_input(path, max)?;
+    let name = path.display().to_string();
+    if lsubdiv::mesh_file::Format::of(&name, &bytes) == lsubdiv::mesh_file::Format::Ply {
+        holding(path, bytes.len() as u64, PLY_HELD_PER_BYTE, max)?;
+    }
+    let read = lsubdiv::mesh_file::parse(&name, bytes)?;
+    for w in read.warnings {
+        eprintln!("{name}: warning: {w}");
+    }
+    Ok((read.mesh, read.topology))
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)

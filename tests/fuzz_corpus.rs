@@ -3,7 +3,7 @@
 //! the same check as the target ([`lsubdiv_testkit::fuzzing`]) and must not panic: it is processed
 //! (its invariants hold) or refused with an error.
 
-use lsubdiv_testkit::fuzzing::{check_obj, check_pipeline, check_scheme, Outcome};
+use lsubdiv_testkit::fuzzing::{check_obj, check_pipeline, check_ply, check_scheme, Outcome};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
@@ -48,6 +48,12 @@ fn scheme_parser_corpus() {
 #[test]
 fn obj_reader_corpus() {
     let (ok, refused) = run("obj_reader", check_obj);
+    assert!(ok > 0 && refused > 0, "the corpus reaches both outcomes");
+}
+
+#[test]
+fn ply_reader_corpus() {
+    let (ok, refused) = run("ply_reader", check_ply);
     assert!(ok > 0 && refused > 0, "the corpus reaches both outcomes");
 }
 

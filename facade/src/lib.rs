@@ -47,9 +47,10 @@ pub use lsubdiv_runtime as runtime;
 pub use lsubdiv_runtime::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 
 pub use lsubdiv_compiler::{write_atomic, Error, Location};
-pub use obj::read as read_obj;
+pub use mesh_file::read as read_mesh;
 
 pub mod generic;
+pub mod mesh_file;
 pub mod obj;
 pub mod ply;
 pub mod points;

@@ -2,145 +2,48 @@
 //! keeps the line of each `v` and `f` it parsed, so the topology's errors — face k, vertex v,
 //! edge a–b — are placed there too, vertices numbered as in the file), and writing.
 
+use crate::mesh_file::{counted, not_quad, shorten, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
-use lsubdiv_runtime::topology::{Topology, TopologyError};
+use lsubdiv_runtime::topology::TopologyError;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// The 1-based line of each `v` and `f` line parsed: vertex i was read on line
-/// `vertices[i]`, face k on line `faces[k]`.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Lines {
-    /// Line of each vertex.
-    pub vertices: Vec<usize>,
-    /// Line of each face.
-    pub faces: Vec<usize>,
-}
+/// A token of a logical line and the physical line it is on.
+type Token<'a> = (&'a str, usize);
 
-/// What [`parse`] read: the mesh (connectivity not checked), the line of each of its vertices
-/// and faces, and warnings about what it skipped (count and first line per kind).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Parsed {
-    /// The mesh as written.
-    pub mesh: QuadMesh,
-    /// Where each vertex and face was read.
-    pub lines: Lines,
-    /// Skipped directives and ignored values, one line of text per kind.
-    pub warnings: Vec<String>,
-}
-
-/// A mesh ready to refine: read by [`read`], a closed 2-manifold with valences ≥ 3, with its
-/// topology (build it once, pass it along) and the reader's warnings.
-#[derive(Clone, Debug)]
-pub struct Checked {
-    /// The mesh.
-    pub mesh: QuadMesh,
-    /// Its connectivity.
-    pub topology: Topology,
-    /// Skipped directives and ignored values, one line of text per kind.
-    pub warnings: Vec<String>,
-}
-
-/// `n` and the noun, singular for one: `1 vertex`, `8 vertices`.
-fn counted(n: usize, one: &str, many: &str) -> String {
-    format!("{n} {}", if n == 1 { one } else { many })
-}
-
-impl Lines {
-    /// The topology error `e` of the mesh read from `file` as a diagnostic at the line of the
-    /// face or vertex it names, with vertices numbered as in the file (from 1).
-    pub fn locate(&self, file: &str, e: &TopologyError) -> Error {
-        let at = |lines: &[usize], k: u32| match lines.get(k as usize) {
-            Some(&l) => Location::line(file, l),
-            None => Location::whole(file),
+/// Calls `f(line, tokens)` for each logical line of `text` that has tokens: `line` is its first
+/// physical line, `tokens` its tokens with the physical line of each, comments (`#` to the end
+/// of the physical line) stripped. A physical line whose content ends in `\` (trailing spaces
+/// and a CR allowed) continues on the next, the `\` read as a space; on the last line it ends
+/// the file.
+fn for_each_line<'a>(
+    text: &'a str,
+    mut f: impl FnMut(usize, &[Token<'a>]) -> Result<(), Error>,
+) -> Result<(), Error> {
+    let mut tokens: Vec<Token<'a>> = Vec::new();
+    let mut first = 0;
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let content = raw.split('#').next().unwrap_or("").trim_end();
+        let (content, continued) = match content.strip_suffix('\\') {
+            Some(c) if !raw.contains('#') => (c, true),
+            _ => (content, false),
         };
-        let (face, vertex) = (|f: u32| at(&self.faces, f), |v: u32| at(&self.vertices, v));
-        let obj = |v: u32| u64::from(v) + 1;
-        let (place, message) = match *e {
-            TopologyError::FaceIndexOutOfRange {
-                face: f,
-                index,
-                vertices,
-            } => (
-                face(f),
-                format!(
-                    "vertex index {} out of range (the file has {})",
-                    obj(index),
-                    counted(vertices, "vertex", "vertices")
-                ),
-            ),
-            TopologyError::RepeatedVertex { face: f, vertex: v } => {
-                (face(f), format!("the face lists vertex {} twice", obj(v)))
-            }
-            TopologyError::DuplicateFaces { first, second } => (
-                face(second),
-                match self.faces.get(first as usize) {
-                    Some(l) => format!("duplicate face: the face at line {l} has the same vertices"),
-                    None => "duplicate face".into(),
-                },
-            ),
-            TopologyError::BoundaryEdge { edge, face: f } => (
-                face(f),
-                format!(
-                    "edge {}–{} of this face has no other face (open boundary; lsubdiv refines closed meshes)",
-                    obj(edge[0]),
-                    obj(edge[1])
-                ),
-            ),
-            TopologyError::NonManifoldEdge {
-                edge,
-                faces,
-                face: f,
-            } => (
-                face(f),
-                format!(
-                    "edge {}–{} of this face is shared by {faces} faces (non-manifold edge: at most 2)",
-                    obj(edge[0]),
-                    obj(edge[1])
-                ),
-            ),
-            TopologyError::NonManifoldVertex { vertex: v, fans } => (
-                vertex(v),
-                format!(
-                    "vertex {}: its faces form {fans} separate fans (non-manifold vertex)",
-                    obj(v)
-                ),
-            ),
-            TopologyError::IsolatedVertex { vertex: v } => (
-                vertex(v),
-                format!("vertex {} is used by no face (isolated vertex)", obj(v)),
-            ),
-            TopologyError::LowValence { vertex: v, valence } => (
-                vertex(v),
-                format!(
-                    "vertex {} has valence {valence}; extraordinary vertices need valence ≥ 3",
-                    obj(v)
-                ),
-            ),
-            TopologyError::NoFaces | TopologyError::TooLarge { .. } => {
-                (Location::whole(file), e.to_string())
-            }
-        };
-        Error::at(place, message)
+        if tokens.is_empty() {
+            first = line;
+        }
+        tokens.extend(content.split_whitespace().map(|t| (t, line)));
+        if !continued && !tokens.is_empty() {
+            f(first, &tokens)?;
+            tokens.clear();
+        }
     }
-}
-
-/// At most this many characters of a token are quoted in messages.
-const TOKEN_CHARS: usize = 32;
-
-fn shorten(s: &str) -> String {
-    match s.char_indices().nth(TOKEN_CHARS) {
-        Some((i, _)) => format!("{}…", &s[..i]),
-        None => s.to_string(),
+    if tokens.is_empty() {
+        Ok(())
+    } else {
+        f(first, &tokens)
     }
-}
-
-/// The directive of a line (comments stripped) and the rest of its tokens, or None if blank.
-fn directive(raw: &str) -> Option<(&str, std::str::SplitWhitespace<'_>)> {
-    let content = raw.split('#').next().unwrap_or("");
-    let mut tokens = content.split_whitespace();
-    tokens.next().map(|d| (d, tokens))
 }
 
 /// Directives of the OBJ format that carry nothing a quad mesh needs.
@@ -258,23 +161,30 @@ impl Skipped {
     }
 }
 
-/// Parses the values of a `v` line; returns the position and whether colours were present.
-fn parse_vertex(tokens: std::str::SplitWhitespace<'_>) -> Result<([f64; 3], bool), String> {
-    let count = tokens.clone().count();
+/// Parses the values of a `v` line; returns the position and whether colours were present, or
+/// the line of the bad value and the message.
+fn parse_vertex(tokens: &[Token<'_>]) -> Result<([f64; 3], bool), (Option<usize>, String)> {
+    let count = tokens.len();
     if !matches!(count, 3 | 4 | 6) {
-        return Err(format!(
-            "vertex has {}; expected x y z, x y z w or x y z r g b",
-            counted(count, "value", "values")
+        return Err((
+            None,
+            format!(
+                "vertex has {}; expected x y z, x y z w or x y z r g b",
+                counted(count, "value", "values")
+            ),
         ));
     }
     let mut p = [0.0; 3];
-    for (i, tok) in tokens.enumerate() {
+    for (i, &(tok, line)) in tokens.iter().enumerate() {
         let x: f64 = tok
             .parse()
-            .map_err(|_| format!("`{}` is not a number", shorten(tok)))?;
+            .map_err(|_| (Some(line), format!("`{}` is not a number", shorten(tok))))?;
         if i < 3 {
             if !x.is_finite() {
-                return Err(format!("coordinate `{}` is not finite", shorten(tok)));
+                return Err((
+                    Some(line),
+                    format!("coordinate `{}` is not finite", shorten(tok)),
+                ));
             }
             p[i] = x;
         }
@@ -335,86 +245,60 @@ fn parse_corner(tok: &str, before: usize, total: usize) -> Result<u32, String> {
 /// Parses OBJ text (`file` names it in errors): `v x y z [w]` (w ignored; `v x y z r g b`
 /// with vertex colours is accepted with a warning), `f a b c d` where each corner may be `i`,
 /// `i/t`, `i//n`, `i/t/n`, with negative (relative) indices supported; texture and normal
-/// indices are ignored.
+/// indices are ignored. A line ending in `\` continues on the next.
 ///
 /// Lines it does not need (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, other OBJ
 /// directives, unknown directives, comments, blank lines) are skipped with one warning per kind
-/// of skipped directive (count and first line). Errors are at their line. A file without faces
-/// is an error. Connectivity is not checked here (see [`read`], [`Topology::build`] and
-/// [`Lines::locate`]).
+/// of skipped directive (count and first line). Errors are at their physical line. A file
+/// without faces is an error. Connectivity is not checked here (see [`Parsed::check`]).
 pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
     // Positive indices may refer to vertices defined later in the file.
-    let total = text
-        .lines()
-        .filter(|l| matches!(directive(l), Some(("v", _))))
-        .count();
+    let mut total = 0;
+    for_each_line(text, |_, tokens| {
+        total += usize::from(tokens[0].0 == "v");
+        Ok(())
+    })?;
     let mut mesh = QuadMesh {
         positions: Vec::new(),
         faces: Vec::new(),
     };
-    let mut lines = Lines::default();
+    let mut places = Places::new(Unit::Line, 1);
     let mut skipped = Skipped::default();
-    for (k, raw) in text.lines().enumerate() {
-        let line = k + 1;
-        let Some((d, tokens)) = directive(raw) else {
-            continue;
-        };
-        let at = |message: String| Error::at(Location::line(file, line), message);
+    for_each_line(text, |line, tokens| {
+        let at = |l: usize, message: String| Error::at(Location::line(file, l), message);
+        let (d, values) = (tokens[0].0, &tokens[1..]);
         match d {
             "v" => {
-                let (p, colours) = parse_vertex(tokens).map_err(at)?;
+                let (p, colours) =
+                    parse_vertex(values).map_err(|(l, m)| at(l.unwrap_or(line), m))?;
                 if colours {
                     skipped.note_kind(SkipKind::VertexColours, line);
                 }
                 mesh.positions.push(p);
-                lines.vertices.push(line);
+                places.vertices.push(line);
             }
             "f" => {
-                let count = tokens.clone().count();
-                if count != 4 {
-                    return Err(at(format!(
-                        "face has {}; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
-                        counted(count, "vertex", "vertices")
-                    )));
+                if values.len() != 4 {
+                    return Err(at(line, not_quad(values.len())));
                 }
                 let mut face = [0u32; 4];
-                for (slot, tok) in face.iter_mut().zip(tokens) {
-                    *slot = parse_corner(tok, mesh.positions.len(), total).map_err(at)?;
+                for (slot, &(tok, l)) in face.iter_mut().zip(values) {
+                    *slot = parse_corner(tok, mesh.positions.len(), total).map_err(|m| at(l, m))?;
                 }
                 mesh.faces.push(face);
-                lines.faces.push(line);
+                places.faces.push(line);
             }
             _ => skipped.note_directive(d, line),
         }
-    }
+        Ok(())
+    })?;
     if mesh.faces.is_empty() {
-        return Err(lines.locate(file, &TopologyError::NoFaces));
+        return Err(places.locate(file, &TopologyError::NoFaces));
     }
     Ok(Parsed {
         mesh,
-        lines,
+        places,
         warnings: skipped.warnings(),
-    })
-}
-
-/// Reads a closed quad mesh (2-manifold, valences ≥ 3) from an OBJ file, with its topology
-/// and the reader's warnings (such as skipped `vn` lines); errors name the file's line, and
-/// the vertex or edge.
-pub fn read(path: &Path) -> Result<Checked, Error> {
-    let name = path.display().to_string();
-    let text = lsubdiv_compiler::read_text(path, u64::MAX)?;
-    let Parsed {
-        mesh,
-        lines,
-        warnings,
-    } = parse(&name, &text)?;
-    let topology = Topology::build(&mesh)
-        .and_then(|t| t.check_valences().map(|()| t))
-        .map_err(|e| lines.locate(&name, &e))?;
-    Ok(Checked {
-        mesh,
-        topology,
-        warnings,
     })
 }
 
@@ -449,6 +333,7 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
 mod tests {
     use super::*;
     use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
+    use lsubdiv_runtime::topology::Topology;
 
     /// Deterministic pseudo-random numbers.
     struct Rng(u64);
@@ -492,6 +377,64 @@ mod tests {
             assert_eq!(m.positions.len(), 4);
             assert!(w.is_empty(), "{face}: {w:?}");
         }
+    }
+
+    #[test]
+    fn a_trailing_backslash_continues_the_line() {
+        for (text, lines) in [
+            ("f 1 2 \\\n3 4\n", vec![5]),
+            ("f 1 2 \\\r\n3 4\r\n", vec![5]),
+            ("f 1 2 \\   \t\n  3 4\n", vec![5]),
+            ("f 1 \\\n2 \\\n3 4\n", vec![5]),
+            ("f\\\n1 2 3 4\n", vec![5]),
+            ("f 1 2 3 4 \\", vec![5]),
+            ("# a comment \\\nf 1 2 3 4\n", vec![6]),
+        ] {
+            let p = parse("t.obj", &format!("{SQUARE_V}{text}"))
+                .unwrap_or_else(|e| panic!("{text:?}: {e}"));
+            assert_eq!(p.mesh.faces, vec![[0, 1, 2, 3]], "{text:?}");
+            assert_eq!(p.places.faces, lines, "{text:?}");
+        }
+        let p = parse(
+            "t.obj",
+            "v 1 \\\n 2 \\\n3\nv 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3 4\n",
+        )
+        .unwrap();
+        assert_eq!(p.mesh.positions[0], [1.0, 2.0, 3.0]);
+        assert_eq!(p.places.vertices, vec![1, 4, 5, 6]);
+        // Errors name the physical line of the bad token, or the first line of the directive.
+        for (text, line, message) in [
+            (
+                "f 1 2 \\\n3 x\n",
+                6,
+                "`x` is not a face corner (i, i/t, i//n or i/t/n)",
+            ),
+            ("f 1 2 \\\n3\n", 5, &*not_quad(3)),
+            (
+                "f 1 2 \\\n\\\n3 9\n",
+                7,
+                "vertex index 9 out of range (the file has 4 vertices)",
+            ),
+            ("v 1 \\\n2 nan\n", 6, "coordinate `nan` is not finite"),
+            (
+                "f 1 2 \\ # not continued: a comment follows\n3 4\n",
+                5,
+                &*not_quad(3),
+            ),
+        ] {
+            assert_eq!(
+                err(&format!("{SQUARE_V}{text}")),
+                Error::at(Location::line("t.obj", line), message),
+                "{text:?}"
+            );
+        }
+        // Topology errors are placed at the first line of a continued face.
+        let p = parse("t.obj", &format!("{SQUARE_V}\nf 1 2 \\\n 3 4\n")).unwrap();
+        let e = Topology::build(&p.mesh).expect_err("open");
+        assert_eq!(
+            p.places.locate("t.obj", &e).at,
+            Some(Location::line("t.obj", 6))
+        );
     }
 
     #[test]
@@ -701,16 +644,16 @@ mod tests {
         // Comments, blank lines and a skipped directive shift the lines of `v` and `f`.
         let text = "# square\n\nv 0 0 0\nvt 0 0\nv 1 0 0\nv 1 1 0\n\nv 0 1 0\nv 5 5 5\n# face\nf 1 2 3 4\n";
         let p = parse("t.obj", text).unwrap();
-        assert_eq!(p.lines.vertices, vec![3, 5, 6, 8, 9]);
-        assert_eq!(p.lines.faces, vec![11]);
+        assert_eq!(p.places.vertices, vec![3, 5, 6, 8, 9]);
+        assert_eq!(p.places.faces, vec![11]);
         let e = Topology::build(&p.mesh).expect_err("open");
         assert_eq!(
-            p.lines.locate("t.obj", &e).to_string(),
+            p.places.locate("t.obj", &e).to_string(),
             "t.obj:11: error: edge 1–2 of this face has no other face (open boundary; lsubdiv refines closed meshes)"
         );
         let isolated = TopologyError::IsolatedVertex { vertex: 4 };
         assert_eq!(
-            p.lines.locate("t.obj", &isolated).to_string(),
+            p.places.locate("t.obj", &isolated).to_string(),
             "t.obj:9: error: vertex 5 is used by no face (isolated vertex)"
         );
         let duplicate = TopologyError::DuplicateFaces {
@@ -718,7 +661,7 @@ mod tests {
             second: 0,
         };
         assert_eq!(
-            p.lines.locate("t.obj", &duplicate).to_string(),
+            p.places.locate("t.obj", &duplicate).to_string(),
             "t.obj:11: error: duplicate face: the face at line 11 has the same vertices"
         );
     }
@@ -802,7 +745,7 @@ mod tests {
             };
             if let Ok(p) = parse("t.obj", &text) {
                 if let Err(e) = Topology::build(&p.mesh).and_then(|t| t.check_valences()) {
-                    let _ = p.lines.locate("t.obj", &e);
+                    let _ = p.places.locate("t.obj", &e);
                 }
                 checked += 1;
             }

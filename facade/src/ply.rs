@@ -1,16 +1,920 @@
-//! PLY output of quad meshes (ASCII).
+//! PLY meshes: reading ASCII and binary (little- and big-endian) PLY 1.0 with every problem
+//! placed — header problems at their line and column, ASCII data at its line, binary data at its
+//! element, property and byte offset — and writing (ASCII, and binary for other programs).
+//!
+//! The reader takes a `vertex` element with scalar `x`, `y`, `z` of any type and a `face`
+//! element with a `vertex_indices` (or `vertex_index`) list of integers; other properties,
+//! lists and elements are skipped in order. Nothing is allocated from a count in the header:
+//! a binary element's count is checked against the bytes that follow before it is read, and
+//! values are stored only as they are read.
 
+use crate::mesh_file::{not_quad, shorten, Parsed, Places, Unit};
+use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
-use std::fmt::Write as _;
+use lsubdiv_runtime::topology::TopologyError;
+use std::fmt::{self, Write as _};
+
+/// A scalar type of PLY.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+/// The type names of PLY 1.0 and their sized aliases; the first name of a type is used in
+/// messages.
+const TYPES: &[(&str, Scalar)] = &[
+    ("char", Scalar::I8),
+    ("uchar", Scalar::U8),
+    ("short", Scalar::I16),
+    ("ushort", Scalar::U16),
+    ("int", Scalar::I32),
+    ("uint", Scalar::U32),
+    ("float", Scalar::F32),
+    ("double", Scalar::F64),
+    ("int8", Scalar::I8),
+    ("uint8", Scalar::U8),
+    ("int16", Scalar::I16),
+    ("uint16", Scalar::U16),
+    ("int32", Scalar::I32),
+    ("uint32", Scalar::U32),
+    ("float32", Scalar::F32),
+    ("float64", Scalar::F64),
+];
+
+/// A value read: integers exactly, floats as f64.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Value {
+    Int(i64),
+    Float(f64),
+}
+
+impl Value {
+    fn to_f64(self) -> f64 {
+        match self {
+            Value::Int(i) => i as f64,
+            Value::Float(x) => x,
+        }
+    }
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Int(i) => write!(f, "{i}"),
+            Value::Float(x) => write!(f, "{x:?}"),
+        }
+    }
+}
+
+impl Scalar {
+    fn named(name: &str) -> Option<Scalar> {
+        TYPES.iter().find(|(n, _)| *n == name).map(|&(_, t)| t)
+    }
+
+    fn name(self) -> &'static str {
+        TYPES
+            .iter()
+            .find(|(_, t)| *t == self)
+            .map_or("?", |(n, _)| n)
+    }
+
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    fn is_integer(self) -> bool {
+        !matches!(self, Scalar::F32 | Scalar::F64)
+    }
+
+    /// The value of `b` (exactly [`Scalar::size`] bytes) in the given byte order.
+    fn decode(self, b: &[u8], big: bool) -> Value {
+        fn bytes<const N: usize>(b: &[u8], big: bool) -> [u8; N] {
+            let mut a = [0u8; N];
+            a.copy_from_slice(&b[..N]);
+            if big {
+                a.reverse();
+            }
+            a
+        }
+        match self {
+            Scalar::I8 => Value::Int(i64::from(i8::from_le_bytes(bytes(b, big)))),
+            Scalar::U8 => Value::Int(i64::from(b[0])),
+            Scalar::I16 => Value::Int(i64::from(i16::from_le_bytes(bytes(b, big)))),
+            Scalar::U16 => Value::Int(i64::from(u16::from_le_bytes(bytes(b, big)))),
+            Scalar::I32 => Value::Int(i64::from(i32::from_le_bytes(bytes(b, big)))),
+            Scalar::U32 => Value::Int(i64::from(u32::from_le_bytes(bytes(b, big)))),
+            Scalar::F32 => Value::Float(f64::from(f32::from_le_bytes(bytes(b, big)))),
+            Scalar::F64 => Value::Float(f64::from_le_bytes(bytes(b, big))),
+        }
+    }
+
+    /// The value of an ASCII token: an integer in the type's range, or any number for floats.
+    fn parse(self, tok: &str) -> Option<Value> {
+        let (lo, hi) = match self {
+            Scalar::I8 => (i8::MIN.into(), i8::MAX.into()),
+            Scalar::U8 => (0, u8::MAX.into()),
+            Scalar::I16 => (i16::MIN.into(), i16::MAX.into()),
+            Scalar::U16 => (0, u16::MAX.into()),
+            Scalar::I32 => (i32::MIN.into(), i32::MAX.into()),
+            Scalar::U32 => (0, u32::MAX.into()),
+            Scalar::F32 | Scalar::F64 => return tok.parse().ok().map(Value::Float),
+        };
+        let i: i64 = tok.parse().ok()?;
+        (lo..=hi).contains(&i).then_some(Value::Int(i))
+    }
+}
+
+/// A property's type: a scalar, or a list of `item`s preceded by its length of type `count`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Scalar(Scalar),
+    List { count: Scalar, item: Scalar },
+}
+
+#[derive(Clone, Debug)]
+struct Property {
+    name: String,
+    kind: Kind,
+    /// Header line.
+    line: usize,
+}
+
+#[derive(Clone, Debug)]
+struct Element {
+    name: String,
+    count: u64,
+    properties: Vec<Property>,
+    /// Header line.
+    line: usize,
+}
+
+impl Element {
+    /// Bytes of one instance in a binary file, at least (lists empty).
+    fn min_size(&self) -> u64 {
+        let size = |p: &Property| match p.kind {
+            Kind::Scalar(t) | Kind::List { count: t, .. } => t.size() as u64,
+        };
+        self.properties.iter().map(size).sum()
+    }
+}
+
+/// How the data after the header is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Encoding {
+    Ascii,
+    Binary { big: bool },
+}
+
+/// A parsed header: the encoding, the elements in order, where the data begins (byte offset
+/// and line) and the line of `end_header`.
+struct Header {
+    encoding: Encoding,
+    elements: Vec<Element>,
+    body: usize,
+    end_line: usize,
+}
+
+const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Whether `bytes` begin with the PLY magic line `ply` (after an optional UTF-8 byte-order
+/// mark).
+pub fn has_magic(bytes: &[u8]) -> bool {
+    let b = bytes.strip_prefix(UTF8_BOM).unwrap_or(bytes);
+    b.strip_prefix(b"ply")
+        .is_some_and(|rest| rest.first().is_none_or(u8::is_ascii_whitespace))
+}
+
+/// The whitespace-separated words of a header line with their 1-based columns (characters).
+fn words(line: &str) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
+    let mut start = None;
+    let ends = line
+        .char_indices()
+        .chain(std::iter::once((line.len(), ' ')));
+    for (column, (i, c)) in ends.enumerate() {
+        match (c.is_whitespace(), start) {
+            (true, Some((s, col))) => {
+                out.push((col, &line[s..i]));
+                start = None;
+            }
+            (false, None) => start = Some((i, column + 1)),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The names of the types, for messages.
+const TYPE_NAMES: &str = "char, uchar, short, ushort, int, uint, float, double or int8 … float64";
+
+/// Parses the header: `ply`, `format`, `comment` and `obj_info`, `element`, `property`,
+/// `end_header`, each problem at its line and column.
+fn header(file: &str, bytes: &[u8]) -> Result<Header, Error> {
+    let mut pos = if bytes.starts_with(UTF8_BOM) { 3 } else { 0 };
+    let mut encoding = None;
+    let mut elements: Vec<Element> = Vec::new();
+    let mut line = 0;
+    loop {
+        line += 1;
+        if pos >= bytes.len() {
+            let at = Location::line(file, (line - 1).max(1));
+            return Err(Error::at(
+                at,
+                "the header ends without an `end_header` line (or the file is truncated)",
+            ));
+        }
+        let end = bytes[pos..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(bytes.len(), |i| pos + i);
+        let raw = String::from_utf8_lossy(&bytes[pos..end]);
+        pos = (end + 1).min(bytes.len());
+        let w = words(&raw);
+        let at = |column: usize, message: String| {
+            Error::at(
+                Location {
+                    file: file.to_string(),
+                    line: Some(line),
+                    column: Some(column),
+                },
+                message,
+            )
+        };
+        if line == 1 {
+            if w.len() != 1 || w[0] != (1, "ply") {
+                return Err(at(
+                    1,
+                    "not a PLY file: the first line must be `ply`".to_string(),
+                ));
+            }
+            continue;
+        }
+        let Some(&(_, keyword)) = w.first() else {
+            continue;
+        };
+        let args = &w[1..];
+        match keyword {
+            "comment" | "obj_info" => {}
+            "format" => {
+                if encoding.is_some() {
+                    return Err(at(1, "a second `format` line".into()));
+                }
+                let [(c, name), (vc, version)] = args else {
+                    return Err(at(
+                        1,
+                        "expected `format ascii 1.0`, `format binary_little_endian 1.0` or `format binary_big_endian 1.0`".into(),
+                    ));
+                };
+                encoding = Some(match *name {
+                    "ascii" => Encoding::Ascii,
+                    "binary_little_endian" => Encoding::Binary { big: false },
+                    "binary_big_endian" => Encoding::Binary { big: true },
+                    other => {
+                        return Err(at(
+                            *c,
+                            format!(
+                                "unknown format `{}` (ascii, binary_little_endian or binary_big_endian)",
+                                shorten(other)
+                            ),
+                        ))
+                    }
+                });
+                if *version != "1.0" {
+                    return Err(at(
+                        *vc,
+                        format!("PLY version `{}` is not supported (1.0)", shorten(version)),
+                    ));
+                }
+            }
+            "element" => {
+                let [(_, name), (c, count)] = args else {
+                    return Err(at(1, "expected `element NAME COUNT`".into()));
+                };
+                if elements.iter().any(|e| e.name == *name) && matches!(*name, "vertex" | "face") {
+                    return Err(at(1, format!("a second `{name}` element")));
+                }
+                let count = match count.parse::<u64>() {
+                    Ok(n) if !count.starts_with('+') => n,
+                    _ if !count.is_empty() && count.bytes().all(|b| b.is_ascii_digit()) => {
+                        return Err(at(
+                            *c,
+                            format!("element count `{}` does not fit 64 bits", shorten(count)),
+                        ))
+                    }
+                    _ => {
+                        return Err(at(
+                            *c,
+                            format!(
+                                "`{}` is not an element count (a non-negative integer)",
+                                shorten(count)
+                            ),
+                        ))
+                    }
+                };
+                if *name == "vertex" && count > u64::from(u32::MAX) {
+                    return Err(at(
+                        *c,
+                        format!("{count} vertices: at most {} (32-bit indices)", u32::MAX),
+                    ));
+                }
+                elements.push(Element {
+                    name: name.to_string(),
+                    count,
+                    properties: Vec::new(),
+                    line,
+                });
+            }
+            "property" => {
+                let Some(element) = elements.last_mut() else {
+                    return Err(at(1, "a `property` before any `element`".into()));
+                };
+                let scalar = |&(c, t): &(usize, &str)| {
+                    Scalar::named(t).ok_or_else(|| {
+                        at(c, format!("unknown type `{}` ({TYPE_NAMES})", shorten(t)))
+                    })
+                };
+                let (kind, name) = match args {
+                    [(_, "list"), count, item, (_, name)] => {
+                        let c = scalar(count)?;
+                        if !c.is_integer() {
+                            return Err(at(
+                                count.0,
+                                format!(
+                                    "the length of a list must be an integer type, not `{}`",
+                                    count.1
+                                ),
+                            ));
+                        }
+                        let item = scalar(item)?;
+                        (Kind::List { count: c, item }, *name)
+                    }
+                    [(_, "list"), ..] => {
+                        return Err(at(
+                            1,
+                            "expected `property list COUNT_TYPE ITEM_TYPE NAME`".into(),
+                        ))
+                    }
+                    [t, (_, name)] => (Kind::Scalar(scalar(t)?), *name),
+                    _ => return Err(at(1, "expected `property TYPE NAME`".into())),
+                };
+                if element.properties.iter().any(|p| p.name == name) {
+                    return Err(at(
+                        args[args.len() - 1].0,
+                        format!(
+                            "a second property `{}` in element `{}`",
+                            shorten(name),
+                            shorten(&element.name)
+                        ),
+                    ));
+                }
+                element.properties.push(Property {
+                    name: name.to_string(),
+                    kind,
+                    line,
+                });
+            }
+            "end_header" => {
+                if !args.is_empty() {
+                    return Err(at(args[0].0, "text after `end_header`".into()));
+                }
+                let Some(encoding) = encoding else {
+                    return Err(at(1, "the header has no `format` line".into()));
+                };
+                return Ok(Header {
+                    encoding,
+                    elements,
+                    body: pos,
+                    end_line: line,
+                });
+            }
+            other => {
+                return Err(at(
+                    1,
+                    format!(
+                        "unknown header line `{}` (expected format, comment, obj_info, element, property or end_header)",
+                        shorten(other)
+                    ),
+                ));
+            }
+        }
+    }
+}
+
+/// What the reader takes from the elements: the vertex element and its x, y, z properties,
+/// the face element and its index list (element and property indices).
+struct Roles {
+    vertex: usize,
+    xyz: [usize; 3],
+    face: Option<(usize, usize)>,
+}
+
+fn roles(file: &str, h: &Header) -> Result<Roles, Error> {
+    let find = |name: &str| h.elements.iter().position(|e| e.name == name);
+    let Some(vertex) = find("vertex") else {
+        return Err(Error::at(
+            Location::line(file, h.end_line),
+            "the header declares no `vertex` element",
+        ));
+    };
+    let ve = &h.elements[vertex];
+    let mut xyz = [0; 3];
+    for (slot, axis) in xyz.iter_mut().zip(["x", "y", "z"]) {
+        let Some(i) = ve.properties.iter().position(|p| p.name == axis) else {
+            return Err(Error::at(
+                Location::line(file, ve.line),
+                format!("the `vertex` element has no `{axis}` property"),
+            ));
+        };
+        if matches!(ve.properties[i].kind, Kind::List { .. }) {
+            return Err(Error::at(
+                Location::line(file, ve.properties[i].line),
+                format!("vertex property `{axis}` is a list; expected a number"),
+            ));
+        }
+        *slot = i;
+    }
+    let face = match find("face") {
+        None => None,
+        Some(f) => {
+            let fe = &h.elements[f];
+            let Some(i) = fe
+                .properties
+                .iter()
+                .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
+            else {
+                return Err(Error::at(
+                    Location::line(file, fe.line),
+                    "the `face` element has no `vertex_indices` list",
+                ));
+            };
+            let p = &fe.properties[i];
+            match p.kind {
+                Kind::List { item, .. } if item.is_integer() => {}
+                Kind::List { item, .. } => {
+                    return Err(Error::at(
+                        Location::line(file, p.line),
+                        format!(
+                            "vertex indices of type `{}`; expected an integer type",
+                            item.name()
+                        ),
+                    ))
+                }
+                Kind::Scalar(_) => {
+                    return Err(Error::at(
+                        Location::line(file, p.line),
+                        format!("`{}` is not a list", p.name),
+                    ))
+                }
+            }
+            Some((f, i))
+        }
+    };
+    Ok(Roles { vertex, xyz, face })
+}
+
+/// Which value is being read, for messages: `vertex 3, property `y``.
+#[derive(Clone, Copy)]
+struct Context<'a> {
+    element: &'a str,
+    index: u64,
+    property: Option<&'a str>,
+}
+
+impl fmt::Display for Context<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {}", shorten(self.element), self.index)?;
+        match self.property {
+            Some(p) => write!(f, ", property `{}`", shorten(p)),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The data after the header, read value by value.
+trait Source {
+    /// Starts element instance `cx` (`of`: the element's count); returns its place (line or
+    /// byte offset).
+    fn begin(&mut self, cx: Context<'_>, of: u64) -> Result<usize, Error>;
+    /// The next value, of type `t`; `finite`: refuse NaN and infinities.
+    fn value(&mut self, t: Scalar, cx: Context<'_>, finite: bool) -> Result<Value, Error>;
+    /// Skips `n` values of type `t`.
+    fn skip(&mut self, t: Scalar, n: u64, cx: Context<'_>) -> Result<(), Error>;
+    /// Ends the instance.
+    fn end(&mut self, cx: Context<'_>) -> Result<(), Error>;
+    /// What follows the last element, as a warning.
+    fn rest(&mut self) -> Option<String>;
+    /// A problem with the value read last.
+    fn fail(&self, cx: Context<'_>, message: &str) -> Error;
+    /// Refuses an element whose count cannot fit in the data left (binary: each instance has at
+    /// least [`Element::min_size`] bytes), before anything of it is read or stored.
+    fn check_count(&self, file: &str, element: &Element) -> Result<(), Error>;
+}
+
+/// ASCII data: one element instance per line (blank lines skipped), values separated by
+/// whitespace; errors at line and column.
+struct Ascii<'a> {
+    file: &'a str,
+    rest: &'a [u8],
+    line: usize,
+    tokens: Vec<(&'a [u8], usize)>,
+    next: usize,
+}
+
+/// The column of the value read last on the current line.
+fn last_column(tokens: &[(&[u8], usize)], next: usize) -> Option<usize> {
+    next.checked_sub(1).and_then(|i| tokens.get(i)).map(|t| t.1)
+}
+
+impl<'a> Ascii<'a> {
+    fn at(&self, column: Option<usize>, message: String) -> Error {
+        Error::at(
+            Location {
+                file: self.file.to_string(),
+                line: Some(self.line.max(1)),
+                column,
+            },
+            message,
+        )
+    }
+
+    /// The next line with a value; false at the end of the data.
+    fn next_line(&mut self) -> bool {
+        while !self.rest.is_empty() {
+            let end = self.rest.iter().position(|&b| b == b'\n');
+            let (l, rest) = match end {
+                Some(i) => (&self.rest[..i], &self.rest[i + 1..]),
+                None => (self.rest, &[][..]),
+            };
+            self.rest = rest;
+            self.line += 1;
+            self.tokens.clear();
+            self.next = 0;
+            let mut start = None;
+            for (i, &b) in l.iter().chain(b" ").enumerate() {
+                match (b.is_ascii_whitespace(), start) {
+                    (true, Some(s)) => {
+                        self.tokens.push((&l[s..i], s + 1));
+                        start = None;
+                    }
+                    (false, None) => start = Some(i),
+                    _ => {}
+                }
+            }
+            if !self.tokens.is_empty() {
+                return true;
+            }
+        }
+        false
+    }
+}
+
+impl Source for Ascii<'_> {
+    fn begin(&mut self, cx: Context<'_>, of: u64) -> Result<usize, Error> {
+        if self.next_line() {
+            return Ok(self.line);
+        }
+        Err(self.at(
+            None,
+            format!(
+                "the file ends after {} of {of} `{}` elements (truncated, or a wrong count in the header)",
+                cx.index,
+                shorten(cx.element)
+            ),
+        ))
+    }
+
+    fn value(&mut self, t: Scalar, cx: Context<'_>, finite: bool) -> Result<Value, Error> {
+        let Some(&(tok, column)) = self.tokens.get(self.next) else {
+            return Err(self.at(None, format!("{cx}: the line ends before this value")));
+        };
+        self.next += 1;
+        let text = String::from_utf8_lossy(tok);
+        let v = t.parse(&text).ok_or_else(|| {
+            self.at(
+                Some(column),
+                format!("{cx}: `{}` is not a {}", shorten(&text), t.name()),
+            )
+        })?;
+        if finite && !v.to_f64().is_finite() {
+            return Err(self.at(
+                Some(column),
+                format!("{cx}: coordinate `{}` is not finite", shorten(&text)),
+            ));
+        }
+        Ok(v)
+    }
+
+    fn skip(&mut self, _: Scalar, n: u64, cx: Context<'_>) -> Result<(), Error> {
+        let left = (self.tokens.len() - self.next) as u64;
+        if n > left {
+            return Err(self.at(
+                None,
+                format!("{cx}: the list has {n} values but the line only {left} more"),
+            ));
+        }
+        self.next += n as usize;
+        Ok(())
+    }
+
+    fn end(&mut self, cx: Context<'_>) -> Result<(), Error> {
+        match self.tokens.get(self.next) {
+            None => Ok(()),
+            Some(&(_, column)) => Err(self.at(
+                Some(column),
+                format!(
+                    "{cx}: {} more values than the header declares",
+                    self.tokens.len() - self.next
+                ),
+            )),
+        }
+    }
+
+    fn rest(&mut self) -> Option<String> {
+        let first = self.next_line().then_some(self.line)?;
+        let mut lines = 1;
+        while self.next_line() {
+            lines += 1;
+        }
+        let noun = if lines == 1 { "line" } else { "lines" };
+        Some(format!(
+            "ignored {lines} {noun} after the last element (first at line {first})"
+        ))
+    }
+
+    fn fail(&self, cx: Context<'_>, message: &str) -> Error {
+        self.at(
+            last_column(&self.tokens, self.next),
+            format!("{cx}: {message}"),
+        )
+    }
+
+    fn check_count(&self, _: &str, _: &Element) -> Result<(), Error> {
+        Ok(()) // each instance takes a line: the count is bounded by the lines read
+    }
+}
+
+/// Binary data: values of their type's size in the file's byte order; errors name the
+/// element, the property and the byte offset.
+struct Binary<'a> {
+    file: &'a str,
+    bytes: &'a [u8],
+    pos: usize,
+    /// Offset of the value read last.
+    last: usize,
+    big: bool,
+}
+
+impl Binary<'_> {
+    fn at(&self, cx: Context<'_>, message: &str) -> Error {
+        Error::at(
+            Location::whole(self.file),
+            format!("{cx}, byte {}: {message}", self.pos),
+        )
+    }
+
+    fn left(&self) -> u64 {
+        (self.bytes.len() - self.pos) as u64
+    }
+
+    /// The next `n` bytes.
+    fn take(&mut self, n: u64, cx: Context<'_>) -> Result<&[u8], Error> {
+        let left = self.left();
+        if n > left {
+            return Err(self.at(
+                cx,
+                &format!(
+                    "the file ends inside this element ({n} bytes needed, {left} left; truncated)"
+                ),
+            ));
+        }
+        let start = self.pos;
+        self.pos += n as usize;
+        Ok(&self.bytes[start..self.pos])
+    }
+}
+
+impl Source for Binary<'_> {
+    fn begin(&mut self, _: Context<'_>, _: u64) -> Result<usize, Error> {
+        Ok(self.pos)
+    }
+
+    fn value(&mut self, t: Scalar, cx: Context<'_>, finite: bool) -> Result<Value, Error> {
+        let start = self.pos;
+        let big = self.big;
+        let v = t.decode(self.take(t.size() as u64, cx)?, big);
+        self.last = start;
+        if finite && !v.to_f64().is_finite() {
+            return Err(self.fail(cx, &format!("coordinate {v} is not finite")));
+        }
+        Ok(v)
+    }
+
+    fn skip(&mut self, t: Scalar, n: u64, cx: Context<'_>) -> Result<(), Error> {
+        let bytes = n.saturating_mul(t.size() as u64);
+        self.take(bytes, cx).map(|_| ())
+    }
+
+    fn end(&mut self, _: Context<'_>) -> Result<(), Error> {
+        Ok(())
+    }
+
+    fn rest(&mut self) -> Option<String> {
+        let left = self.left();
+        (left > 0).then(|| format!("ignored {left} bytes after the last element"))
+    }
+
+    fn fail(&self, cx: Context<'_>, message: &str) -> Error {
+        Error::at(
+            Location::whole(self.file),
+            format!("{cx}, byte {}: {message}", self.last),
+        )
+    }
+
+    fn check_count(&self, file: &str, e: &Element) -> Result<(), Error> {
+        let (size, left) = (e.min_size(), self.left());
+        if e.count.saturating_mul(size) <= left {
+            return Ok(());
+        }
+        Err(Error::at(
+            Location::line(file, e.line),
+            format!(
+                "{} `{}` elements of at least {size} bytes each do not fit in the {left} bytes left at byte {} (truncated, or a wrong count)",
+                e.count,
+                shorten(&e.name),
+                self.pos
+            ),
+        ))
+    }
+}
+
+/// The elements' data read from `src` by the header's `roles`; other values are skipped.
+fn body(
+    file: &str,
+    h: &Header,
+    roles: &Roles,
+    src: &mut dyn Source,
+    unit: Unit,
+) -> Result<Parsed, Error> {
+    let mut mesh = QuadMesh {
+        positions: Vec::new(),
+        faces: Vec::new(),
+    };
+    let mut places = Places::new(unit, 0);
+    let mut warnings = Vec::new();
+    for (e, element) in h.elements.iter().enumerate() {
+        let role_xyz = (e == roles.vertex).then_some(roles.xyz);
+        let role_face = roles.face.filter(|&(f, _)| f == e).map(|(_, p)| p);
+        let skipped: Vec<&str> = element
+            .properties
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| !role_xyz.is_some_and(|xyz| xyz.contains(&i)) && role_face != Some(i))
+            .map(|(_, p)| p.name.as_str())
+            .collect();
+        if role_xyz.is_none() && role_face.is_none() {
+            if element.count > 0 {
+                warnings.push(format!(
+                    "skipped {} `{}` elements (header line {})",
+                    element.count,
+                    shorten(&element.name),
+                    element.line
+                ));
+            }
+        } else if !skipped.is_empty() && element.count > 0 {
+            let names: Vec<String> = skipped.iter().map(|n| shorten(n)).collect();
+            warnings.push(format!(
+                "ignored {} properties {} (header line {})",
+                element.name,
+                names.join(", "),
+                element.line
+            ));
+        }
+        if element.properties.is_empty() {
+            continue; // nothing to read, whatever the count
+        }
+        src.check_count(file, element)?;
+        for k in 0..element.count {
+            let mut cx = Context {
+                element: &element.name,
+                index: k,
+                property: None,
+            };
+            let place = src.begin(cx, element.count)?;
+            let mut p = [0.0; 3];
+            let mut face = None;
+            for (i, prop) in element.properties.iter().enumerate() {
+                cx.property = Some(&prop.name);
+                let axis = role_xyz.and_then(|xyz| xyz.iter().position(|&j| j == i));
+                match prop.kind {
+                    Kind::Scalar(t) => {
+                        let v = src.value(t, cx, axis.is_some())?;
+                        if let Some(a) = axis {
+                            p[a] = v.to_f64();
+                        }
+                    }
+                    Kind::List { count, item } => {
+                        let n = match src.value(count, cx, false)? {
+                            Value::Int(n) if n >= 0 => n as u64,
+                            v => return Err(src.fail(cx, &format!("list length {v} is negative"))),
+                        };
+                        if role_face == Some(i) {
+                            face = Some(indices(src, item, n, cx)?);
+                        } else {
+                            src.skip(item, n, cx)?;
+                        }
+                    }
+                }
+            }
+            cx.property = None;
+            src.end(cx)?;
+            if role_xyz.is_some() {
+                mesh.positions.push(p);
+                places.vertices.push(place);
+            }
+            if let Some(f) = face {
+                mesh.faces.push(f);
+                places.faces.push(place);
+            }
+        }
+    }
+    warnings.extend(src.rest());
+    if mesh.faces.is_empty() {
+        return Err(places.locate(file, &TopologyError::NoFaces));
+    }
+    Ok(Parsed {
+        mesh,
+        places,
+        warnings,
+    })
+}
+
+/// The four vertex indices of a face (a list of `n` values of type `item`).
+fn indices(src: &mut dyn Source, item: Scalar, n: u64, cx: Context<'_>) -> Result<[u32; 4], Error> {
+    if n != 4 {
+        return Err(src.fail(cx, &not_quad(usize::try_from(n).unwrap_or(usize::MAX))));
+    }
+    let mut face = [0u32; 4];
+    for slot in &mut face {
+        let v = src.value(item, cx, false)?;
+        *slot = match v {
+            Value::Int(i) => u32::try_from(i).ok(),
+            Value::Float(_) => None,
+        }
+        .ok_or_else(|| src.fail(cx, &format!("vertex index {v} out of range")))?;
+    }
+    Ok(face)
+}
+
+/// Parses PLY bytes (`file` names it in errors): the header, then the data as it declares,
+/// ASCII or binary of either byte order. Vertices are numbered from 0 in messages, as face
+/// lists index them. Connectivity is not checked here (see [`Parsed::check`]).
+pub fn parse(file: &str, bytes: &[u8]) -> Result<Parsed, Error> {
+    let h = header(file, bytes)?;
+    let roles = roles(file, &h)?;
+    match h.encoding {
+        Encoding::Ascii => {
+            let mut src = Ascii {
+                file,
+                rest: &bytes[h.body..],
+                line: h.end_line,
+                tokens: Vec::new(),
+                next: 0,
+            };
+            body(file, &h, &roles, &mut src, Unit::Line)
+        }
+        Encoding::Binary { big } => {
+            let mut src = Binary {
+                file,
+                bytes,
+                pos: h.body,
+                last: h.body,
+                big,
+            };
+            body(file, &h, &roles, &mut src, Unit::Byte)
+        }
+    }
+}
 
 /// Writes `mesh` to `path` as ASCII PLY ([`format`]), whole or not at all.
-pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), crate::Error> {
+pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), Error> {
     crate::write_atomic(path, format(mesh)?.as_bytes())
 }
 
 /// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list; a
 /// non-finite coordinate is refused ([`crate::points::finite`]).
-pub fn format(mesh: &QuadMesh) -> Result<String, crate::Error> {
+pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     crate::points::finite("vertex", &mesh.positions)?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 256);
     let _ = write!(
@@ -30,10 +934,239 @@ pub fn format(mesh: &QuadMesh) -> Result<String, crate::Error> {
     Ok(s)
 }
 
+/// Binary PLY in the byte order `big` (big-endian) or little-endian: vertex x y z as double,
+/// faces as a `uchar uint` list (for programs that want binary files; lsubdiv writes ASCII).
+pub fn binary(mesh: &QuadMesh, big: bool) -> Result<Vec<u8>, Error> {
+    crate::points::finite("vertex", &mesh.positions)?;
+    let order = if big { "big" } else { "little" };
+    let mut head = format!("ply\nformat binary_{order}_endian 1.0\n");
+    let _ = writeln!(head, "element vertex {}", mesh.positions.len());
+    for axis in ["x", "y", "z"] {
+        let _ = writeln!(head, "property double {axis}");
+    }
+    let _ = write!(
+        head,
+        "element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        mesh.faces.len()
+    );
+    let mut out = head.into_bytes();
+    out.reserve(24 * mesh.positions.len() + 17 * mesh.faces.len());
+    let order = |b: [u8; 8]| {
+        if big {
+            u64::from_le_bytes(b).swap_bytes().to_le_bytes()
+        } else {
+            b
+        }
+    };
+    for x in mesh.positions.iter().flatten() {
+        out.extend(order(x.to_le_bytes()));
+    }
+    for f in &mesh.faces {
+        out.push(4);
+        for i in f {
+            out.extend(if big {
+                i.to_be_bytes()
+            } else {
+                i.to_le_bytes()
+            });
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lsubdiv_runtime::generators::cube;
+    use crate::mesh_file::Checked;
+    use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
+
+    /// Parses and checks `bytes` as `t.ply`.
+    fn read(bytes: &[u8]) -> Result<Checked, Error> {
+        crate::mesh_file::parse("t.ply", bytes.to_vec())
+    }
+
+    /// `text` with its 1-based line `line` replaced by `new`.
+    fn with_line(text: &str, line: usize, new: &str) -> String {
+        let mut lines: Vec<&str> = text.lines().collect();
+        lines[line - 1] = new;
+        lines.join("\n") + "\n"
+    }
+
+    /// Where the data of `binary(…)` begins.
+    fn body_start(bytes: &[u8]) -> usize {
+        let end = b"end_header\n";
+        bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len()
+    }
+
+    /// The value `x` of type `t` as PLY bytes (the inverse of [`Scalar::decode`]).
+    fn encode(t: Scalar, x: f64, big: bool) -> Vec<u8> {
+        let mut b = match t {
+            Scalar::I8 => (x as i8).to_le_bytes().to_vec(),
+            Scalar::U8 => vec![x as u8],
+            Scalar::I16 => (x as i16).to_le_bytes().to_vec(),
+            Scalar::U16 => (x as u16).to_le_bytes().to_vec(),
+            Scalar::I32 => (x as i32).to_le_bytes().to_vec(),
+            Scalar::U32 => (x as u32).to_le_bytes().to_vec(),
+            Scalar::F32 => (x as f32).to_le_bytes().to_vec(),
+            Scalar::F64 => x.to_le_bytes().to_vec(),
+        };
+        if big {
+            b.reverse();
+        }
+        b
+    }
+
+    /// The cube with every kind of extra: skipped scalar and list properties of many types
+    /// around x, y, z, an element between vertices and faces, aliases, comments and `obj_info`;
+    /// in `format` (`ascii`, `binary_little_endian` or `binary_big_endian`).
+    fn cube_with_extras(format: &str) -> Vec<u8> {
+        use Scalar::*;
+        let m = cube();
+        let mut rows: Vec<Vec<(Scalar, f64)>> = Vec::new();
+        for (k, p) in m.positions.iter().enumerate() {
+            let tex = [(U8, 2.0), (F32, 0.5), (F32, 0.25)];
+            let mut row = vec![(U8, 255.0 - k as f64), (F32, p[0])];
+            row.extend(tex);
+            row.extend([(F64, p[1]), (I16, p[2]), (F32, -0.5)]);
+            rows.push(row);
+        }
+        rows.push(vec![(I32, 0.0), (I32, 1.0)]);
+        rows.push(vec![(I32, 1.0), (I32, 2.0)]);
+        for f in &m.faces {
+            let mut row = vec![(U8, 7.0), (I8, 4.0)];
+            row.extend(f.iter().map(|&i| (U16, f64::from(i))));
+            row.extend([(U8, 2.0), (F32, 0.125), (F32, 0.75)]);
+            rows.push(row);
+        }
+        let mut out = format!(
+            "ply\nformat {format} 1.0\ncomment made by hand\nobj_info anything\n\
+             element vertex 8\nproperty uchar red\nproperty float32 x\n\
+             property list uint8 float tex\nproperty double y\nproperty int16 z\n\
+             property float nx\nelement edge 2\nproperty int vertex1\nproperty int32 vertex2\n\
+             element face 6\nproperty uchar flags\nproperty list int8 uint16 vertex_index\n\
+             property list uchar float texcoord\nelement material 0\nproperty float shine\n\
+             end_header\n"
+        )
+        .into_bytes();
+        let big = format == "binary_big_endian";
+        for row in rows {
+            if format == "ascii" {
+                let text: Vec<String> = row.iter().map(|(_, x)| format!("{x}")).collect();
+                out.extend(format!("{}\r\n", text.join(" ")).bytes());
+            } else {
+                for (t, x) in row {
+                    out.extend(encode(t, x, big));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn every_encoding_reads_the_same_mesh_skipping_the_rest() {
+        let m = cube();
+        for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+            let read = read(&cube_with_extras(format)).unwrap_or_else(|e| panic!("{format}: {e}"));
+            assert_eq!(read.mesh, m, "{format}");
+            assert_eq!(read.topology.face_count(), 6);
+            assert_eq!(
+                read.warnings,
+                vec![
+                    "ignored vertex properties red, tex, nx (header line 5)",
+                    "skipped 2 `edge` elements (header line 12)",
+                    "ignored face properties flags, texcoord (header line 15)",
+                ],
+                "{format}"
+            );
+        }
+    }
+
+    #[test]
+    fn what_lsubdiv_writes_reads_back_bit_exact() {
+        let mut awkward = torus(5, 7);
+        awkward.positions[0] = [-0.0, 1e-300, 5e-324];
+        awkward.positions[1] = [1.7976931348623157e308, -1e22, 0.1 + 0.2];
+        for m in [cube(), awkward, klein_bottle(4, 5)] {
+            for bytes in [
+                format(&m).unwrap().into_bytes(),
+                binary(&m, false).unwrap(),
+                binary(&m, true).unwrap(),
+            ] {
+                let back = parse("t.ply", &bytes).unwrap().mesh;
+                assert_eq!(back.faces, m.faces);
+                let bits = |m: &QuadMesh| -> Vec<u64> {
+                    m.positions.iter().flatten().map(|x| x.to_bits()).collect()
+                };
+                assert_eq!(bits(&back), bits(&m));
+            }
+        }
+    }
+
+    /// One row per kind of bad file: the bytes, the location and a fragment of the message.
+    #[test]
+    fn bad_files_are_refused_at_their_place() {
+        let ascii = format(&cube()).unwrap(); // header lines 1–10, vertices 11–18, faces 19–24
+        let le = binary(&cube(), false).unwrap();
+        let h = body_start(&le);
+        let mut nan = le.clone();
+        nan[h + 2 * 24 + 8..h + 2 * 24 + 16].copy_from_slice(&f64::NAN.to_le_bytes());
+        let mut far = le.clone();
+        let index = h + 8 * 24 + 3 * 17 + 1 + 2 * 4;
+        far[index..index + 4].copy_from_slice(&99u32.to_le_bytes());
+        let mut be_short = binary(&cube(), true).unwrap();
+        be_short.truncate(be_short.len() - 3);
+        let hb = body_start(&be_short);
+        let huge = String::from_utf8_lossy(&le[..h])
+            .replace("vertex 8", "vertex 999999999")
+            .into_bytes();
+        let header = |h: &str| format!("ply\nformat ascii 1.0\n{h}\nend_header\n");
+        let vertex = "element vertex 1\nproperty float x\nproperty float y\nproperty float z";
+        let cases: Vec<(Vec<u8>, &str, String)> = vec![
+            (b"plyx\n".to_vec(), "t.ply:1:1", "not a PLY file: the first line must be `ply`".into()),
+            (b"v 0 0 0\n".to_vec(), "t.ply:1:1", "not a PLY file".into()),
+            (
+                ascii.replace("format ascii", "format ebcdic").into_bytes(),
+                "t.ply:2:8",
+                "unknown format `ebcdic` (ascii, binary_little_endian or binary_big_endian)".into(),
+            ),
+            (ascii.replace("ascii 1.0", "ascii 2.0").into_bytes(), "t.ply:2:14", "PLY version `2.0` is not supported".into()),
+            (ascii.replace("end_header", "end_heade").into_bytes(), "t.ply:10:1", "unknown header line `end_heade`".into()),
+            (ascii.lines().take(9).collect::<Vec<_>>().join("\n").into_bytes(), "t.ply:9", "the header ends without an `end_header` line".into()),
+            (ascii.replace("double y", "real y").into_bytes(), "t.ply:6:10", "unknown type `real`".into()),
+            (ascii.replace("list uchar int", "list float int").into_bytes(), "t.ply:9:15", "the length of a list must be an integer type".into()),
+            (ascii.replace("uchar int vertex", "uchar float vertex").into_bytes(), "t.ply:9", "vertex indices of type `float`".into()),
+            (ascii.replace("vertex_indices", "corners").into_bytes(), "t.ply:8", "the `face` element has no `vertex_indices` list".into()),
+            (ascii.replace("double z", "double y").into_bytes(), "t.ply:7:17", "a second property `y` in element `vertex`".into()),
+            (ascii.replace("vertex 8", "vertex 8.0").into_bytes(), "t.ply:4:16", "`8.0` is not an element count".into()),
+            (ascii.replace("vertex 8", "vertex 99999999999999999999").into_bytes(), "t.ply:4:16", "does not fit 64 bits".into()),
+            (ascii.replace("element vertex", "element point").into_bytes(), "t.ply:10", "the header declares no `vertex` element".into()),
+            (header("property float x").into_bytes(), "t.ply:3:1", "a `property` before any `element`".into()),
+            (header(vertex).replace("format ascii 1.0\n", "").into_bytes(), "t.ply:6:1", "the header has no `format` line".into()),
+            (with_line(&ascii, 12, "1.0 abc 1.0").into_bytes(), "t.ply:12:5", "vertex 1, property `y`: `abc` is not a double".into()),
+            (with_line(&ascii, 13, "1 1 nan").into_bytes(), "t.ply:13:5", "vertex 2, property `z`: coordinate `nan` is not finite".into()),
+            (with_line(&ascii, 13, "1e999 1 1").into_bytes(), "t.ply:13:1", "coordinate `1e999` is not finite".into()),
+            (with_line(&ascii, 14, "1 1").into_bytes(), "t.ply:14", "vertex 3, property `z`: the line ends before this value".into()),
+            (with_line(&ascii, 14, "1 1 1 1").into_bytes(), "t.ply:14:7", "vertex 3: 1 more values than the header declares".into()),
+            (with_line(&ascii, 20, "3 0 1 2").into_bytes(), "t.ply:20:1", "face 1, property `vertex_indices`: face has 3 vertices; lsubdiv refines quad meshes only".into()),
+            (with_line(&ascii, 20, "256 0 1 2 3").into_bytes(), "t.ply:20:1", "`256` is not a uchar".into()),
+            (with_line(&ascii, 20, "4 0 1 -2 3").into_bytes(), "t.ply:20:7", "face 1, property `vertex_indices`: vertex index -2 out of range".into()),
+            (with_line(&ascii, 20, "4 0 1 8 3").into_bytes(), "t.ply:20", "vertex index 8 out of range (the file has 8 vertices)".into()),
+            (ascii.lines().take(22).collect::<Vec<_>>().join("\n").into_bytes(), "t.ply:22", "the file ends after 4 of 6 `face` elements".into()),
+            (be_short, "t.ply", format!("face 5, property `vertex_indices`, byte {}: the file ends inside this element", hb + 8 * 24 + 5 * 17 + 13)),
+            (nan, "t.ply", format!("vertex 2, property `y`, byte {}: coordinate NaN is not finite", h + 56)),
+            (far, "t.ply", format!("face 3, byte {}: vertex index 99 out of range (the file has 8 vertices)", h + 8 * 24 + 3 * 17)),
+            (huge, "t.ply:3", "999999999 `vertex` elements of at least 24 bytes each do not fit in the 0 bytes left".into()),
+            (ascii.replace("face 6", "face 0").into_bytes(), "t.ply", "empty mesh: no faces".into()),
+        ];
+        for (bytes, at, fragment) in cases {
+            let e = read(&bytes).expect_err(&fragment).to_string();
+            assert!(
+                e.starts_with(&format!("{at}: error: ")),
+                "{e}\nexpected at {at}"
+            );
+            assert!(e.contains(&fragment), "{e}\nexpected {fragment}");
+        }
+    }
 
     #[test]
     fn ply_header_and_body() {

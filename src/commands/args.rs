@@ -116,20 +116,11 @@ pub fn polygon<const D: usize>(
     Ok(curve)
 }
 
-/// Reads a points file (2 or 3 coordinates per line) under `--max-memory` `max`: a regular file
-/// whose reading could exceed it is refused unread, a pipe or a device past
-/// [`lsubdiv_cli::limits::input_text`] bytes is refused (exit 2, naming the file and the limit).
+/// Reads a points file (2 or 3 coordinates per line) under `--max-memory` `max`
+/// ([`lsubdiv_cli::limits::read_input`]).
 pub fn read_points(path: &std::path::Path, max: u64) -> Result<Points, Error> {
-    lsubdiv_cli::limits::input(path, max)?;
-    let text = lsubdiv::compiler::read_text(path, lsubdiv_cli::limits::input_text(max))
-        .map_err(|e| {
-            // Past the bound (a regular file is refused by `input` above, with its size).
-            let stream = std::fs::metadata(path).is_ok_and(|m| !m.is_file());
-            e.with_hint_opt(stream.then(|| {
-                format!("--max-memory is {max} bytes and reading holds up to 5 times the text; raise --max-memory")
-            }))
-        })?;
-    lsubdiv::points::parse(&path.display().to_string(), &text)
+    let (path, bytes) = lsubdiv_cli::limits::read_input(path, max)?;
+    lsubdiv::points::parse(&path.display().to_string(), &lsubdiv::compiler::text(bytes))
 }
 
 /// Most worker threads a command accepts: each holds its own buffers, so a number far beyond

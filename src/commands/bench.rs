@@ -11,7 +11,7 @@ use lsubdiv_cli::implementation::{Geometry, PathChoice};
 /// Arguments of `lsubdiv bench`.
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// `torus:R:C`, `cube`, `star` or an OBJ file.
+    /// `torus:R:C`, `cube`, `star` or an OBJ or PLY file.
     #[arg(long, default_value = "torus:256:256")]
     mesh: String,
     #[arg(long, default_value = "uniform-binary")]
@@ -46,7 +46,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         runs,
         limit,
     } = a;
-    let (m, topology) = bench::mesh(&mesh)?;
+    let (m, topology) = bench::mesh(&mesh, limit.bytes())?;
     let r = load(&scheme, None)?;
     let surface = GenericSurface::new(build(&r)?)?;
     let implementation = path.pick(&r, Geometry::Surface)?;

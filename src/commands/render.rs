@@ -1,7 +1,7 @@
 //! `lsubdiv render`: draws a closed quad mesh with the software renderer ([G] Fig. 6).
 
 use crate::commands::args::MemoryLimit;
-use crate::commands::subdivide::{read_mesh, refine_mesh, MeshJob};
+use crate::commands::subdivide::{refine_mesh, MeshJob};
 use crate::commands::{load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::topology::Topology;
@@ -11,8 +11,8 @@ use lsubdiv_cli::output::{format_by_extension, write_atomic};
 /// Arguments of `lsubdiv render`.
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// An OBJ file, or a built-in mesh: `cube` (3-valent EVs), `star` (EVs of valence 3, 5, 9),
-    /// `torus:R:C`.
+    /// An OBJ or PLY file (`-`: standard input), or a built-in mesh: `cube` (3-valent EVs),
+    /// `star` (EVs of valence 3, 5, 9), `torus:R:C`.
     mesh: String,
     /// Output image, `.png` or `.ppm` (written whole or not at all).
     #[arg(short, long)]
@@ -103,11 +103,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     image_limit(0, 0)?;
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
-    let (mesh, topology) = if a.mesh == "cube" || a.mesh == "star" || a.mesh.starts_with("torus:") {
-        lsubdiv_cli::bench::mesh(&a.mesh)?
-    } else {
-        read_mesh(std::path::Path::new(&a.mesh), a.limit.bytes())?
-    };
+    let (mesh, topology) = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes())?;
     let (mesh, topology) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));

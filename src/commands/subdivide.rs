@@ -1,5 +1,5 @@
-//! `lsubdiv subdivide`: refines a closed quad mesh read from an OBJ file; the mesh reading and
-//! refining that `render` shares.
+//! `lsubdiv subdivide`: refines a closed quad mesh read from an OBJ or PLY file; the refining
+//! that `render` shares.
 
 use crate::commands::args::RefineArgs;
 use crate::commands::{build, check_output, load, threads};
@@ -16,7 +16,7 @@ use lsubdiv_cli::Resolved;
 pub struct SubdivideArgs {
     #[command(flatten)]
     refine: RefineArgs,
-    /// Input mesh (OBJ).
+    /// Input mesh: OBJ or PLY (ASCII or binary), told apart by content; `-` for standard input.
     input: std::path::PathBuf,
     /// Output mesh: `.obj` or `.ply` (any case), or `-` for OBJ on standard output (written
     /// whole or not at all).
@@ -34,7 +34,7 @@ enum MeshFormat {
     Ply,
 }
 
-/// Reads an OBJ, refines it (patch path), writes OBJ or PLY atomically.
+/// Reads an OBJ or PLY, refines it (patch path), writes OBJ or PLY atomically.
 pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let SubdivideArgs {
         refine,
@@ -56,7 +56,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let (m, topology) = read_mesh(&input, refine.limit.bytes())?;
+    let (m, topology) = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
@@ -78,18 +78,6 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         MeshFormat::Ply => lsubdiv::ply::format(&fine)?,
     };
     write_atomic(&output, bytes.as_bytes())
-}
-
-/// Reads a closed quad mesh and its topology from an OBJ file (refused unread when reading it
-/// could exceed `max_memory`): errors name the file's line, vertex or edge; warnings go to
-/// stderr.
-pub fn read_mesh(input: &std::path::Path, max_memory: u64) -> Result<(QuadMesh, Topology), Error> {
-    lsubdiv_cli::limits::input(input, max_memory)?;
-    let read = lsubdiv::read_obj(input)?;
-    for w in read.warnings {
-        eprintln!("{}: warning: {w}", input.display());
-    }
-    Ok((read.mesh, read.topology))
 }
 
 /// How `subdivide` and `render` refine a mesh.

@@ -79,9 +79,59 @@ pub fn check_obj(data: &[u8]) -> Outcome {
         "face index out of range"
     );
     let topo =
-        Topology::build(&mesh).map_err(|e| parsed.lines.locate("fuzz.obj", &e).to_string())?;
+        Topology::build(&mesh).map_err(|e| parsed.places.locate("fuzz.obj", &e).to_string())?;
     assert_eq!(topo.edge_count(), 2 * topo.face_count(), "E ≠ 2F");
     assert_eq!(topo.vertex_count(), n);
+    Ok(())
+}
+
+/// File name the PLY check gives the reader (errors must name it).
+pub const PLY_FILE: &str = "fuzz.ply";
+
+/// PLY bytes → [`lsubdiv::ply::parse`] → [`Parsed::check`](lsubdiv::mesh_file::Parsed::check):
+/// errors name the file; what is read has finite coordinates and faces that index existing
+/// vertices; a closed quad 2-manifold has E = 2F; and what is accepted, written back by
+/// lsubdiv's ASCII and binary (both byte orders) writers, reads back bit for bit.
+pub fn check_ply(data: &[u8]) -> Outcome {
+    let named = |e: Error| {
+        assert_eq!(
+            e.at.as_ref().map(|l| l.file.as_str()),
+            Some(PLY_FILE),
+            "{e}"
+        );
+        e.to_string()
+    };
+    let parsed = lsubdiv::ply::parse(PLY_FILE, data).map_err(named)?;
+    let mesh = parsed.mesh.clone();
+    let n = mesh.positions.len();
+    assert!(mesh.positions.iter().flatten().all(|x| x.is_finite()));
+    let checked = parsed.check(PLY_FILE).map_err(named)?;
+    assert!(mesh.faces.iter().flatten().all(|&v| (v as usize) < n));
+    let topo = &checked.topology;
+    assert_eq!(topo.edge_count(), 2 * topo.face_count(), "E ≠ 2F");
+    assert_eq!(topo.vertex_count(), n);
+    let bits = |m: &lsubdiv::runtime::mesh::QuadMesh| -> Vec<u64> {
+        m.positions.iter().flatten().map(|x| x.to_bits()).collect()
+    };
+    for (how, bytes) in [
+        (
+            "ASCII",
+            lsubdiv::ply::format(&mesh).expect("finite").into_bytes(),
+        ),
+        (
+            "little-endian",
+            lsubdiv::ply::binary(&mesh, false).expect("finite"),
+        ),
+        (
+            "big-endian",
+            lsubdiv::ply::binary(&mesh, true).expect("finite"),
+        ),
+    ] {
+        let back = lsubdiv::mesh_file::parse(PLY_FILE, bytes)
+            .unwrap_or_else(|e| panic!("{how} PLY written by lsubdiv does not read back: {e}"));
+        assert_eq!(back.mesh.faces, mesh.faces, "{how}");
+        assert_eq!(bits(&back.mesh), bits(&mesh), "{how}");
+    }
     Ok(())
 }
 

@@ -1,7 +1,8 @@
 //! A user's program: the scheme of `schemes/my_scheme.toml`, compiled by `build.rs`, refines a
-//! closed 3D polygon and a quad mesh (an OBJ file, or the cube), and writes the mesh as OBJ.
+//! closed 3D polygon and a quad mesh (an OBJ or PLY file, or the cube), and writes the mesh as
+//! OBJ.
 //!
-//! Usage: `my-app OUT.obj [IN.obj]`.
+//! Usage: `my-app OUT.obj [IN.obj|IN.ply]`.
 
 use std::f64::consts::TAU;
 use std::path::PathBuf;
@@ -24,10 +25,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (before, after) = (coarse.points.len(), fine.points.len());
     println!("polygon: {before} points → {after} points");
 
-    // A quad mesh of any topology: read (errors name the file's line) or built.
+    // A quad mesh of any topology: read (OBJ or PLY, at most 1 GiB; errors name the file's
+    // line) or built.
     let (mesh, topology) = match args.next() {
         Some(input) => {
-            let read = lsubdiv::obj::read(&input)?;
+            let read = lsubdiv::read_mesh(&input, 1 << 30)?;
             (read.mesh, read.topology)
         }
         None => {
