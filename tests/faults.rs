@@ -286,7 +286,7 @@ fn image_buffers_and_streamed_point_files_are_bounded_by_max_memory() {
             &[
                 "/dev/zero: error:",
                 "more than 2097152 bytes",
-                "--max-memory is 10485760",
+                "--max-memory is ~10.0 MiB",
             ],
             txt,
         ),
