@@ -78,6 +78,15 @@ pub struct Prediction {
 }
 
 impl Prediction {
+    /// The prediction when `bytes` more are held throughout, e.g. the input copied at another
+    /// scale (`lsubdiv_cli::scale`).
+    pub fn holding(self, bytes: u128) -> Prediction {
+        Prediction {
+            bytes: self.bytes.saturating_add(bytes),
+            ..self
+        }
+    }
+
     /// Refuses a prediction over `max` bytes; `what` says what was asked, e.g. `4 steps of
     /// binary-ternary on cube.obj`.
     pub fn check(&self, what: &str, max: u64) -> Result<(), Error> {

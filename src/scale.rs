@@ -40,6 +40,16 @@ fn exponent(max: f64) -> i32 {
     max.log2().floor() as i32
 }
 
+/// Bytes of the scaled copy [`refine_scaled`] makes of `points` and of `with` more bytes (a
+/// mesh's faces, a curve's labels): none when they are refined as they are.
+pub fn copy_bytes<const D: usize>(points: &[[f64; D]], with: u128) -> u128 {
+    if exponent(largest(points)) == 0 {
+        0
+    } else {
+        points.len() as u128 * 8 * D as u128 + with
+    }
+}
+
 /// Refines `points` by `refine`, which is given the points scaled to magnitude 1 when they are
 /// outside the unscaled range (`None`: refine them as they are); refuses (exit 2, naming `what`, the input's scale and the f64 limit) a result
 /// that is not finite once scaled back.
@@ -96,6 +106,9 @@ mod tests {
         }
         assert_eq!(exponent(1e100), 0);
         assert_eq!(exponent(1e-100), 0);
+        // The size guard counts the copy only when there is one.
+        assert_eq!(copy_bytes(&[[1.0, 2.0, 3.0]; 10], 160), 0);
+        assert_eq!(copy_bytes(&[[1e300, 2.0, 3.0]; 10], 160), 10 * 24 + 160);
     }
 
     #[test]

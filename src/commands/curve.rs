@@ -87,6 +87,10 @@ fn refine_cli<const D: usize>(
     let t = lsubdiv::CurveScheme::tables(&generic);
     curve.check(&t).map_err(input_error)?;
     lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
+        .holding(lsubdiv_cli::scale::copy_bytes(
+            &curve.points,
+            curve.labels.len() as u128,
+        ))
         .check(&job.what, job.max_memory)?;
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
     let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {

@@ -115,6 +115,10 @@ pub fn refine_mesh(
         threads,
         true,
     )
+    .holding(lsubdiv_cli::scale::copy_bytes(
+        &m.positions,
+        16 * m.faces.len() as u128,
+    ))
     .check(
         &format!("{steps} steps of {} on {name}", r.ls.name),
         job.max_memory,
