@@ -44,7 +44,9 @@
 pub use lsubdiv_compiler as compiler;
 pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
-pub use lsubdiv_runtime::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
+pub use lsubdiv_runtime::{
+    refine, refine_ends, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables, EndCurve,
+};
 
 pub use lsubdiv_compiler::{write_atomic, Error, Location};
 pub use mesh_file::read as read_mesh;

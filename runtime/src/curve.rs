@@ -181,6 +181,8 @@ pub enum CurveError {
     },
     /// A point's word has no mask in the tables (not reachable from the axiom).
     UnknownWord(String),
+    /// Interpolated ends need an odd degree ([`crate::ends`]).
+    EvenDegree(usize),
 }
 
 impl fmt::Display for CurveError {
@@ -196,6 +198,10 @@ impl fmt::Display for CurveError {
             CurveError::UnknownWord(w) => write!(
                 f,
                 "word {w} has no tabulated mask (not reachable from the axiom); use the generic path"
+            ),
+            CurveError::EvenDegree(d) => write!(
+                f,
+                "interpolated ends need an odd degree (the end point on a knot); this scheme has degree {d}"
             ),
         }
     }

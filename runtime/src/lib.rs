@@ -51,6 +51,7 @@
 //! ```
 
 pub mod curve;
+pub mod ends;
 pub mod ev;
 pub mod gather;
 pub mod generators;
@@ -62,6 +63,7 @@ pub mod surface;
 pub mod topology;
 
 pub use curve::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
+pub use ends::{refine_ends, EndCurve};
 pub use gather::CurveContexts;
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`,

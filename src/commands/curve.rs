@@ -2,10 +2,11 @@
 
 use crate::commands::args::{polygon, read_points, PolygonArgs, RefineArgs};
 use crate::commands::{build, check_output, load};
+use lsubdiv::compiler::exact::lsystem::Part;
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::{self, Points};
-use lsubdiv::CurveError;
+use lsubdiv::{CurveError, EndCurve};
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::write_atomic;
 use lsubdiv_cli::Resolved;
@@ -22,6 +23,21 @@ pub struct CurveArgs {
     output: std::path::PathBuf,
     #[command(flatten)]
     polygon: PolygonArgs,
+    /// The ends of an open polygon: `shrink` ([N] §2.3: the new points that have all their
+    /// parents; m + d labels) or `interpolate` (the end points stay, by the odd-symmetric
+    /// extension; m − 1 labels, one per edge; odd degrees, a symmetric scheme).
+    #[arg(long, value_enum, default_value_t = Ends::Shrink)]
+    ends: Ends,
+}
+
+/// How an open polygon's ends are refined (`--ends`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[allow(missing_docs)]
+pub enum Ends {
+    // [N] §2.3: new points without all their parents are not computed.
+    Shrink,
+    // The odd-symmetric extension: the end points are interpolated.
+    Interpolate,
 }
 
 /// Reads the points, refines them, writes them at full f64 precision.
@@ -31,6 +47,7 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         input,
         output,
         polygon,
+        ends,
     } = a;
     check_output(&output)?;
     let r = load(&refine.scheme, polygon.degree)?;
@@ -45,6 +62,7 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         file: &in_name,
         what: format!("{steps} steps of {} on {in_name}", r.ls.name),
         polygon: &polygon,
+        ends,
         steps,
         path: refine.path,
         implementation,
@@ -65,6 +83,7 @@ struct CurveJob<'a> {
     /// `N steps of SCHEME on FILE`, for the size guard's message.
     what: String,
     polygon: &'a PolygonArgs,
+    ends: Ends,
     steps: usize,
     path: PathChoice,
     implementation: Implementation,
@@ -79,6 +98,9 @@ fn refine_cli<const D: usize>(
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
 ) -> Result<Vec<[f64; D]>, Error> {
+    if job.ends == Ends::Interpolate {
+        return refine_ends_cli(r, points, job);
+    }
     let steps = job.steps;
     let input_error = |e: CurveError| Error::in_file(job.file, e.to_string());
     let mut generic = GenericScheme::new(build(r)?)?;
@@ -119,6 +141,70 @@ fn refine_cli<const D: usize>(
             }
         };
         Ok(((), refined.points))
+    })?;
+    Ok(points)
+}
+
+/// `--ends interpolate`: the odd-symmetric extension across each end (`lsubdiv::runtime::ends`),
+/// by the generic path (the extension's mirrored words are tabulated on demand), under the size
+/// guard of the extended polygon.
+fn refine_ends_cli<const D: usize>(
+    r: &Resolved,
+    points: Vec<[f64; D]>,
+    job: &CurveJob<'_>,
+) -> Result<Vec<[f64; D]>, Error> {
+    let input_error = |e: CurveError| Error::in_file(job.file, e.to_string());
+    if job.polygon.closed {
+        return Err(Error::input(
+            "--ends interpolate is for open polygons: drop --closed (a closed polygon has no ends)",
+        ));
+    }
+    if job.path == PathChoice::Generated {
+        return Err(Error::input(
+            "--ends interpolate runs on the generic path: drop --path generated",
+        ));
+    }
+    let sigma = lsubdiv::compiler::exact::symmetry::rule_mirror(&r.ls).ok_or_else(|| {
+        r.ls.error(
+            Part::Rules,
+            format!(
+                "`{}` has no mirror symmetry σ with π(σ(A)) = σ̄(π(A)) ([G] eq. (14)): interpolated ends reflect the curve across them",
+                r.ls.name
+            ),
+            Some("use --ends shrink, or a symmetric scheme (e.g. uniform-binary, binary-ternary)".into()),
+        )
+    })?;
+    let mut generic = GenericScheme::new(build(r)?)?;
+    let t = lsubdiv::CurveScheme::tables(&generic);
+    let mut curve = EndCurve::with_axiom(&t, points);
+    if let Some(l) = job.polygon.labels.as_deref() {
+        curve.labels =
+            r.ls.parse_word(l)
+                .map_err(|e| Error::input(format!("--labels: {e}")))?;
+    }
+    let extended = curve.extended(&t, &sigma).map_err(input_error)?;
+    lsubdiv_cli::limits::curve(
+        &t,
+        &extended.labels,
+        false,
+        extended.points.len(),
+        D,
+        job.steps,
+    )
+    .holding(lsubdiv_cli::scale::copy_bytes(
+        &curve.points,
+        curve.labels.len() as u128,
+    ))
+    .check(&job.what, job.max_memory)?;
+    generic.prepare(&extended)?;
+    let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
+        let scaled = scaled.map(|points| EndCurve {
+            points,
+            labels: curve.labels.clone(),
+        });
+        let curve = scaled.as_ref().unwrap_or(&curve);
+        let fine = lsubdiv::refine_ends(&generic, &sigma, curve, job.steps).map_err(input_error)?;
+        Ok(((), fine.points))
     })?;
     Ok(points)
 }

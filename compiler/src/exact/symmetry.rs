@@ -60,9 +60,26 @@ pub fn involutions(ls: &LSystem) -> Vec<Vec<Sym>> {
     let w = &ls.axiom;
     let forced = (0..w.len()).map(|i| (w[w.len() - 1 - i] as usize, w[i] as usize));
     if assign(ls, &mut sigma, forced) {
-        search(ls, &sigma, &mut out);
+        search(ls, &sigma, MAX_INVOLUTIONS, &is_symmetry, &mut out);
     }
     out
+}
+
+/// σ̄ maps rewriting to rewriting: π(σ(A)) = σ̄(π(A)) for every symbol ([G] eq. (14)), whatever
+/// the axiom. What reflecting a curve across an interpolated end needs (`lsubdiv_runtime::ends`).
+pub fn mirrors_rules(ls: &LSystem, sigma: &[Sym]) -> bool {
+    (0..ls.n()).all(|a| ls.rules[sigma[a] as usize] == ls.mirror(sigma, &ls.rules[a]))
+}
+
+/// A mirror of the rules ([`mirrors_rules`]): the declared σ when it is one, else the first
+/// involution in the canonical order that is (the identity when every rule is a palindrome).
+pub fn rule_mirror(ls: &LSystem) -> Option<Vec<Sym>> {
+    if let Some(s) = ls.symmetry.as_ref().filter(|s| mirrors_rules(ls, s)) {
+        return Some(s.clone());
+    }
+    let mut out = Vec::new();
+    search(ls, &vec![None; ls.n()], 1, &mirrors_rules, &mut out);
+    out.pop()
 }
 
 /// Sets σ(x) = y and σ(y) = x for each given pair and everything [G] eq. (14) then forces:
@@ -96,13 +113,20 @@ fn assign(
 /// Backtracking over involutions in lexicographic order: the first unassigned symbol is fixed or
 /// paired with a later unassigned one, and the constraints this forces are propagated
 /// ([`assign`]), so a choice fixes σ on everything its rules reach and dead branches end early.
-fn search(ls: &LSystem, sigma: &[Option<Sym>], out: &mut Vec<Vec<Sym>>) {
-    if out.len() >= MAX_INVOLUTIONS {
+/// Collects up to `most` complete ones that `accept` takes.
+fn search(
+    ls: &LSystem,
+    sigma: &[Option<Sym>],
+    most: usize,
+    accept: &dyn Fn(&LSystem, &[Sym]) -> bool,
+    out: &mut Vec<Vec<Sym>>,
+) {
+    if out.len() >= most {
         return;
     }
     let Some(a) = sigma.iter().position(Option::is_none) else {
         let s: Vec<Sym> = sigma.iter().map(|x| x.expect("assigned")).collect();
-        if is_symmetry(ls, &s) {
+        if accept(ls, &s) {
             out.push(s);
         }
         return;
@@ -113,7 +137,7 @@ fn search(ls: &LSystem, sigma: &[Option<Sym>], out: &mut Vec<Vec<Sym>>) {
         }
         let mut trial = sigma.to_vec();
         if assign(ls, &mut trial, [(a, b)]) {
-            search(ls, &trial, out);
+            search(ls, &trial, most, accept, out);
         }
     }
 }
