@@ -145,9 +145,9 @@ fn refine_cli<const D: usize>(
     Ok(points)
 }
 
-/// `--ends interpolate`: the odd-symmetric extension across each end (`lsubdiv::runtime::ends`),
-/// by the generic path (the extension's mirrored words are tabulated on demand), under the size
-/// guard of the extended polygon.
+/// `--ends interpolate`: the odd-symmetric extension across each end (`lsubdiv::runtime::ends`)
+/// by the picked implementation (under `auto`, mirrored words the generated tables lack go to
+/// the generic path, which tabulates them), under the size guard of the extended polygon.
 fn refine_ends_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
@@ -157,11 +157,6 @@ fn refine_ends_cli<const D: usize>(
     if job.polygon.closed {
         return Err(Error::input(
             "--ends interpolate is for open polygons: drop --closed (a closed polygon has no ends)",
-        ));
-    }
-    if job.path == PathChoice::Generated {
-        return Err(Error::input(
-            "--ends interpolate runs on the generic path: drop --path generated",
         ));
     }
     let sigma = lsubdiv::compiler::exact::symmetry::rule_mirror(&r.ls).ok_or_else(|| {
@@ -196,14 +191,31 @@ fn refine_ends_cli<const D: usize>(
         curve.labels.len() as u128,
     ))
     .check(&job.what, job.max_memory)?;
-    generic.prepare(&extended)?;
     let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| EndCurve {
             points,
             labels: curve.labels.clone(),
         });
         let curve = scaled.as_ref().unwrap_or(&curve);
-        let fine = lsubdiv::refine_ends(&generic, &sigma, curve, job.steps).map_err(input_error)?;
+        let generated = match job.implementation {
+            Implementation::Generated => {
+                match lsubdiv::generated::refine_ends(&r.ls.name, &sigma, curve, job.steps)
+                    .ok_or_else(|| {
+                        Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
+                    })? {
+                    Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => None,
+                    c => Some(c.map_err(input_error)?),
+                }
+            }
+            Implementation::Generic => None,
+        };
+        let fine = match generated {
+            Some(c) => c,
+            None => {
+                generic.prepare(&extended)?;
+                lsubdiv::refine_ends(&generic, &sigma, curve, job.steps).map_err(input_error)?
+            }
+        };
         Ok(((), fine.points))
     })?;
     Ok(points)

@@ -416,6 +416,20 @@ impl Codegen {
                 }
             }
 
+            /// Refines an open polygon with interpolated ends (`sigma` a mirror symmetry of the
+            /// scheme) with the generated kernel of the scheme called `name`.
+            pub fn refine_ends<const D: usize>(
+                name: &str,
+                sigma: &[u8],
+                curve: &#rt::EndCurve<D>,
+                steps: usize,
+            ) -> Option<Result<#rt::EndCurve<D>, #rt::CurveError>> {
+                match name {
+                    #(#names => Some(#rt::refine_ends(&#mods::Scheme, sigma, curve, steps)),)*
+                    _ => None,
+                }
+            }
+
             /// Names of the compiled schemes that refine surfaces.
             pub const SURFACE_NAMES: &[&str] = &[#(#surfaces),*];
 
