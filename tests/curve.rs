@@ -4,28 +4,12 @@
 
 mod common;
 
+use common::Lcg;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericScheme;
 use lsubdiv::{generated, Curve, CurveError, CurveScheme};
 use lsubdiv_cli::resolve;
 use lsubdiv_testkit::spline::{de_boor, knots_and_points, max_dist, spline_distance};
-
-/// Deterministic pseudo-random numbers in [-1, 1).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-    fn points<const D: usize>(&mut self, m: usize) -> Vec<[f64; D]> {
-        (0..m)
-            .map(|_| std::array::from_fn(|_| self.next()))
-            .collect()
-    }
-}
 
 fn generic(name: &str, degree: Option<usize>) -> GenericScheme {
     let mut r = resolve(name).expect("shipped scheme");

@@ -7,23 +7,12 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr, write};
+use common::Lcg;
 use lsubdiv::compiler::exact::symmetry::rule_mirror;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericScheme;
 use lsubdiv::{refine, refine_ends, Curve, CurveScheme, EndCurve};
 use lsubdiv_cli::resolve;
-
-/// Deterministic pseudo-random numbers in [-1, 1).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
 
 /// The generic scheme and its mirror σ.
 fn scheme(name: &str) -> (GenericScheme, Vec<u8>) {

@@ -90,6 +90,13 @@ struct CurveJob<'a> {
     max_memory: u64,
 }
 
+impl CurveJob<'_> {
+    /// A curve error as a diagnostic about the points file.
+    fn input_error(&self, e: CurveError) -> Error {
+        Error::in_file(self.file, e.to_string())
+    }
+}
+
 /// Refines by the picked implementation; under `auto`, labels that make words the generated
 /// tables lack go to the generic path. Refuses, before refining, a result predicted to need
 /// more than `--max-memory`.
@@ -102,7 +109,7 @@ fn refine_cli<const D: usize>(
         return refine_ends_cli(r, points, job);
     }
     let steps = job.steps;
-    let input_error = |e: CurveError| Error::in_file(job.file, e.to_string());
+    let input_error = |e| job.input_error(e);
     let mut generic = GenericScheme::new(build(r)?)?;
     let closed = job.polygon.closed;
     let curve = polygon(r, &generic, points, closed, job.polygon.labels.as_deref())?;
@@ -122,17 +129,9 @@ fn refine_cli<const D: usize>(
             closed,
         });
         let curve = scaled.as_ref().unwrap_or(&curve);
-        let generated = match job.implementation {
-            Implementation::Generated => {
-                match lsubdiv::generated::refine_curve(&r.ls.name, curve, steps).ok_or_else(
-                    || Error::internal(None, format!("`{}` is not in the registry", r.ls.name)),
-                )? {
-                    Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => None,
-                    c => Some(c.map_err(input_error)?),
-                }
-            }
-            Implementation::Generic => None,
-        };
+        let generated = generated(r, job, || {
+            lsubdiv::generated::refine_curve(&r.ls.name, curve, steps)
+        })?;
         let refined = match generated {
             Some(c) => c,
             None => {
@@ -153,7 +152,7 @@ fn refine_ends_cli<const D: usize>(
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
 ) -> Result<Vec<[f64; D]>, Error> {
-    let input_error = |e: CurveError| Error::in_file(job.file, e.to_string());
+    let input_error = |e| job.input_error(e);
     if job.polygon.closed {
         return Err(Error::input(
             "--ends interpolate is for open polygons: drop --closed (a closed polygon has no ends)",
@@ -197,18 +196,9 @@ fn refine_ends_cli<const D: usize>(
             labels: curve.labels.clone(),
         });
         let curve = scaled.as_ref().unwrap_or(&curve);
-        let generated = match job.implementation {
-            Implementation::Generated => {
-                match lsubdiv::generated::refine_ends(&r.ls.name, &sigma, curve, job.steps)
-                    .ok_or_else(|| {
-                        Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
-                    })? {
-                    Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => None,
-                    c => Some(c.map_err(input_error)?),
-                }
-            }
-            Implementation::Generic => None,
-        };
+        let generated = generated(r, job, || {
+            lsubdiv::generated::refine_ends(&r.ls.name, &sigma, curve, job.steps)
+        })?;
         let fine = match generated {
             Some(c) => c,
             None => {
@@ -219,4 +209,23 @@ fn refine_ends_cli<const D: usize>(
         Ok(((), fine.points))
     })?;
     Ok(points)
+}
+
+/// The generated kernels' result by `run` (a registry call) when the picked implementation is
+/// generated; `None` for the generic path, or, under `auto`, when the curve makes a word the
+/// generated tables lack.
+fn generated<T>(
+    r: &Resolved,
+    job: &CurveJob<'_>,
+    run: impl FnOnce() -> Option<Result<T, CurveError>>,
+) -> Result<Option<T>, Error> {
+    if job.implementation == Implementation::Generic {
+        return Ok(None);
+    }
+    match run()
+        .ok_or_else(|| Error::internal(None, format!("`{}` is not in the registry", r.ls.name)))?
+    {
+        Err(CurveError::UnknownWord(_)) if job.path == PathChoice::Auto => Ok(None),
+        c => c.map(Some).map_err(|e| job.input_error(e)),
+    }
 }
