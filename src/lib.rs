@@ -46,10 +46,11 @@ pub fn builtin_names() -> Vec<&'static str> {
     builtin::BUILTIN.iter().map(|(n, _, _)| *n).collect()
 }
 
-/// Resolves `arg`: a path to a scheme file, or the name of a shipped scheme. A file wins over a
+/// Resolves `arg`: a path to a scheme file (`-`: standard input), or the name of a shipped scheme. A file wins over a
 /// shipped name; a folder of the same name does not hide the shipped scheme.
 pub fn resolve(arg: &str) -> Result<Resolved, Error> {
-    let path = Path::new(arg);
+    // `-` is standard input, as for every other input.
+    let path = Path::new(if arg == "-" { "/dev/stdin" } else { arg });
     let shipped = builtin::BUILTIN.iter().find(|(n, _, _)| *n == arg);
     if path.is_file() || (shipped.is_none() && path.exists()) {
         return Ok(Resolved {

@@ -646,3 +646,36 @@ fn thread_counts_are_bounded() {
         );
     }
 }
+
+/// `-` is standard input for a scheme as for meshes and points: a pipe is read (bounded, as
+/// every input) and its errors are placed in `/dev/stdin`.
+#[test]
+fn a_scheme_from_standard_input() {
+    use std::io::Write;
+    let run = |text: &str| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+            .args(["inspect", "-"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let o = run("name = \"x\"\ndegree = 3\naxiom = \"A\"\n[rules]\nA = \"AA\"\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).starts_with("scheme x (degree 3)"));
+    let o = run("name = \"x\"\ndegree = 33\naxiom = \"A\"\n[rules]\nA = \"AA\"\n");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("/dev/stdin:2:10: error:"),
+        "{}",
+        stderr(&o)
+    );
+}
