@@ -298,19 +298,51 @@ pub fn curve(
     // An open curve's first and last d labels only carry its ends: each step keeps d labels
     // before and after π of the interior ones, so it has |π^N(interior)| + d points.
     let d = t.degree;
-    let m = |s: usize| {
-        if closed {
-            t.image_len(labels, s)
-        } else {
-            let interior = labels.get(d..points).unwrap_or(&[]);
-            t.image_len(interior, s).saturating_add(d as u128)
-        }
+    let (counted, extra) = if closed {
+        (labels, 0)
+    } else {
+        (labels.get(d..points).unwrap_or(&[]), d as u128)
     };
+    refinement(t, counted, extra, 0, points, labels.len(), dim, steps)
+}
+
+/// `steps` steps with interpolated ends (`--ends interpolate`) of `points` control points
+/// labelled by `edges` (one per edge): |π^N(edges)| + 1 points; each step also holds the
+/// odd-symmetric extension, d − 1 phantom points and 2d labels more.
+pub fn curve_ends(
+    t: &CurveTables<'_>,
+    edges: &[u8],
+    points: usize,
+    dim: usize,
+    steps: usize,
+) -> Prediction {
+    let phantoms = 3 * t.degree as u128;
+    refinement(t, edges, 1, phantoms, points, edges.len(), dim, steps)
+}
+
+/// A curve refinement that ends with |π^N(`counted`)| + `extra` points, holding `working`
+/// more points or labels at every level besides the two levels it refines between, the input
+/// and the output file.
+#[allow(clippy::too_many_arguments)]
+fn refinement(
+    t: &CurveTables<'_>,
+    counted: &[u8],
+    extra: u128,
+    working: u128,
+    points: usize,
+    labels: usize,
+    dim: usize,
+    steps: usize,
+) -> Prediction {
+    let m = |s: usize| t.image_len(counted, s).saturating_add(extra);
     let (last, before) = (m(steps), if steps == 0 { 0 } else { m(steps - 1) });
     let point = 8 * dim as u128;
-    let input = (points as u128) * point + labels.len() as u128;
+    let input = (points as u128) * point + labels as u128;
     // Two levels of points and labels while refining; the points and their text at the end.
-    let refine = last.saturating_add(before).saturating_mul(point + 1);
+    let refine = last
+        .saturating_add(before)
+        .saturating_add(2 * working)
+        .saturating_mul(point + 1);
     let file = last.saturating_mul((COORDINATE_TEXT + 1) * dim as u128);
     Prediction {
         vertices: last,

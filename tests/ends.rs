@@ -104,6 +104,9 @@ fn every_symmetric_scheme_keeps_its_ends_and_refines_the_interior_as_usual() {
         let count = s.tables().image_len(&labels, steps);
         assert_eq!(fine.labels.len() as u128, count, "{name}");
         assert_eq!(fine.points.len(), fine.labels.len() + 1, "{name}");
+        // The size guard predicts that count exactly.
+        let p = lsubdiv_cli::limits::curve_ends(&s.tables(), &labels, points.len(), 3, steps);
+        assert_eq!(p.vertices, fine.points.len() as u128, "{name}");
 
         // The interior is the ordinary ([N] §2.3) refinement of the real points: that refined
         // polygon is a contiguous run of the interpolated one.

@@ -146,7 +146,7 @@ fn refine_cli<const D: usize>(
 
 /// `--ends interpolate`: the odd-symmetric extension across each end (`lsubdiv::runtime::ends`)
 /// by the picked implementation (under `auto`, mirrored words the generated tables lack go to
-/// the generic path, which tabulates them), under the size guard of the extended polygon.
+/// the generic path, which tabulates them), under the size guard.
 fn refine_ends_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
@@ -177,19 +177,12 @@ fn refine_ends_cli<const D: usize>(
                 .map_err(|e| Error::input(format!("--labels: {e}")))?;
     }
     let extended = curve.extended(&t, &sigma).map_err(input_error)?;
-    lsubdiv_cli::limits::curve(
-        &t,
-        &extended.labels,
-        false,
-        extended.points.len(),
-        D,
-        job.steps,
-    )
-    .holding(lsubdiv_cli::scale::copy_bytes(
-        &curve.points,
-        curve.labels.len() as u128,
-    ))
-    .check(&job.what, job.max_memory)?;
+    lsubdiv_cli::limits::curve_ends(&t, &curve.labels, curve.points.len(), D, job.steps)
+        .holding(lsubdiv_cli::scale::copy_bytes(
+            &curve.points,
+            curve.labels.len() as u128,
+        ))
+        .check(&job.what, job.max_memory)?;
     let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| EndCurve {
             points,
