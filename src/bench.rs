@@ -4,6 +4,7 @@
 use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
+use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::generators::{cube, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
@@ -18,8 +19,8 @@ use std::time::Instant;
 pub const MAX_TORUS_FACES: usize = 1 << 24;
 
 /// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ or PLY file read under
-/// `--max-memory max` ([`crate::limits::read_mesh`]), and its topology.
-pub fn mesh(spec: &str, max: u64) -> Result<(QuadMesh, Topology), Error> {
+/// `--max-memory max` ([`crate::limits::read_mesh`]), with its topology.
+pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
     let parts: Vec<&str> = spec.split(':').collect();
     let built = match parts.as_slice() {
         ["torus", r, c] => {
@@ -49,7 +50,12 @@ pub fn mesh(spec: &str, max: u64) -> Result<(QuadMesh, Topology), Error> {
     };
     let topology = Topology::build(&built)
         .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
-    Ok((built, topology))
+    Ok(Checked {
+        mesh: built,
+        split: false,
+        topology,
+        warnings: Vec::new(),
+    })
 }
 
 /// One measurement.

@@ -10,9 +10,9 @@
 //! the output file text (built in memory, then written).
 
 use lsubdiv::compiler::Error;
+use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::footprint;
-use lsubdiv::runtime::topology::Topology;
 use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
@@ -115,6 +115,9 @@ pub fn input(path: &std::path::Path, max: u64) -> Result<(), Error> {
     holding(path, meta.len(), 5, max)
 }
 
+/// Bytes of connectivity per quad: six half-edge and edge words and four wedges per corner.
+const TOPOLOGY_PER_QUAD: u128 = 4 * 4 * 6;
+
 /// Bytes a PLY reading holds per byte of file, at most: a binary vertex of three 1-byte
 /// coordinates (3 bytes) becomes a position (24 bytes) and its place (8), besides the file.
 const PLY_HELD_PER_BYTE: u128 = 12;
@@ -155,7 +158,7 @@ const IMAGE_PIXEL: u128 = 3 + 3 + 4 + 2 * 3;
 const RENDER_VERTEX: u128 = 24 + 24 + 24 + 1 + 24 + 8 + 8 + 1;
 /// Bytes per quad while drawing: the mesh's faces, its normalised copy's, their topology (six
 /// half-edge and edge words and four wedges), orientation and area vectors.
-const RENDER_QUAD: u128 = 16 + 16 + 4 * 4 * 6 + 4 * 8 + 1 + 1 + 24 + 2 * 8 + 1;
+const RENDER_QUAD: u128 = 16 + 16 + TOPOLOGY_PER_QUAD + 4 * 8 + 1 + 1 + 24 + 2 * 8 + 1;
 /// Bytes per pixel row of the curvature legend: its RGBA pixmap and the SVG text of its bar.
 const LEGEND_ROW: u128 = 4 * 100 + 160;
 
@@ -236,21 +239,42 @@ pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path,
     Ok((path, bytes))
 }
 
-/// Reads a closed quad mesh and its topology from an OBJ or PLY file (by content:
+/// Reads a closed mesh and its topology from an OBJ or PLY file (by content:
 /// [`lsubdiv::mesh_file::Format::of`]) by [`read_input`]; a PLY file, once read, is refused
 /// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
 /// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
-pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<(QuadMesh, Topology), Error> {
+pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<Checked, Error> {
     let (path, bytes) = read_input(path, max)?;
     let name = path.display().to_string();
     if lsubdiv::mesh_file::Format::of(&name, &bytes) == lsubdiv::mesh_file::Format::Ply {
         holding(path, bytes.len() as u64, PLY_HELD_PER_BYTE, max)?;
     }
-    let read = lsubdiv::mesh_file::parse(&name, bytes)?;
-    for w in read.warnings {
+    let parsed = lsubdiv::mesh_file::read_faces(&name, bytes)?;
+    if parsed.mesh.quads().is_none() {
+        // The Catmull–Clark split holds, per corner, a quad (16 bytes), its face (4) and half
+        // an edge point (12), per face a face point (24), with its topology (the refiner's
+        // model: about 100 bytes a quad).
+        let corners = parsed.mesh.corners.len() as u128;
+        let faces = parsed.mesh.face_count() as u128;
+        let split = corners * (16 + 4 + 12 + TOPOLOGY_PER_QUAD) + faces * 24;
+        if split > u128::from(max) {
+            return Err(Error::in_file(
+                &name,
+                format!(
+                    "splitting its {} faces into {} quads (a Catmull–Clark step) would hold {}; --max-memory is {}; raise --max-memory",
+                    count(faces),
+                    count(corners),
+                    size(split),
+                    size(u128::from(max))
+                ),
+            ));
+        }
+    }
+    let read = parsed.check(&name)?;
+    for w in &read.warnings {
         eprintln!("{name}: warning: {w}");
     }
-    Ok((read.mesh, read.topology))
+    Ok(read)
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)

@@ -607,13 +607,19 @@ fn every_mesh_error_names_its_line_or_element() {
         ),
         (
             "tri.obj",
+            format!("{square}f 1 2\n"),
+            ":5: error: face has 2 vertices; a face has at least 3",
+        ),
+        // A triangle is read (and split), but this one is an open mesh.
+        (
+            "open-tri.obj",
             format!("{square}f 1 2 3\n"),
-            ":5: error: face has 3 vertices; lsubdiv refines quad meshes only",
+            ":5: error: edge 1–2 of this face has no other face (open boundary",
         ),
         (
             "penta.obj",
             format!("{square}v 2 2 2\nf 1 2 3 4 5\n"),
-            ":6: error: face has 5 vertices; lsubdiv refines quad meshes only",
+            ":6: error: edge 1–2 of this face has no other face (open boundary",
         ),
         ("empty.obj", String::new(), ": error: empty mesh: no faces"),
         (

@@ -237,7 +237,7 @@ fn ppm_output_and_bad_arguments() {
         (vec!["missing.obj", "-o", out], "missing.obj: error:"),
         (
             vec![bad_obj, "-o", out],
-            "bad.obj:4: error: face has 3 vertices",
+            "bad.obj:4: error: edge 1–2 of this face has no other face",
         ),
         (vec!["cube", "-o", out, "--camera", "30"], "--camera `30`"),
         (

@@ -5,6 +5,7 @@
 
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv_runtime::polygon::{catmull_clark, PolyMesh};
 use lsubdiv_runtime::topology::{Topology, TopologyError};
 use std::path::Path;
 
@@ -36,8 +37,8 @@ pub struct Places {
 /// faces was read, and warnings about what it skipped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parsed {
-    /// The mesh as written.
-    pub mesh: QuadMesh,
+    /// The mesh as written: triangles, quads, n-gons.
+    pub mesh: PolyMesh,
     /// Where each vertex and face was read.
     pub places: Places,
     /// Skipped directives, elements and values, one line of text per kind.
@@ -45,11 +46,16 @@ pub struct Parsed {
 }
 
 /// A mesh ready to refine: read by [`read`] or [`parse`], a closed 2-manifold with valences
-/// ≥ 3, with its topology (build it once, pass it along) and the reader's warnings.
+/// ≥ 3, with its topology (build it once, pass it along) and the reader's warnings. A file with
+/// faces that are not quads is taken one Catmull–Clark step ([`lsubdiv_runtime::polygon`]), the
+/// first step of its refinement ([`Checked::split`]).
 #[derive(Clone, Debug)]
 pub struct Checked {
-    /// The mesh.
+    /// The quad mesh: the file's, or its Catmull–Clark step when it has other faces.
     pub mesh: QuadMesh,
+    /// The file had faces that are not quads: `mesh` is its first step, so it is refined one
+    /// step less.
+    pub split: bool,
     /// Its connectivity.
     pub topology: Topology,
     /// Skipped directives, elements and values, one line of text per kind.
@@ -72,10 +78,10 @@ pub(crate) fn shorten(s: &str) -> String {
     }
 }
 
-/// The message for a face of `count` corners (lsubdiv refines quads only).
-pub(crate) fn not_quad(count: usize) -> String {
+/// The message for a face of `count` corners, fewer than 3.
+pub(crate) fn too_few_corners(count: usize) -> String {
     format!(
-        "face has {}; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+        "face has {}; a face has at least 3",
         counted(count, "vertex", "vertices")
     )
 }
@@ -187,18 +193,33 @@ impl Places {
 
 impl Parsed {
     /// Builds the topology of the parsed mesh and checks it (closed 2-manifold, valences ≥ 3),
-    /// its errors placed in `file`.
+    /// its errors placed in `file`; a mesh with faces that are not quads is first taken one
+    /// Catmull–Clark step, and errors found after it name the file's faces.
     pub fn check(self, file: &str) -> Result<Checked, Error> {
         let Parsed {
             mesh,
             places,
             warnings,
         } = self;
-        let topology = Topology::build(&mesh)
+        let (quads, face_of) = match mesh.quads() {
+            Some(q) => (q, None),
+            None => {
+                let s = catmull_clark(&mesh).map_err(|e| places.locate(file, &e))?;
+                (s.mesh, Some(s.face_of))
+            }
+        };
+        let topology = Topology::build(&quads)
             .and_then(|t| t.check_valences().map(|()| t))
-            .map_err(|e| places.locate(file, &e))?;
+            .map_err(|e| {
+                let e = match &face_of {
+                    Some(f) => e.in_faces(f),
+                    None => e,
+                };
+                places.locate(file, &e)
+            })?;
         Ok(Checked {
-            mesh,
+            mesh: quads,
+            split: face_of.is_some(),
             topology,
             warnings,
         })
@@ -232,14 +253,20 @@ impl Format {
 }
 
 /// Parses and checks a mesh file's bytes (`file` names it in errors): PLY or OBJ by
-/// [`Format::of`], then the topology (closed 2-manifold quad mesh, valences ≥ 3), every error
+/// [`Format::of`], then the topology (closed 2-manifold, valences ≥ 3; faces other than quads taken one
+/// Catmull–Clark step), every error
 /// placed at its line, or element and byte offset in a binary PLY.
 pub fn parse(file: &str, bytes: Vec<u8>) -> Result<Checked, Error> {
-    let parsed = match Format::of(file, &bytes) {
-        Format::Ply => crate::ply::parse(file, &bytes)?,
-        Format::Obj => crate::obj::parse(file, &lsubdiv_compiler::text(bytes))?,
-    };
-    parsed.check(file)
+    read_faces(file, bytes)?.check(file)
+}
+
+/// Parses a mesh file's bytes, PLY or OBJ by [`Format::of`], without checking its topology
+/// ([`Parsed::check`] does).
+pub fn read_faces(file: &str, bytes: Vec<u8>) -> Result<Parsed, Error> {
+    match Format::of(file, &bytes) {
+        Format::Ply => crate::ply::parse(file, &bytes),
+        Format::Obj => crate::obj::parse(file, &lsubdiv_compiler::text(bytes)),
+    }
 }
 
 /// Reads a closed quad mesh from an OBJ or PLY file ([`parse`]) of at most `max` bytes

@@ -2,9 +2,10 @@
 //! keeps the line of each `v` and `f` it parsed, so the topology's errors — face k, vertex v,
 //! edge a–b — are placed there too, vertices numbered as in the file), and writing.
 
-use crate::mesh_file::{counted, not_quad, shorten, Parsed, Places, Unit};
+use crate::mesh_file::{counted, shorten, too_few_corners, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv_runtime::polygon::PolyMesh;
 use lsubdiv_runtime::topology::TopologyError;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -258,10 +259,7 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
         total += usize::from(tokens[0].0 == "v");
         Ok(())
     })?;
-    let mut mesh = QuadMesh {
-        positions: Vec::new(),
-        faces: Vec::new(),
-    };
+    let mut mesh = PolyMesh::new();
     let mut places = Places::new(Unit::Line, 1);
     let mut skipped = Skipped::default();
     for_each_line(text, |line, tokens| {
@@ -278,21 +276,23 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
                 places.vertices.push(line);
             }
             "f" => {
-                if values.len() != 4 {
-                    return Err(at(line, not_quad(values.len())));
+                if values.len() < 3 {
+                    return Err(at(line, too_few_corners(values.len())));
                 }
-                let mut face = [0u32; 4];
-                for (slot, &(tok, l)) in face.iter_mut().zip(values) {
-                    *slot = parse_corner(tok, mesh.positions.len(), total).map_err(|m| at(l, m))?;
-                }
-                mesh.faces.push(face);
+                let face = values
+                    .iter()
+                    .map(|&(tok, l)| {
+                        parse_corner(tok, mesh.positions.len(), total).map_err(|m| at(l, m))
+                    })
+                    .collect::<Result<Vec<u32>, Error>>()?;
+                mesh.push_face(&face);
                 places.faces.push(line);
             }
             _ => skipped.note_directive(d, line),
         }
         Ok(())
     })?;
-    if mesh.faces.is_empty() {
+    if mesh.face_count() == 0 {
         return Err(places.locate(file, &TopologyError::NoFaces));
     }
     Ok(Parsed {
@@ -356,8 +356,13 @@ mod tests {
     }
 
     /// The mesh and warnings of OBJ text.
-    fn parse_obj(text: &str) -> Result<(QuadMesh, Vec<String>), Error> {
+    fn parse_obj(text: &str) -> Result<(PolyMesh, Vec<String>), Error> {
         parse("t.obj", text).map(|p| (p.mesh, p.warnings))
+    }
+
+    /// The faces of a parsed mesh.
+    fn faces(m: &PolyMesh) -> Vec<Vec<u32>> {
+        m.faces().map(<[u32]>::to_vec).collect()
     }
 
     #[test]
@@ -373,7 +378,7 @@ mod tests {
             "f +1 2 3 4",
         ] {
             let (m, w) = parse_obj(&format!("{SQUARE_V}{face}\n")).unwrap();
-            assert_eq!(m.faces, vec![[0, 1, 2, 3]], "{face}");
+            assert_eq!(faces(&m), vec![vec![0, 1, 2, 3]], "{face}");
             assert_eq!(m.positions.len(), 4);
             assert!(w.is_empty(), "{face}: {w:?}");
         }
@@ -392,7 +397,7 @@ mod tests {
         ] {
             let p = parse("t.obj", &format!("{SQUARE_V}{text}"))
                 .unwrap_or_else(|e| panic!("{text:?}: {e}"));
-            assert_eq!(p.mesh.faces, vec![[0, 1, 2, 3]], "{text:?}");
+            assert_eq!(faces(&p.mesh), vec![vec![0, 1, 2, 3]], "{text:?}");
             assert_eq!(p.places.faces, lines, "{text:?}");
         }
         let p = parse(
@@ -409,7 +414,6 @@ mod tests {
                 6,
                 "`x` is not a face corner (i, i/t, i//n or i/t/n)",
             ),
-            ("f 1 2 \\\n3\n", 5, &*not_quad(3)),
             (
                 "f 1 2 \\\n\\\n3 9\n",
                 7,
@@ -419,7 +423,7 @@ mod tests {
             (
                 "f 1 2 \\ # not continued: a comment follows\n3 4\n",
                 5,
-                &*not_quad(3),
+                "`\\` is not a face corner (i, i/t, i//n or i/t/n)",
             ),
         ] {
             assert_eq!(
@@ -430,7 +434,7 @@ mod tests {
         }
         // Topology errors are placed at the first line of a continued face.
         let p = parse("t.obj", &format!("{SQUARE_V}\nf 1 2 \\\n 3 4\n")).unwrap();
-        let e = Topology::build(&p.mesh).expect_err("open");
+        let e = Topology::build(&p.mesh.quads().unwrap()).expect_err("open");
         assert_eq!(
             p.places.locate("t.obj", &e).at,
             Some(Location::line("t.obj", 6))
@@ -442,10 +446,10 @@ mod tests {
         let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n\
                     v 0 0 1\nv 1 0 1\nf -6 -5 -1 -2\n";
         let (m, _) = parse_obj(text).unwrap();
-        assert_eq!(m.faces, vec![[0, 1, 2, 3], [0, 1, 5, 4]]);
+        assert_eq!(faces(&m), vec![vec![0, 1, 2, 3], vec![0, 1, 5, 4]]);
         // Positive indices may point forward.
         let (m, _) = parse_obj("f 1 2 3 4\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n").unwrap();
-        assert_eq!(m.faces, vec![[0, 1, 2, 3]]);
+        assert_eq!(faces(&m), vec![vec![0, 1, 2, 3]]);
     }
 
     #[test]
@@ -475,7 +479,7 @@ mod tests {
              l 1 2\np 3\nfoo bar\nvt 1 1\nfoo\nf 1 2 3 4\n"
         );
         let (m, w) = parse_obj(&text).unwrap();
-        assert_eq!(m.faces.len(), 1);
+        assert_eq!(m.face_count(), 1);
         assert_eq!(
             w,
             vec![
@@ -512,19 +516,14 @@ mod tests {
     fn errors_name_their_line() {
         let cases: Vec<(String, Option<usize>, &str)> = vec![
             (
-                format!("{SQUARE_V}\nf 1 2 3\n"),
+                format!("{SQUARE_V}\nf 1 2\n"),
                 Some(6),
-                "face has 3 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
-            ),
-            (
-                format!("{SQUARE_V}f 1 2 3 4 1\n"),
-                Some(5),
-                "face has 5 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+                "face has 2 vertices; a face has at least 3",
             ),
             (
                 format!("{SQUARE_V}f\n"),
                 Some(5),
-                "face has 0 vertices; lsubdiv refines quad meshes only (convert first, e.g. by a Catmull–Clark step in another tool: triangles are not turned into quads here)",
+                "face has 0 vertices; a face has at least 3",
             ),
             (
                 format!("{SQUARE_V}f 0 1 2 3\n"),
@@ -646,7 +645,7 @@ mod tests {
         let p = parse("t.obj", text).unwrap();
         assert_eq!(p.places.vertices, vec![3, 5, 6, 8, 9]);
         assert_eq!(p.places.faces, vec![11]);
-        let e = Topology::build(&p.mesh).expect_err("open");
+        let e = Topology::build(&p.mesh.quads().unwrap()).expect_err("open");
         assert_eq!(
             p.places.locate("t.obj", &e).to_string(),
             "t.obj:11: error: edge 1–2 of this face has no other face (open boundary; lsubdiv refines closed meshes)"
@@ -694,7 +693,7 @@ mod tests {
             let text = format(&mesh).unwrap();
             let (back, warnings) = parse_obj(&text).unwrap();
             assert!(warnings.is_empty());
-            assert_eq!(back.faces, mesh.faces);
+            assert_eq!(back.quads().unwrap().faces, mesh.faces);
             assert_eq!(back.positions.len(), mesh.positions.len());
             for (a, b) in back.positions.iter().zip(&mesh.positions) {
                 for c in 0..3 {
@@ -744,9 +743,7 @@ mod tests {
                 String::from_utf8_lossy(&bytes).into_owned()
             };
             if let Ok(p) = parse("t.obj", &text) {
-                if let Err(e) = Topology::build(&p.mesh).and_then(|t| t.check_valences()) {
-                    let _ = p.places.locate("t.obj", &e);
-                }
+                let _ = p.check("t.obj");
                 checked += 1;
             }
         }

@@ -8,9 +8,10 @@
 //! a binary element's count is checked against the bytes that follow before it is read, and
 //! values are stored only as they are read.
 
-use crate::mesh_file::{not_quad, shorten, Parsed, Places, Unit};
+use crate::mesh_file::{shorten, too_few_corners, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv_runtime::polygon::PolyMesh;
 use lsubdiv_runtime::topology::TopologyError;
 use std::fmt::{self, Write as _};
 
@@ -767,10 +768,7 @@ fn body(
     src: &mut dyn Source,
     unit: Unit,
 ) -> Result<Parsed, Error> {
-    let mut mesh = QuadMesh {
-        positions: Vec::new(),
-        faces: Vec::new(),
-    };
+    let mut mesh = PolyMesh::new();
     let mut places = Places::new(unit, 0);
     let mut warnings = Vec::new();
     for (e, element) in h.elements.iter().enumerate() {
@@ -844,13 +842,13 @@ fn body(
                 places.vertices.push(place);
             }
             if let Some(f) = face {
-                mesh.faces.push(f);
+                mesh.push_face(&f);
                 places.faces.push(place);
             }
         }
     }
     warnings.extend(src.rest());
-    if mesh.faces.is_empty() {
+    if mesh.face_count() == 0 {
         return Err(places.locate(file, &TopologyError::NoFaces));
     }
     Ok(Parsed {
@@ -860,19 +858,22 @@ fn body(
     })
 }
 
-/// The four vertex indices of a face (a list of `n` values of type `item`).
-fn indices(src: &mut dyn Source, item: Scalar, n: u64, cx: Context<'_>) -> Result<[u32; 4], Error> {
-    if n != 4 {
-        return Err(src.fail(cx, &not_quad(usize::try_from(n).unwrap_or(usize::MAX))));
+/// The vertex indices of a face (a list of `n` values of type `item`, at least 3; read one by
+/// one, so a huge `n` holds no more than the file has).
+fn indices(src: &mut dyn Source, item: Scalar, n: u64, cx: Context<'_>) -> Result<Vec<u32>, Error> {
+    if n < 3 {
+        return Err(src.fail(cx, &too_few_corners(n as usize)));
     }
-    let mut face = [0u32; 4];
-    for slot in &mut face {
+    let mut face = Vec::new();
+    for _ in 0..n {
         let v = src.value(item, cx, false)?;
-        *slot = match v {
-            Value::Int(i) => u32::try_from(i).ok(),
-            Value::Float(_) => None,
-        }
-        .ok_or_else(|| src.fail(cx, &format!("vertex index {v} out of range")))?;
+        face.push(
+            match v {
+                Value::Int(i) => u32::try_from(i).ok(),
+                Value::Float(_) => None,
+            }
+            .ok_or_else(|| src.fail(cx, &format!("vertex index {v} out of range")))?,
+        );
     }
     Ok(face)
 }
@@ -1092,7 +1093,7 @@ mod tests {
                 binary(&m, false).unwrap(),
                 binary(&m, true).unwrap(),
             ] {
-                let back = parse("t.ply", &bytes).unwrap().mesh;
+                let back = parse("t.ply", &bytes).unwrap().mesh.quads().unwrap();
                 assert_eq!(back.faces, m.faces);
                 let bits = |m: &QuadMesh| -> Vec<u64> {
                     m.positions.iter().flatten().map(|x| x.to_bits()).collect()
@@ -1147,7 +1148,7 @@ mod tests {
             (with_line(&ascii, 13, "1e999 1 1").into_bytes(), "t.ply:13:1", "coordinate `1e999` is not finite".into()),
             (with_line(&ascii, 14, "1 1").into_bytes(), "t.ply:14", "vertex 3, property `z`: the line ends before this value".into()),
             (with_line(&ascii, 14, "1 1 1 1").into_bytes(), "t.ply:14:7", "vertex 3: 1 more values than the header declares".into()),
-            (with_line(&ascii, 20, "3 0 1 2").into_bytes(), "t.ply:20:1", "face 1, property `vertex_indices`: face has 3 vertices; lsubdiv refines quad meshes only".into()),
+            (with_line(&ascii, 20, "2 0 1").into_bytes(), "t.ply:20:1", "face 1, property `vertex_indices`: face has 2 vertices; a face has at least 3".into()),
             (with_line(&ascii, 20, "256 0 1 2 3").into_bytes(), "t.ply:20:1", "`256` is not a uchar".into()),
             (with_line(&ascii, 20, "4 0 1 -2 3").into_bytes(), "t.ply:20:7", "face 1, property `vertex_indices`: vertex index -2 out of range".into()),
             (with_line(&ascii, 20, "4 0 1 8 3").into_bytes(), "t.ply:20", "vertex index 8 out of range (the file has 8 vertices)".into()),

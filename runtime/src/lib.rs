@@ -58,6 +58,7 @@ pub mod generators;
 mod grid;
 pub mod mesh;
 pub mod patch;
+pub mod polygon;
 pub mod real;
 pub mod surface;
 pub mod topology;

@@ -46,7 +46,9 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         runs,
         limit,
     } = a;
-    let (m, topology) = bench::mesh(&mesh, limit.bytes())?;
+    let lsubdiv::mesh_file::Checked {
+        mesh: m, topology, ..
+    } = bench::mesh(&mesh, limit.bytes())?;
     let r = load(&scheme, None)?;
     let surface = GenericSurface::new(build(&r)?)?;
     let implementation = path.pick(&r, Geometry::Surface)?;

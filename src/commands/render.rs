@@ -103,7 +103,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     image_limit(0, 0)?;
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
-    let (mesh, topology) = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes())?;
+    let input = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes())?;
     let (mesh, topology) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));
@@ -114,12 +114,20 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 threads: threads(a.threads),
                 max_memory: a.limit.bytes(),
             };
-            let fine = refine_mesh(&load(scheme, None)?, &mesh, &topology, &job)?;
+            let fine = refine_mesh(&load(scheme, None)?, &input, &job)?;
             // The refined mesh's own connectivity (a closed manifold by construction).
             let t = Topology::build(&fine).map_err(|e| Error::internal(None, e.to_string()))?;
             (fine, t)
         }
-        _ => (mesh, topology),
+        _ => {
+            if input.split {
+                eprintln!(
+                    "{}: warning: drawn after its first step, a Catmull–Clark step (it has faces that are not quads)",
+                    a.mesh
+                );
+            }
+            (input.mesh, input.topology)
+        }
     };
     image_limit(mesh.positions.len(), mesh.faces.len())?;
     stages.next(format!("drawing {} quads", mesh.faces.len()));

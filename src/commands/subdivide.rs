@@ -4,9 +4,9 @@
 use crate::commands::args::RefineArgs;
 use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
+use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::Subdivide;
-use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
 use lsubdiv_cli::Resolved;
@@ -56,7 +56,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let (m, topology) = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes())?;
+    let mesh = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
@@ -66,7 +66,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: threads(t),
         max_memory: refine.limit.bytes(),
     };
-    let fine = refine_mesh(&r, &m, &topology, &job)?;
+    let fine = refine_mesh(&r, &mesh, &job)?;
     stages.next(format!(
         "writing {} vertices, {} quads to {}",
         fine.positions.len(),
@@ -90,14 +90,11 @@ pub struct MeshJob<'a> {
     pub max_memory: u64,
 }
 
-/// Refines a closed quad mesh (already validated, of topology `topology`) by the picked
-/// implementation, after the size guard (`--max-memory`) has accepted the prediction.
-pub fn refine_mesh(
-    r: &Resolved,
-    m: &QuadMesh,
-    topology: &Topology,
-    job: &MeshJob<'_>,
-) -> Result<QuadMesh, Error> {
+/// Refines a closed mesh (read and checked) by the picked implementation, after the size guard
+/// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
+/// read as its first step (one Catmull–Clark step, `lsubdiv::runtime::polygon`): the scheme
+/// takes the other steps, and it needs at least one.
+pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<QuadMesh, Error> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
     let MeshJob {
         name,
@@ -105,6 +102,18 @@ pub fn refine_mesh(
         threads,
         ..
     } = *job;
+    let (m, topology) = (&input.mesh, &input.topology);
+    let steps = match (input.split, steps) {
+        (false, s) => s,
+        (true, 0) => {
+            return Err(Error::in_file(
+                name,
+                "the mesh has faces that are not quads: its first step is a Catmull–Clark step, so it takes at least one step",
+            )
+            .with_hint("use --steps 1 or more"))
+        }
+        (true, s) => s - 1,
+    };
     let surface = lsubdiv::generic::GenericSurface::new(build(r)?)?;
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),

@@ -1,5 +1,5 @@
-//! An independent, deliberately plain Catmull–Clark reference for closed quad meshes. It uses
-//! only std and the `QuadMesh` type, none of the crate's connectivity code.
+//! An independent, deliberately plain Catmull–Clark reference for closed polygon meshes. It
+//! uses only std and the `QuadMesh` type, none of the crate's connectivity code.
 //!
 //! Rules: face point = average of the face's vertices; edge point = average of the two endpoints
 //! and the two adjacent face points; vertex point = (Q + 2R + (n − 3)S) / n with Q the average of
@@ -25,19 +25,25 @@ fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
 /// One Catmull–Clark step of a closed quad mesh. Panics if an edge does not have exactly two
 /// faces.
 pub fn catmull_clark(mesh: &QuadMesh) -> QuadMesh {
-    let p = &mesh.positions;
+    let faces: Vec<Vec<u32>> = mesh.faces.iter().map(|f| f.to_vec()).collect();
+    catmull_clark_polygons(&mesh.positions, &faces)
+}
+
+/// One Catmull–Clark step of a closed polygon mesh (triangles, quads, n-gons): face f of n
+/// corners becomes n quads (corner i, the edge point after it, the face point, the edge point
+/// before it). Panics if an edge does not have exactly two faces.
+pub fn catmull_clark_polygons(p: &[[f64; 3]], polygons: &[Vec<u32>]) -> QuadMesh {
     let nv = p.len();
 
     // Face points.
-    let face_points: Vec<[f64; 3]> = mesh
-        .faces
+    let face_points: Vec<[f64; 3]> = polygons
         .iter()
         .map(|f| {
             let mut s = [0.0; 3];
             for &v in f {
                 s = add(s, p[v as usize]);
             }
-            scale(s, 0.25)
+            scale(s, 1.0 / f.len() as f64)
         })
         .collect();
 
@@ -45,9 +51,9 @@ pub fn catmull_clark(mesh: &QuadMesh) -> QuadMesh {
     let mut edge_id: HashMap<(u32, u32), usize> = HashMap::new();
     let mut edge_ends: Vec<(u32, u32)> = Vec::new();
     let mut edge_faces: Vec<Vec<usize>> = Vec::new();
-    for (fi, f) in mesh.faces.iter().enumerate() {
-        for i in 0..4 {
-            let (a, b) = (f[i], f[(i + 1) % 4]);
+    for (fi, f) in polygons.iter().enumerate() {
+        for i in 0..f.len() {
+            let (a, b) = (f[i], f[(i + 1) % f.len()]);
             let key = (a.min(b), a.max(b));
             let e = *edge_id.entry(key).or_insert_with(|| {
                 edge_ends.push(key);
@@ -81,7 +87,7 @@ pub fn catmull_clark(mesh: &QuadMesh) -> QuadMesh {
     // Vertex points: gather adjacent faces and edges of every vertex.
     let mut q_sum = vec![[0.0; 3]; nv];
     let mut q_count = vec![0usize; nv];
-    for (fi, f) in mesh.faces.iter().enumerate() {
+    for (fi, f) in polygons.iter().enumerate() {
         for &v in f {
             q_sum[v as usize] = add(q_sum[v as usize], face_points[fi]);
             q_count[v as usize] += 1;
@@ -116,19 +122,14 @@ pub fn catmull_clark(mesh: &QuadMesh) -> QuadMesh {
     positions.extend(face_points);
 
     let edge_vertex = |a: u32, b: u32| (nv + edge_id[&(a.min(b), a.max(b))]) as u32;
-    let mut faces = Vec::with_capacity(4 * mesh.faces.len());
-    for (fi, &[a, b, c, d]) in mesh.faces.iter().enumerate() {
-        let f = (nv + ne + fi) as u32;
-        let (ab, bc, cd, da) = (
-            edge_vertex(a, b),
-            edge_vertex(b, c),
-            edge_vertex(c, d),
-            edge_vertex(d, a),
-        );
-        faces.push([a, ab, f, da]);
-        faces.push([b, bc, f, ab]);
-        faces.push([c, cd, f, bc]);
-        faces.push([d, da, f, cd]);
+    let mut faces = Vec::new();
+    for (fi, f) in polygons.iter().enumerate() {
+        let centre = (nv + ne + fi) as u32;
+        let n = f.len();
+        for i in 0..n {
+            let (before, v, after) = (f[(i + n - 1) % n], f[i], f[(i + 1) % n]);
+            faces.push([v, edge_vertex(v, after), centre, edge_vertex(before, v)]);
+        }
     }
     QuadMesh { positions, faces }
 }

@@ -11,7 +11,6 @@ use lsubdiv::compiler::exact::lsystem::{LSystem, Source};
 use lsubdiv::compiler::exact::{scheme, symmetry, validity, Scheme};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::topology::Topology;
 use lsubdiv::runtime::{generators, patch};
 use lsubdiv::{refine, Curve, CurveScheme};
 
@@ -67,21 +66,21 @@ pub fn check_scheme(data: &[u8]) -> Outcome {
     Ok(())
 }
 
-/// OBJ text → [`lsubdiv::obj::parse`] → [`Topology::build`] (its errors placed at their
-/// lines): faces index existing vertices, and a closed quad 2-manifold has E = 2F.
+/// OBJ text → [`lsubdiv::obj::parse`] → [`Parsed::check`](lsubdiv::mesh_file::Parsed::check)
+/// (its errors placed at their lines): faces index existing vertices, and the closed 2-manifold
+/// (split into quads when it has other faces) has E = 2F.
 pub fn check_obj(data: &[u8]) -> Outcome {
     let text = std::str::from_utf8(data).map_err(|e| e.to_string())?;
     let parsed = lsubdiv::obj::parse("fuzz.obj", text).map_err(|e| e.to_string())?;
-    let mesh = parsed.mesh;
-    let n = mesh.positions.len();
-    assert!(
-        mesh.faces.iter().flatten().all(|&v| (v as usize) < n),
-        "face index out of range"
-    );
-    let topo =
-        Topology::build(&mesh).map_err(|e| parsed.places.locate("fuzz.obj", &e).to_string())?;
+    let n = parsed.mesh.positions.len();
+    let all_quads = parsed.mesh.faces().all(|f| f.len() == 4);
+    let checked = parsed.check("fuzz.obj").map_err(|e| e.to_string())?;
+    let topo = &checked.topology;
     assert_eq!(topo.edge_count(), 2 * topo.face_count(), "E ≠ 2F");
-    assert_eq!(topo.vertex_count(), n);
+    assert_eq!(checked.split, !all_quads);
+    if all_quads {
+        assert_eq!(topo.vertex_count(), n);
+    }
     Ok(())
 }
 
@@ -102,35 +101,46 @@ pub fn check_ply(data: &[u8]) -> Outcome {
         e.to_string()
     };
     let parsed = lsubdiv::ply::parse(PLY_FILE, data).map_err(named)?;
-    let mesh = parsed.mesh.clone();
-    let n = mesh.positions.len();
-    assert!(mesh.positions.iter().flatten().all(|x| x.is_finite()));
+    let n = parsed.mesh.positions.len();
+    assert!(parsed
+        .mesh
+        .positions
+        .iter()
+        .flatten()
+        .all(|x| x.is_finite()));
     let checked = parsed.check(PLY_FILE).map_err(named)?;
-    assert!(mesh.faces.iter().flatten().all(|&v| (v as usize) < n));
+    let mesh = &checked.mesh;
+    assert!(mesh
+        .faces
+        .iter()
+        .flatten()
+        .all(|&v| (v as usize) < mesh.positions.len()));
     let topo = &checked.topology;
     assert_eq!(topo.edge_count(), 2 * topo.face_count(), "E ≠ 2F");
-    assert_eq!(topo.vertex_count(), n);
+    if !checked.split {
+        assert_eq!(topo.vertex_count(), n);
+    }
     let bits = |m: &lsubdiv::runtime::mesh::QuadMesh| -> Vec<u64> {
         m.positions.iter().flatten().map(|x| x.to_bits()).collect()
     };
     for (how, bytes) in [
         (
             "ASCII",
-            lsubdiv::ply::format(&mesh).expect("finite").into_bytes(),
+            lsubdiv::ply::format(mesh).expect("finite").into_bytes(),
         ),
         (
             "little-endian",
-            lsubdiv::ply::binary(&mesh, false).expect("finite"),
+            lsubdiv::ply::binary(mesh, false).expect("finite"),
         ),
         (
             "big-endian",
-            lsubdiv::ply::binary(&mesh, true).expect("finite"),
+            lsubdiv::ply::binary(mesh, true).expect("finite"),
         ),
     ] {
         let back = lsubdiv::mesh_file::parse(PLY_FILE, bytes)
             .unwrap_or_else(|e| panic!("{how} PLY written by lsubdiv does not read back: {e}"));
         assert_eq!(back.mesh.faces, mesh.faces, "{how}");
-        assert_eq!(bits(&back.mesh), bits(&mesh), "{how}");
+        assert_eq!(bits(&back.mesh), bits(mesh), "{how}");
     }
     Ok(())
 }

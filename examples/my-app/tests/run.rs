@@ -29,7 +29,7 @@ fn run(args: &[&Path]) -> String {
 fn quads_in(path: &Path) -> u128 {
     let text = std::fs::read_to_string(path).unwrap();
     let parsed = lsubdiv::obj::parse(&path.display().to_string(), &text).expect("valid OBJ");
-    parsed.mesh.faces.len() as u128
+    parsed.mesh.face_count() as u128
 }
 
 #[test]

@@ -52,7 +52,7 @@ fn meshes(a: &Args) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{dir}: {e}"))?;
     let surface = bench::surface(SCHEME)?;
     for (name, spec) in [("torus", "torus:256:256"), ("cube", "cube"), ("star", "star")] {
-        let (mesh, _) = bench::mesh(spec, u64::MAX).map_err(|e| e.to_string())?;
+        let mesh = bench::mesh(spec, u64::MAX).map_err(|e| e.to_string())?.mesh;
         let path = format!("{dir}/{name}.obj");
         let text = obj::format(&mesh).map_err(|e| e.to_string())?;
         std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
@@ -98,7 +98,8 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
         levels,
         runs,
     } = a.run()?;
-    let (mesh, topology) = bench::mesh(obj, u64::MAX).map_err(|e| e.to_string())?;
+    let lsubdiv::mesh_file::Checked { mesh, topology, .. } =
+        bench::mesh(obj, u64::MAX).map_err(|e| e.to_string())?;
     let surface = bench::surface(SCHEME)?;
     if a.get("dump").is_none() || runs > 0 {
         let m = bench::measure::<f64>(
