@@ -9,7 +9,7 @@
 //! mean of the face points of its faces and R the mean of the midpoints of its edges.
 
 use crate::mesh::QuadMesh;
-use crate::topology::TopologyError;
+use crate::topology::{check_corners, TopologyError};
 use std::collections::HashMap;
 
 /// A polygon mesh: face f has the corners `corners[offsets[f]..offsets[f + 1]]`.
@@ -93,18 +93,7 @@ pub fn catmull_clark(m: &PolyMesh) -> Result<Split, TopologyError> {
     let mut edges: Vec<[u32; 2]> = Vec::new();
     for (f, face) in m.faces().enumerate() {
         let f = f as u32;
-        for (i, &v) in face.iter().enumerate() {
-            if v as usize >= nv {
-                return Err(TopologyError::FaceIndexOutOfRange {
-                    face: f,
-                    index: v,
-                    vertices: nv,
-                });
-            }
-            if face[..i].contains(&v) {
-                return Err(TopologyError::RepeatedVertex { face: f, vertex: v });
-            }
-        }
+        check_corners(f, face, nv)?;
         for (i, &a) in face.iter().enumerate() {
             let b = face[(i + 1) % face.len()];
             let key = [a.min(b), a.max(b)];

@@ -221,19 +221,7 @@ impl Topology {
             });
         }
         for (f, face) in mesh.faces.iter().enumerate() {
-            let f = f as u32;
-            for (i, &v) in face.iter().enumerate() {
-                if v as usize >= nv {
-                    return Err(TopologyError::FaceIndexOutOfRange {
-                        face: f,
-                        index: v,
-                        vertices: nv,
-                    });
-                }
-                if face[..i].contains(&v) {
-                    return Err(TopologyError::RepeatedVertex { face: f, vertex: v });
-                }
-            }
+            check_corners(f as u32, face, nv)?;
         }
         // Duplicate faces: bucket faces by their smallest vertex, sort each bucket by vertex set.
         let keys: Vec<[u32; 4]> = mesh
@@ -542,6 +530,23 @@ fn count_fans(face_verts: &[u32], mates: &[u32], v: u32) -> usize {
         }
     }
     fans
+}
+
+/// The corners of face `f` index one of `nv` vertices each, none twice.
+pub(crate) fn check_corners(f: u32, face: &[u32], nv: usize) -> Result<(), TopologyError> {
+    for (i, &v) in face.iter().enumerate() {
+        if v as usize >= nv {
+            return Err(TopologyError::FaceIndexOutOfRange {
+                face: f,
+                index: v,
+                vertices: nv,
+            });
+        }
+        if face[..i].contains(&v) {
+            return Err(TopologyError::RepeatedVertex { face: f, vertex: v });
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
