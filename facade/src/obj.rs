@@ -97,6 +97,8 @@ enum SkipKind {
     Unknown(String),
     OtherUnknown,
     VertexColours,
+    /// OpenSubdiv's sharp-feature tags (`t crease`, `t corner`, `t hole`).
+    Tags,
 }
 
 /// Skipped lines, one entry per kind, in order of first appearance.
@@ -116,6 +118,10 @@ impl Skipped {
     }
 
     fn note_directive(&mut self, d: &str, line: usize) {
+        if d == "t" {
+            self.note_kind(SkipKind::Tags, line);
+            return;
+        }
         if let Some(&known) = KNOWN_SKIPPED.iter().find(|&&k| k == d) {
             self.note_kind(SkipKind::Known(known), line);
             return;
@@ -156,6 +162,9 @@ impl Skipped {
                     SkipKind::VertexColours => {
                         format!("ignored vertex colours on {count} `v` {noun} {at}")
                     }
+                    SkipKind::Tags => format!(
+                        "ignored {count} sharp-feature tag {noun} (`t crease`, `t corner`, `t hole`) {at}: creases, corners and holes are not refined yet, so the surface is smooth across them"
+                    ),
                 }
             })
             .collect()
@@ -494,6 +503,15 @@ mod tests {
                 "skipped 1 `p` line (line 14)",
                 "skipped 2 lines with unknown directive `foo` (first at line 15)",
             ]
+        );
+        // OpenSubdiv's sharp-feature tags are named, and what ignoring them means said.
+        let (_, w) = parse_obj(&format!(
+            "{SQUARE_V}f 1 2 3 4\nt crease 2/1/0 0 1 10\nt corner 1/1/0 0 5\n"
+        ))
+        .unwrap();
+        assert_eq!(
+            w,
+            vec!["ignored 2 sharp-feature tag lines (`t crease`, `t corner`, `t hole`) (first at line 6): creases, corners and holes are not refined yet, so the surface is smooth across them"]
         );
     }
 
