@@ -140,7 +140,7 @@ pub fn run() -> Result<(), Error> {
         ("lsubdiv schemes", "the shipped schemes"),
         (
             "lsubdiv subdivide binary-ternary --steps 3 cube.obj -o out.obj",
-            "your quad mesh",
+            "your closed mesh",
         ),
         (
             "lsubdiv render cube --scheme binary-ternary --steps 3 -o cube.png",
