@@ -5,9 +5,10 @@ use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
-use lsubdiv::runtime::generators::{cube, star, torus};
+use lsubdiv::runtime::generators::{cube, polygon_prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
+use lsubdiv::runtime::polygon::catmull_clark;
 use lsubdiv::runtime::real::Real;
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
 use lsubdiv::runtime::topology::Topology;
@@ -18,7 +19,11 @@ use std::time::Instant;
 /// instead of failing to allocate.
 pub const MAX_TORUS_FACES: usize = 1 << 24;
 
-/// A built-in mesh (`torus:R:C`, `cube`, `star`) or an OBJ or PLY file read under
+/// Sides of the largest built-in prism.
+pub const MAX_PRISM_SIDES: usize = 10_000;
+
+/// A built-in mesh (`torus:R:C`, `cube`, `star`, `prism:N`: n-gon caps, split by a
+/// Catmull–Clark step) or an OBJ or PLY file read under
 /// `--max-memory max` ([`crate::limits::read_mesh`]), with its topology.
 pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
     let parts: Vec<&str> = spec.split(':').collect();
@@ -46,13 +51,33 @@ pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
         }
         ["cube"] => cube(),
         ["star"] => star(),
+        ["prism", n] => {
+            let n = n
+                .parse::<usize>()
+                .ok()
+                .filter(|n| (3..=MAX_PRISM_SIDES).contains(n))
+                .ok_or_else(|| {
+                    Error::input(format!(
+                        "`{spec}`: a prism has 3 to {MAX_PRISM_SIDES} sides"
+                    ))
+                })?;
+            // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
+            let split = catmull_clark(&polygon_prism(n))
+                .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
+            return checked(spec, split.mesh, true);
+        }
         _ => return crate::limits::read_mesh(std::path::Path::new(spec), max),
     };
-    let topology = Topology::build(&built)
+    checked(spec, built, false)
+}
+
+/// A built-in mesh with its topology (`split`: after its first, Catmull–Clark, step).
+fn checked(spec: &str, mesh: QuadMesh, split: bool) -> Result<Checked, Error> {
+    let topology = Topology::build(&mesh)
         .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
     Ok(Checked {
-        mesh: built,
-        split: false,
+        mesh,
+        split,
         topology,
         warnings: Vec::new(),
     })

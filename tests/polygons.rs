@@ -213,3 +213,32 @@ fn errors_on_polygon_meshes_name_the_files_faces() {
     let e = lsubdiv::mesh_file::parse("t.obj", obj(&p2, &f2).into_bytes()).unwrap_err();
     assert!(e.to_string().contains("t.obj:2: error: vertex 2"), "{e}");
 }
+
+#[test]
+fn the_built_in_prisms_have_polygon_caps_split_first() {
+    for n in [3, 5, 7] {
+        let m = lsubdiv::runtime::generators::polygon_prism(n);
+        let faces: Vec<Vec<u32>> = m.faces().map(<[u32]>::to_vec).collect();
+        let input = lsubdiv_cli::bench::mesh(&format!("prism:{n}"), u64::MAX).unwrap();
+        assert!(input.split);
+        let reference = catmull_clark_polygons(&m.positions, &faces);
+        assert_eq!(input.mesh.faces, reference.faces, "prism:{n}");
+        assert_eq!(bits(&input.mesh), bits(&reference), "prism:{n}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("p.png");
+    let o = lsubdiv(&[
+        "render",
+        "prism:5",
+        "--scheme",
+        "binary-ternary",
+        "--steps",
+        "2",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = lsubdiv(&["render", "prism:2", "-o", png.to_str().unwrap()]);
+    assert_eq!(e.status.code(), Some(2));
+    assert!(stderr(&e).contains("a prism has 3 to 10000 sides"));
+}

@@ -2,6 +2,7 @@
 //! from outside wherever the surface is orientable.
 
 use crate::mesh::QuadMesh;
+use crate::polygon::PolyMesh;
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 
@@ -126,6 +127,19 @@ fn prism_polygons(n: usize) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
         polygons.push(vec![i, j, n32 + j, n32 + i]);
     }
     (positions, polygons)
+}
+
+/// The n-gonal prism as a polygon mesh: two n-gon caps and n side quads (triangles for n = 3,
+/// pentagons for n = 5), for the first step on meshes that are not all quads
+/// ([`crate::polygon`]). n ≥ 3.
+pub fn polygon_prism(n: usize) -> PolyMesh {
+    let (positions, polygons) = prism_polygons(n);
+    let mut m = PolyMesh::new();
+    m.positions = positions;
+    for p in &polygons {
+        m.push_face(p);
+    }
+    m
 }
 
 /// The n-gonal prism (two n-gons + n side quads), split once with [`quad_split`]: EVs of valence
