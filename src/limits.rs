@@ -250,7 +250,7 @@ pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<Checked, Error> {
         holding(path, bytes.len() as u64, PLY_HELD_PER_BYTE, max)?;
     }
     let parsed = lsubdiv::mesh_file::read_faces(&name, bytes)?;
-    if parsed.mesh.quads().is_none() {
+    if !parsed.mesh.all_quads() {
         // The Catmull–Clark split holds, per corner, a quad (16 bytes), its face (4) and half
         // an edge point (12), per face a face point (24), with its topology (the refiner's
         // model: about 100 bytes a quad).

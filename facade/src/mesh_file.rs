@@ -201,9 +201,9 @@ impl Parsed {
             places,
             warnings,
         } = self;
-        let (quads, face_of) = match mesh.quads() {
-            Some(q) => (q, None),
-            None => {
+        let (quads, face_of) = match mesh.into_quads() {
+            Ok(q) => (q, None),
+            Err(mesh) => {
                 let s = catmull_clark(&mesh).map_err(|e| places.locate(file, &e))?;
                 (s.mesh, Some(s.face_of))
             }

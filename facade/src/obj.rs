@@ -443,7 +443,7 @@ mod tests {
         }
         // Topology errors are placed at the first line of a continued face.
         let p = parse("t.obj", &format!("{SQUARE_V}\nf 1 2 \\\n 3 4\n")).unwrap();
-        let e = Topology::build(&p.mesh.quads().unwrap()).expect_err("open");
+        let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("open");
         assert_eq!(
             p.places.locate("t.obj", &e).at,
             Some(Location::line("t.obj", 6))
@@ -663,7 +663,7 @@ mod tests {
         let p = parse("t.obj", text).unwrap();
         assert_eq!(p.places.vertices, vec![3, 5, 6, 8, 9]);
         assert_eq!(p.places.faces, vec![11]);
-        let e = Topology::build(&p.mesh.quads().unwrap()).expect_err("open");
+        let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("open");
         assert_eq!(
             p.places.locate("t.obj", &e).to_string(),
             "t.obj:11: error: edge 1–2 of this face has no other face (open boundary; lsubdiv refines closed meshes)"
@@ -711,7 +711,8 @@ mod tests {
             let text = format(&mesh).unwrap();
             let (back, warnings) = parse_obj(&text).unwrap();
             assert!(warnings.is_empty());
-            assert_eq!(back.quads().unwrap().faces, mesh.faces);
+            let back = back.into_quads().unwrap();
+            assert_eq!(back.faces, mesh.faces);
             assert_eq!(back.positions.len(), mesh.positions.len());
             for (a, b) in back.positions.iter().zip(&mesh.positions) {
                 for c in 0..3 {

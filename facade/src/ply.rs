@@ -1093,7 +1093,7 @@ mod tests {
                 binary(&m, false).unwrap(),
                 binary(&m, true).unwrap(),
             ] {
-                let back = parse("t.ply", &bytes).unwrap().mesh.quads().unwrap();
+                let back = parse("t.ply", &bytes).unwrap().mesh.into_quads().unwrap();
                 assert_eq!(back.faces, m.faces);
                 let bits = |m: &QuadMesh| -> Vec<u64> {
                     m.positions.iter().flatten().map(|x| x.to_bits()).collect()

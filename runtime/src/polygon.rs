@@ -54,14 +54,24 @@ impl PolyMesh {
         (0..self.face_count()).map(|f| self.face(f))
     }
 
-    /// The mesh as a quad mesh, when every face is a quad.
-    pub fn quads(&self) -> Option<QuadMesh> {
+    /// Every face is a quad.
+    pub fn all_quads(&self) -> bool {
+        self.offsets.windows(2).all(|w| w[1] - w[0] == 4)
+    }
+
+    /// The mesh as a quad mesh (its positions moved, not copied) when every face is a quad,
+    /// else the mesh back.
+    pub fn into_quads(self) -> Result<QuadMesh, PolyMesh> {
+        if !self.all_quads() {
+            return Err(self);
+        }
         let faces = self
-            .faces()
-            .map(|f| <[u32; 4]>::try_from(f).ok())
-            .collect::<Option<Vec<_>>>()?;
-        Some(QuadMesh {
-            positions: self.positions.clone(),
+            .corners
+            .chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], c[3]])
+            .collect();
+        Ok(QuadMesh {
+            positions: self.positions,
             faces,
         })
     }

@@ -614,10 +614,11 @@ impl ExprParser<'_> {
                     .filter(|e| *e <= MAX_EXPONENT)
                     .ok_or_else(|| format!("exponent {n} is larger than {MAX_EXPONENT}"))?;
                 // One factor at a time, each product checked against MAX_EXPR_BITS.
-                let base = small(
-                    base.pow(if neg { -1 } else { 1 })
-                        .ok_or("zero to a negative power")?,
-                )?;
+                let base = if neg {
+                    small(base.inv().ok_or("zero to a negative power")?)?
+                } else {
+                    base
+                };
                 (0..e).try_fold(Elem::one(self.field), |acc, _| small(acc.mul(&base)))
             }
             _ => Err("`^` needs an integer exponent".into()),
