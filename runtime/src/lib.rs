@@ -52,6 +52,7 @@
 
 pub mod curve;
 pub mod ends;
+pub mod features;
 pub mod ev;
 pub mod gather;
 pub mod generators;
