@@ -5,6 +5,7 @@ use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
+use lsubdiv::runtime::features::Features;
 use lsubdiv::runtime::generators::{cube, polygon_prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
@@ -79,6 +80,7 @@ fn checked(spec: &str, mesh: QuadMesh, split: bool) -> Result<Checked, Error> {
         mesh,
         split,
         topology,
+        features: Features::default(),
         warnings: Vec::new(),
     })
 }
@@ -182,7 +184,7 @@ pub fn measure<T: Real>(
     };
     let ls = &surface.scheme().ls;
     let v = mesh.positions.len();
-    let count = |n| unique_vertices(mesh, n);
+    let count = |n| unique_vertices(topology, n);
     let mut word = ls.axiom.clone();
     let mut prev = v;
     for _ in 0..steps.saturating_sub(1) {
@@ -209,16 +211,17 @@ pub fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// Vertices of a closed quad mesh after every edge splits into n (`patch::output_counts`).
-fn unique_vertices(mesh: &QuadMesh, n: usize) -> usize {
-    let (v, f) = (mesh.positions.len() as u128, mesh.faces.len() as u128);
-    usize::try_from(output_counts(v, f, n as u128).0).unwrap_or(usize::MAX)
+/// Vertices of a quad mesh after every edge splits into n (`patch::output_counts`).
+fn unique_vertices(topo: &Topology, n: usize) -> usize {
+    let (v, e, f) = (topo.vertex_count(), topo.edge_count(), topo.face_count());
+    usize::try_from(output_counts(v as u128, e as u128, f as u128, n as u128).0)
+        .unwrap_or(usize::MAX)
 }
 
 /// The number of steps that brings `mesh` closest to `target` output vertices.
-pub fn steps_for(surface: &GenericSurface, mesh: &QuadMesh, target: usize) -> usize {
+pub fn steps_for(surface: &GenericSurface, topology: &Topology, target: usize) -> usize {
     let ls = &surface.scheme().ls;
-    let count = |n| unique_vertices(mesh, n);
+    let count = |n| unique_vertices(topology, n);
     let mut word = ls.axiom.clone();
     let mut best = (0, usize::MAX);
     for s in 0..40 {

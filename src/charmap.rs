@@ -88,7 +88,9 @@ impl Rings {
             let mut queue = VecDeque::from([f]);
             while let Some(f) = queue.pop_front() {
                 for l in 0..4u8 {
-                    let (g, gl) = topo.across(f, l);
+                    let Some((g, gl)) = topo.across(f, l) else {
+                        return None; // a boundary within k rings: not a closed neighbourhood
+                    };
                     if seen.contains(&g) {
                         continue;
                     }

@@ -11,8 +11,9 @@
 
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::Checked;
-use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::features::Features;
 use lsubdiv::runtime::patch::footprint;
+use lsubdiv::runtime::topology::Topology;
 use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
@@ -278,18 +279,19 @@ pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<Checked, Error> {
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
-/// on `mesh`, positions of `scalar` bytes; `text`: the output file is built in memory. The
+/// on the mesh of topology `topo` with `features`, positions of `scalar` bytes; `text`: the output file is built in memory. The
 /// refiner's own memory is its [`footprint`]; the file text comes after refining.
 pub fn surface(
     t: &CurveTables<'_>,
     contained_from: usize,
-    mesh: &QuadMesh,
+    topo: &Topology,
+    features: &Features,
     steps: usize,
     scalar: u128,
     threads: usize,
     text: bool,
 ) -> Prediction {
-    let fp = footprint(t, contained_from, mesh, steps, scalar, threads);
+    let fp = footprint(t, contained_from, topo, features, steps, scalar, threads);
     let (vertices, quads) = (fp.vertices, fp.quads);
     let file = if text {
         // `v x y z` and `f a b c d` lines (PLY lines are shorter).

@@ -413,10 +413,12 @@ fn predicted_surface_sizes_are_exact() {
                 let fine =
                     lsubdiv::runtime::patch::subdivide::<_, f64>(&s, &mesh, steps, 1).unwrap();
                 let t = s.tables();
+                let topo = lsubdiv::runtime::topology::Topology::build(&mesh).unwrap();
                 let p = lsubdiv_cli::limits::surface(
                     &t,
                     s.surface().contained_from,
-                    &mesh,
+                    &topo,
+                    &Default::default(),
                     steps,
                     8,
                     1,

@@ -4,6 +4,7 @@
 //! topology's errors — face k, vertex v, edge a–b — are placed in the file.
 
 use lsubdiv_compiler::{Error, Location};
+use lsubdiv_runtime::features::Features;
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::{catmull_clark, PolyMesh};
 use lsubdiv_runtime::topology::{Topology, TopologyError};
@@ -58,6 +59,8 @@ pub struct Checked {
     pub split: bool,
     /// Its connectivity.
     pub topology: Topology,
+    /// Its sharp features and boundary rule.
+    pub features: Features,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
 }
@@ -221,6 +224,7 @@ impl Parsed {
             mesh: quads,
             split: face_of.is_some(),
             topology,
+            features: Features::default(),
             warnings,
         })
     }

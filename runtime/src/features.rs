@@ -127,3 +127,276 @@ impl Features {
         self.creases.is_empty() && self.corners.is_empty() && self.holes.is_empty()
     }
 }
+
+/// A feature that names something the mesh does not have.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FeatureError {
+    /// A crease between two vertices that share no edge.
+    NoSuchEdge {
+        /// Index of the crease in [`Features::creases`].
+        crease: usize,
+        /// Its endpoints.
+        edge: [u32; 2],
+    },
+    /// A corner at a vertex that does not exist.
+    NoSuchVertex {
+        /// Index of the corner in [`Features::corners`].
+        corner: usize,
+        /// The vertex.
+        vertex: u32,
+    },
+    /// A hole at a face that does not exist.
+    NoSuchFace {
+        /// Index of the hole in [`Features::holes`].
+        hole: usize,
+        /// The face.
+        face: u32,
+    },
+}
+
+impl std::fmt::Display for FeatureError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FeatureError::NoSuchEdge { edge, .. } => write!(
+                f,
+                "crease {}–{}: the mesh has no edge between these vertices",
+                edge[0], edge[1]
+            ),
+            FeatureError::NoSuchVertex { vertex, .. } => {
+                write!(f, "corner at vertex {vertex}: no such vertex")
+            }
+            FeatureError::NoSuchFace { face, .. } => write!(f, "hole at face {face}: no such face"),
+        }
+    }
+}
+
+impl std::error::Error for FeatureError {}
+
+/// How a vertex is refined at a step (OpenSubdiv's vertex rules, by the number of edges sharp
+/// at that step, boundary edges counted).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VertexRule {
+    /// No sharp edge, or one (a dart): the surface rule.
+    Smooth,
+    /// Two sharp edges: the scheme's curve rule along them.
+    Crease,
+    /// Three or more sharp edges, a sharp corner tag, or (edge-and-corner) a boundary vertex
+    /// with one face: interpolated.
+    Corner,
+}
+
+/// What a face's patch holds at the ring point diagonal to one of its corners at a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CornerKind {
+    /// A real point: the corner is an ordinary interior vertex with neither face edge sharp.
+    Real,
+    /// Both face edges at the corner are sharp: the double odd reflection of the face.
+    Both,
+    /// The face edge toward the previous corner (`true`) or the next (`false`) is sharp and
+    /// the sector is two faces: the odd reflection of the neighbour's ring across that line.
+    OneSide(bool),
+    /// None: an extraordinary configuration, whose corner child is set by its vertex rule.
+    Ev,
+}
+
+/// Features resolved against a topology: per edge its sharpness (boundary edges infinitely
+/// sharp), per vertex its corner tag, per face whether it is a hole.
+#[derive(Clone, Debug)]
+pub struct Resolved {
+    boundary: Boundary,
+    edge: Vec<Sharpness>,
+    vertex: Vec<Sharpness>,
+    hole: Vec<bool>,
+    plain: bool,
+}
+
+impl Resolved {
+    /// Resolves `features` against `topo`: errors name the crease, corner or hole that has no
+    /// edge, vertex or face in the mesh. A crease listed twice keeps its last sharpness.
+    pub fn new(
+        topo: &crate::topology::Topology,
+        features: &Features,
+    ) -> Result<Resolved, FeatureError> {
+        let mut edge = vec![Sharpness::SMOOTH; topo.edge_count()];
+        let mut vertex = vec![Sharpness::SMOOTH; topo.vertex_count()];
+        let mut hole = vec![false; topo.face_count()];
+        for f in 0..topo.face_count() as u32 {
+            for l in 0..4 {
+                if topo.is_boundary_edge(f, l) {
+                    edge[topo.edge_of(f, l) as usize] = Sharpness::INFINITE;
+                }
+            }
+        }
+        for (i, &([a, b], s)) in features.creases.iter().enumerate() {
+            let e = topo.edge_between(a, b).ok_or(FeatureError::NoSuchEdge {
+                crease: i,
+                edge: [a, b],
+            })?;
+            if !edge[e as usize].is_infinite() {
+                edge[e as usize] = s;
+            }
+        }
+        for (i, &(v, s)) in features.corners.iter().enumerate() {
+            *vertex
+                .get_mut(v as usize)
+                .ok_or(FeatureError::NoSuchVertex {
+                    corner: i,
+                    vertex: v,
+                })? = s;
+        }
+        for (i, &f) in features.holes.iter().enumerate() {
+            *hole
+                .get_mut(f as usize)
+                .ok_or(FeatureError::NoSuchFace { hole: i, face: f })? = true;
+        }
+        let plain = topo.is_closed()
+            && edge.iter().all(|s| !s.is_sharp())
+            && vertex.iter().all(|s| !s.is_sharp());
+        Ok(Resolved {
+            boundary: features.boundary,
+            edge,
+            vertex,
+            hole,
+            plain,
+        })
+    }
+
+    /// No boundary and nothing sharp: every step is the scheme's surface rule (holes aside).
+    pub fn is_plain(&self) -> bool {
+        self.plain
+    }
+
+    /// Whether face f is a hole.
+    pub fn is_hole(&self, f: u32) -> bool {
+        self.hole[f as usize]
+    }
+
+    /// Whether any face is a hole.
+    pub fn has_holes(&self) -> bool {
+        self.hole.contains(&true)
+    }
+
+    /// Whether edge e is sharp at step k.
+    pub fn edge_sharp(&self, e: u32, k: usize) -> bool {
+        self.edge[e as usize].sharp_at(k)
+    }
+
+    /// Whether the sharpness at v changes between steps: a semi-sharp edge at v, or a
+    /// semi-sharp corner tag.
+    pub fn changes_at(&self, topo: &crate::topology::Topology, v: u32) -> bool {
+        let finite = |s: Sharpness| s.is_sharp() && !s.is_infinite();
+        finite(self.vertex[v as usize]) || spokes(topo, v).any(|e| finite(self.edge[e as usize]))
+    }
+
+    /// The sharp spokes of v at step k: for each edge of its rotation E_0, E_1, … (E_k between
+    /// wedges k − 1 and k; at a boundary vertex E_0 and E_n are the boundary edges) whether it
+    /// is sharp.
+    pub(crate) fn sharp_spokes(
+        &self,
+        topo: &crate::topology::Topology,
+        v: u32,
+        k: usize,
+    ) -> Vec<bool> {
+        spokes(topo, v).map(|e| self.edge_sharp(e, k)).collect()
+    }
+
+    /// The vertex rule of v at step k.
+    pub fn vertex_rule(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> VertexRule {
+        let sharp = self.sharp_spokes(topo, v, k).iter().filter(|&&s| s).count();
+        let one_face_corner =
+            topo.is_boundary(v) && topo.valence(v) == 1 && self.boundary == Boundary::EdgeAndCorner;
+        if self.vertex[v as usize].sharp_at(k) || one_face_corner || sharp >= 3 {
+            VertexRule::Corner
+        } else if sharp == 2 {
+            VertexRule::Crease
+        } else {
+            VertexRule::Smooth
+        }
+    }
+
+    /// The number of faces of the sector (faces between two sharp edges) that holds wedge w of
+    /// v's rotation at step k; the valence when no edge at v is sharp.
+    fn sector_len(&self, sharp: &[bool], valence: usize, w: usize) -> usize {
+        if !sharp.contains(&true) {
+            return valence;
+        }
+        // Wedge i lies between spokes i and i + 1 (cyclically at an interior vertex; at a
+        // boundary vertex the walk stops at the boundary spokes before it could wrap).
+        let spoke = |i: isize| sharp[i.rem_euclid(sharp.len() as isize) as usize];
+        let w = w as isize;
+        let back = (0..valence as isize).take_while(|&j| !spoke(w - j)).count();
+        let ahead = (1..=valence as isize)
+            .take_while(|&j| !spoke(w + j))
+            .count();
+        (1 + back + ahead).min(valence)
+    }
+
+    /// Whether v's child needs its vertex rule applied after a step k (its patches alone do
+    /// not give it): every configuration but a smooth interior vertex of valence 4 without
+    /// sharp edges, a crease whose two sectors have two faces each, and a corner whose
+    /// sectors have one face each.
+    pub fn needs_rule(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> bool {
+        let sharp = self.sharp_spokes(topo, v, k);
+        let n = topo.valence(v);
+        let sectors_of = |len: usize| (0..n).all(|w| self.sector_len(&sharp, n, w) == len);
+        match self.vertex_rule(topo, v, k) {
+            VertexRule::Smooth => sharp.contains(&true) || n != 4 || topo.is_boundary(v),
+            VertexRule::Crease => !sectors_of(2),
+            VertexRule::Corner => !sectors_of(1),
+        }
+    }
+
+    /// The kind of the ring point diagonal to corner c of face f at step k.
+    pub fn corner_kind(
+        &self,
+        topo: &crate::topology::Topology,
+        f: u32,
+        c: u8,
+        k: usize,
+    ) -> CornerKind {
+        let v = topo.vertex(f, c);
+        let rot = topo.rotation(v);
+        let n = rot.len();
+        let w = rot
+            .iter()
+            .position(|w| w.face == f && w.corner == c)
+            .expect("a face corner is in its vertex's rotation");
+        let sharp = self.sharp_spokes(topo, v, k);
+        let (prev, next) = (sharp[w], sharp[(w + 1) % sharp.len()]);
+        // Which of the face's local edges is the wedge's previous one: c − 1 when the next
+        // edge is c → c + 1.
+        let prev_is_minus = rot[w].next_is_plus;
+        match (prev, next) {
+            (true, true) => CornerKind::Both,
+            (true, false) | (false, true) if self.sector_len(&sharp, n, w) == 2 => {
+                CornerKind::OneSide(prev == prev_is_minus)
+            }
+            (false, false) if n == 4 && !topo.is_boundary(v) => CornerKind::Real,
+            _ => CornerKind::Ev,
+        }
+    }
+
+    /// The steps after which nothing changes: the largest finite sharpness.
+    pub fn changing_steps(&self) -> usize {
+        self.edge
+            .iter()
+            .chain(&self.vertex)
+            .filter(|s| !s.is_infinite())
+            .map(|s| usize::from(s.0))
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// The edges of v's rotation E_0, E_1, …: E_k is wedge k's previous edge; at a boundary vertex
+/// the last wedge's next edge (a boundary edge) follows.
+pub(crate) fn spokes(topo: &crate::topology::Topology, v: u32) -> impl Iterator<Item = u32> + '_ {
+    let rot = topo.rotation(v);
+    let last = rot[rot.len() - 1];
+    let closing = topo
+        .is_boundary(v)
+        .then(|| topo.edge_of(last.face, last.next_local()));
+    rot.iter()
+        .map(move |w| topo.edge_of(w.face, w.prev_local()))
+        .chain(closing)
+}

@@ -27,6 +27,7 @@
 //! start numbering: one semantics for every path.
 
 use crate::curve::{rewrite, CurveTables};
+use crate::features::{CornerKind, Features, Resolved, VertexRule};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::real::{axpy_slab, Real};
@@ -297,25 +298,31 @@ fn combine<T: Real, const P: usize>(d: &mut [T], w: [T; P], s: [&[T]; P]) {
     }
 }
 
-/// Base-mesh connectivity the patches need: the topology, and per face corner the diagonal
-/// corner across an ordinary vertex, packed as face·4 + corner (`u32::MAX`: none, at an EV).
+/// Base-mesh connectivity the patches need: the topology and its features, and per face
+/// corner the diagonal corner across an ordinary interior vertex, packed as face·4 + corner
+/// (`u32::MAX`: none).
 struct Base<'t> {
     topo: &'t Topology,
+    features: Resolved,
     diagonal: Vec<[u32; 4]>,
-    /// Extraordinary vertices.
-    evs: Vec<u32>,
+    /// Vertices whose child is set by their vertex rule after some step (interior EVs, and
+    /// the boundary and crease configurations the patches alone do not give).
+    special: Vec<u32>,
+    /// Per vertex: its faces are refined in lock-step (special, or its sharpness changes).
+    lockstep: Vec<bool>,
 }
 
 impl<'t> Base<'t> {
-    fn new(topo: &'t Topology) -> Result<Base<'t>, SurfaceError> {
+    fn new(topo: &'t Topology, features: Resolved, steps: usize) -> Result<Base<'t>, SurfaceError> {
         topo.check_valences()?;
         let diagonal = (0..topo.face_count() as u32)
             .map(|f| {
                 [0u8, 1, 2, 3].map(|c| {
-                    let rot = topo.rotation(topo.vertex(f, c));
+                    let v = topo.vertex(f, c);
+                    let rot = topo.rotation(v);
                     let i = rot.iter().position(|w| w.face == f && w.corner == c);
                     match i {
-                        Some(i) if rot.len() == 4 => {
+                        Some(i) if rot.len() == 4 && !topo.is_boundary(v) => {
                             let w = rot[(i + 2) % 4];
                             w.face * 4 + u32::from(w.corner)
                         }
@@ -324,57 +331,214 @@ impl<'t> Base<'t> {
                 })
             })
             .collect();
-        let evs = (0..topo.vertex_count() as u32)
-            .filter(|&v| topo.valence(v) != 4)
+        // Sharpness changes only in the first `changing_steps` steps: the rules of the last
+        // of them hold for every later step.
+        let decided = steps.min(features.changing_steps() + 1).max(1);
+        let nv = topo.vertex_count() as u32;
+        let special: Vec<u32> = (0..nv)
+            .filter(|&v| (0..decided).any(|k| features.needs_rule(topo, v, k)))
             .collect();
+        let mut lockstep = vec![false; nv as usize];
+        for &v in &special {
+            lockstep[v as usize] = true;
+        }
+        for v in 0..nv {
+            if features.changes_at(topo, v) {
+                lockstep[v as usize] = true;
+            }
+        }
         Ok(Base {
             topo,
+            features,
             diagonal,
-            evs,
+            special,
+            lockstep,
         })
     }
 
     /// The face across local edge l of face f, its local edge, and whether the parameter runs
-    /// backwards there.
-    fn across(&self, f: u32, l: u8) -> (u32, u8, bool) {
-        let (g, gl) = self.topo.across(f, l);
-        (g, gl, self.topo.vertex(f, l) != self.topo.vertex(g, gl))
+    /// backwards there; none across a boundary edge.
+    fn across(&self, f: u32, l: u8) -> Option<(u32, u8, bool)> {
+        let (g, gl) = self.topo.across(f, l)?;
+        Some((g, gl, self.topo.vertex(f, l) != self.topo.vertex(g, gl)))
     }
 
-    /// The diagonal (face, corner) across corner c of face f when that vertex is ordinary.
+    /// The diagonal (face, corner) across corner c of face f when that vertex is an ordinary
+    /// interior vertex.
     fn diagonal(&self, f: u32, c: u8) -> Option<(u32, u8)> {
         let d = self.diagonal[f as usize][c as usize];
         (d != u32::MAX).then_some((d / 4, (d % 4) as u8))
     }
 
-    /// Whether all four corners of face f are ordinary.
+    /// Whether face f is refined depth first on its own: no corner at a lock-step vertex.
     fn ordinary(&self, f: u32) -> bool {
-        self.diagonal[f as usize].iter().all(|&d| d != u32::MAX)
+        (0..4).all(|c| !self.lockstep[self.topo.vertex(f, c) as usize])
     }
 
-    /// The two ring points of face f next to its corner c (side N): point t = 0 of the ring
-    /// across edge c and point t = N of the ring across edge c−1.
-    fn corner_ring(&self, f: u32, c: u8, n: i64) -> [RingPoint; 2] {
-        [(c, 0), ((c + 3) % 4, n)].map(|(l, t)| self.ring_point(f, l, t, n))
+    /// Whether edge l of face f is sharp at step k.
+    fn sharp(&self, f: u32, l: u8, k: usize) -> bool {
+        self.features.edge_sharp(self.topo.edge_of(f, l), k)
     }
 
     /// Point t = 0..=N of face f's ring across its local edge l (which runs from corner l to
     /// l+1; side N): its place in f's frame, and the (face, x, y) that owns it, one step
-    /// inside the neighbour.
-    fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> RingPoint {
-        let (g, gl, back) = self.across(f, l);
+    /// inside the neighbour (none across a boundary edge).
+    fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> ((i64, i64), Option<(u32, i64, i64)>) {
         let (cx, cy) = corner_at(l, n, n);
         let (dx, dy) = TOWARD_NEXT[l as usize];
         // Outward normal of edge l: the opposite of the step toward corner l−1.
         let (ox, oy) = TOWARD_PREV[l as usize];
-        let u = if back { n - t } else { t };
-        let (gx, gy) = inward_xy(gl, u, 1, n);
-        ((cx + t * dx - ox, cy + t * dy - oy), (g, gx, gy))
+        let owner = self.across(f, l).map(|(g, gl, back)| {
+            let u = if back { n - t } else { t };
+            let (gx, gy) = inward_xy(gl, u, 1, n);
+            (g, gx, gy)
+        });
+        ((cx + t * dx - ox, cy + t * dy - oy), owner)
+    }
+
+    /// The phantom points of face f's patch (side N) at step k, in the order they must be
+    /// computed: the ring across every edge sharp at step k is the odd reflection of the
+    /// face (2P − Q, P on the edge), then each corner's diagonal by its [`CornerKind`].
+    fn phantoms(&self, f: u32, n: i64, k: usize, out: &mut Vec<Phantom>) {
+        for l in 0..4u8 {
+            if !self.sharp(f, l, k) {
+                continue;
+            }
+            let (ix, iy) = TOWARD_PREV[l as usize];
+            for t in 0..=n {
+                let ((x, y), _) = self.ring_point(f, l, t, n);
+                let on = (x + ix, y + iy);
+                let inside = (on.0 + ix, on.1 + iy);
+                out.push(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
+            }
+        }
+        for c in 0..4u8 {
+            let (cx, cy) = corner_at(c, n, n);
+            let (a, b) = (TOWARD_NEXT[c as usize], TOWARD_PREV[c as usize]);
+            let at = |i: i64, j: i64| (cx + i * a.0 + j * b.0, cy + i * a.1 + j * b.1);
+            let terms: &[((i64, i64), f64)] = match self.features.corner_kind(self.topo, f, c, k) {
+                CornerKind::Real => continue,
+                CornerKind::Ev => &[],
+                CornerKind::Both => &[
+                    (at(0, 0), 4.0),
+                    (at(1, 0), -2.0),
+                    (at(0, 1), -2.0),
+                    (at(1, 1), 1.0),
+                ],
+                // The edge toward corner c − 1 (along b) is sharp: reflect the ring across
+                // edge c (the row j = −1) over the line i = 0.
+                CornerKind::OneSide(true) => &[(at(0, -1), 2.0), (at(1, -1), -1.0)],
+                CornerKind::OneSide(false) => &[(at(-1, 0), 2.0), (at(-1, 1), -1.0)],
+            };
+            out.push(Phantom::new(at(-1, -1), terms));
+        }
     }
 }
 
-/// A ring point of a face: (x, y) in that face, and (face, x, y) of its owner.
-type RingPoint = ((i64, i64), (u32, i64, i64));
+impl Base<'_> {
+    /// Sets the phantom points of face f's start patch (side N, step 0), the fi-th in `buf`;
+    /// nothing on a plain mesh.
+    fn load_phantoms<T: Real>(&self, f: u32, n: i64, layout: Layout, fi: usize, buf: &mut [T]) {
+        if self.features.is_plain() {
+            return;
+        }
+        let mut phantoms = Vec::new();
+        self.phantoms(f, n, 0, &mut phantoms);
+        for p in &phantoms {
+            p.apply(layout, fi, buf);
+        }
+    }
+
+    /// After a step, the ring of lock-step face f (side N, `layout`) from its lock-step
+    /// neighbours' new patches: every row across an edge not sharp at step k, and the
+    /// diagonal across each ordinary interior corner. Rows toward faces that are not in
+    /// lock-step keep the values f's own step gave them (exact there: nothing at those points
+    /// changes between steps).
+    fn refresh_ring<T: Real>(
+        &self,
+        f: u32,
+        n: i64,
+        k: usize,
+        layout: Layout,
+        slot: &[u32],
+        patches: &mut [Vec<T>],
+    ) {
+        let mut copies: Vec<((i64, i64), [T; 3])> = Vec::new();
+        let read = |g: u32, x: i64, y: i64| -> Option<[T; 3]> {
+            let p = patches.get(*slot.get(g as usize)? as usize)?;
+            let i = layout.at(0, x, y);
+            Some([p[i], p[i + 1], p[i + 2]])
+        };
+        for l in 0..4u8 {
+            if self.sharp(f, l, k) {
+                continue;
+            }
+            for t in 0..=n {
+                if let (at, Some((g, gx, gy))) = self.ring_point(f, l, t, n) {
+                    if let Some(p) = read(g, gx, gy) {
+                        copies.push((at, p));
+                    }
+                }
+            }
+        }
+        for c in 0..4u8 {
+            let (Some((g, gc)), CornerKind::Real) = (
+                self.diagonal(f, c),
+                self.features.corner_kind(self.topo, f, c, k),
+            ) else {
+                continue;
+            };
+            let (gx, gy) = corner_at(gc, n, n);
+            let (hx, hy) = TOWARD_NEXT[gc as usize];
+            let (kx, ky) = TOWARD_PREV[gc as usize];
+            if let Some(p) = read(g, gx + hx + kx, gy + hy + ky) {
+                let (cx, cy) = corner_at(c, n, n);
+                let (ax, ay) = TOWARD_NEXT[c as usize];
+                let (bx, by) = TOWARD_PREV[c as usize];
+                copies.push(((cx - ax - bx, cy - ay - by), p));
+            }
+        }
+        let patch = &mut patches[slot[f as usize] as usize];
+        for ((x, y), p) in copies {
+            let i = layout.at(0, x, y);
+            patch[i..i + 3].copy_from_slice(&p);
+        }
+    }
+}
+
+/// A point of a patch that is an affine combination of other points of the same patch (a
+/// phantom across a sharp edge, or a corner's diagonal), or zero with no terms.
+#[derive(Clone, Copy, Debug)]
+struct Phantom {
+    at: (i64, i64),
+    terms: [((i64, i64), f64); 4],
+    len: u8,
+}
+
+impl Phantom {
+    fn new(at: (i64, i64), terms: &[((i64, i64), f64)]) -> Phantom {
+        let mut t = [((0, 0), 0.0); 4];
+        t[..terms.len()].copy_from_slice(terms);
+        Phantom {
+            at,
+            terms: t,
+            len: terms.len() as u8,
+        }
+    }
+
+    /// Sets the point in the fi-th patch of `buf` (in `layout`).
+    fn apply<T: Real>(&self, layout: Layout, fi: usize, buf: &mut [T]) {
+        let mut p = [T::default(); 3];
+        for &((x, y), w) in &self.terms[..self.len as usize] {
+            let i = layout.at(fi, x, y);
+            for (o, q) in p.iter_mut().zip(&buf[i..i + 3]) {
+                *o += T::from_f64(w) * *q;
+            }
+        }
+        let i = layout.at(fi, self.at.0, self.at.1);
+        buf[i..i + 3].copy_from_slice(&p);
+    }
+}
 
 /// The point `inward` steps into a face from its local edge `gl`, at parameter u along that
 /// edge (from corner gl), in the face's frame (side N).
@@ -430,6 +594,13 @@ impl<T> Fans<'_, T> {
         let i = ring_layout(self.n, 1, self.a_is_x).at(0, x, y);
         let p = &self.patches[self.slot[f as usize] as usize];
         p[i..i + 3].try_into().expect("three coordinates")
+    }
+
+    /// Vertex v's point, as the face of wedge w of its rotation holds it.
+    fn point_of(&self, base: &Base<'_>, v: u32, w: usize) -> &[T; 3] {
+        let w = base.topo.rotation(v)[w];
+        let (cx, cy) = corner_at(w.corner, self.n, self.n);
+        self.point(w.face, cx, cy)
     }
 }
 
@@ -540,7 +711,8 @@ impl Numbering {
 
 impl Numbering {
     /// Face f's patch with its ring (side N+3): `put(x, y, i)` for each point and its index
-    /// in this numbering; the diagonal point at an EV corner does not exist and is not handed.
+    /// in this numbering; ring points across a boundary and the diagonal point at an
+    /// extraordinary corner do not exist and are not handed.
     fn gather(&self, base: &Base<'_>, f: u32, mut put: impl FnMut(i64, i64, usize)) {
         let n = self.n;
         let kk = (n - 1) as usize;
@@ -566,14 +738,15 @@ impl Numbering {
                 put(cx + t * dx, cy + t * dy, first + along_edge(t, n, forward));
             }
         }
-        // The ring along the four edges.
+        // The ring along the four edges (none across a boundary: phantoms, set after loading).
         for l in 0..4u8 {
             for t in 0..=n {
-                let ((x, y), (g, gx, gy)) = base.ring_point(f, l, t, n);
-                put(x, y, self.index(g as usize, gx, gy).0);
+                if let ((x, y), Some((g, gx, gy))) = base.ring_point(f, l, t, n) {
+                    put(x, y, self.index(g as usize, gx, gy).0);
+                }
             }
         }
-        // Corners: the diagonal point across an ordinary vertex; none at an EV.
+        // Corners: the diagonal point across an ordinary vertex; none elsewhere.
         for c in 0..4u8 {
             if let Some((g, gc)) = base.diagonal(f, c) {
                 let (cx, cy) = corner_at(c, n, n);
@@ -636,6 +809,7 @@ pub struct Refiner<'s, S, T> {
     /// Per face, its start patch (ring included) as indices into the start level, in the
     /// gathered layout ([`load`]).
     start_gather: Vec<u32>,
+
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
     ordinary: Vec<u32>,
@@ -669,10 +843,22 @@ pub struct Phases {
 
 impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// Prepares `steps` steps of `scheme` on the mesh of topology `topo` (every edge labelled
-    /// by the axiom) with `threads` workers (results do not depend on it).
+    /// by the axiom; boundaries refined edge-and-corner, nothing else sharp) with `threads`
+    /// workers (results do not depend on it).
     pub fn new(
         scheme: &'s S,
         topo: &'s Topology,
+        steps: usize,
+        threads: usize,
+    ) -> Result<Self, SurfaceError> {
+        Self::with_features(scheme, topo, &Features::default(), steps, threads)
+    }
+
+    /// [`Refiner::new`] with sharp features and a boundary rule ([`crate::features`]).
+    pub fn with_features(
+        scheme: &'s S,
+        topo: &'s Topology,
+        features: &Features,
         steps: usize,
         threads: usize,
     ) -> Result<Self, SurfaceError> {
@@ -681,13 +867,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let [omega] = t.axiom else {
             return Err(SurfaceError::Axiom);
         };
-        let base = Base::new(topo)?;
+        let resolved = Resolved::new(topo, features).map_err(SurfaceError::Features)?;
+        let base = Base::new(topo, resolved, steps)?;
+        let plain = base.features.is_plain();
         let lookup: HashMap<&[u8], u32> =
             (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
         // Output quads index vertices with u32: refuse a result that would not fit, before
         // building anything.
         let (out_v, out_f) = output_counts(
             base.topo.vertex_count() as u128,
+            base.topo.edge_count() as u128,
             base.topo.face_count() as u128,
             t.image_len(&[*omega], steps),
         );
@@ -705,20 +894,32 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         // Depth-first steps start after the last step that cannot run that way: masks not yet
         // contained (with EVs), a ring that does not sustain itself, or N' = 1 with EVs.
-        let mut first = if base.evs.is_empty() {
-            0
-        } else {
+        let special = !base.special.is_empty();
+        let mut first = if special {
             st.contained_from.min(steps)
+        } else {
+            0
         };
         let mut plans = Vec::new();
         for (s, w) in words.iter().enumerate().take(steps).skip(first) {
             let plan = Plan::new(&t, &lookup, w, i64::from(s + 1 < steps))?;
-            if plan.complete && (plan.n_new >= 2 || base.evs.is_empty()) {
+            if plan.complete && (plan.n_new >= 2 || !special) {
                 plans.push(plan);
             } else {
                 plans.clear();
                 first = s + 1;
             }
+        }
+        // Those steps run by the reference driver, which refines closed meshes only.
+        if first > 0 && !plain {
+            return Err(SurfaceError::Unsupported(format!(
+                "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \
+                 yet contained near its extraordinary, boundary or crease vertices, [G] \
+                 Prop. 4.8), which refines closed meshes without sharp features only",
+                first,
+                if first == 1 { "" } else { "s" },
+                t.name
+            )));
         }
         let start_num = Numbering::new(base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
@@ -729,17 +930,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         for (f, t) in start_gather.chunks_exact_mut(m.side * m.side).enumerate() {
             start_num.gather(&base, f as u32, |x, y, i| t[m.at(0, x, y) / 3] = i as u32);
         }
+        // α for the special vertices that are interior and extraordinary (unused otherwise).
         let alphas = base
-            .evs
+            .special
             .iter()
-            .map(|&v| {
-                let n = base.topo.valence(v);
-                match st.alpha.get(n - 3) {
-                    Some(&a) => Ok(a),
-                    None => st.ev.alpha(n).map_err(SurfaceError::Ev),
-                }
+            .map(|&v| match base.topo.valence(v) {
+                n if n < 3 || n == 4 || base.topo.is_boundary(v) => Ok(0.0),
+                n => st.alpha(n).map_err(SurfaceError::Ev),
             })
             .collect::<Result<_, _>>()?;
+
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
         let mut fan_slot = vec![u32::MAX; nf];
@@ -868,6 +1068,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let n0 = self.start_num.n;
         let m = (n0 + 3) as usize;
         let table = &self.start_gather;
+        let base = &self.base;
         let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
         let work = self.ordinary.chunks(chunk).zip(&mut self.scratch);
         let times = in_threads(work, |(faces, scratch)| {
@@ -880,7 +1081,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
                 for (fi, &f) in block.iter().enumerate() {
                     let t = &table[f as usize * m * m..][..m * m];
-                    load(t, start, ring_layout(n0, k, true), fi, &mut scratch.ext);
+                    let layout = ring_layout(n0, k, true);
+                    load(t, start, layout, fi, &mut scratch.ext);
+                    base.load_phantoms(f, n0, layout, fi, &mut scratch.ext);
                 }
                 for (plan, time) in plans.iter().zip(&mut times) {
                     let (ext, next) = (&scratch.ext, &mut scratch.next);
@@ -940,13 +1143,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 patch.resize(m * m * 3, T::default());
             }
             let t = &self.start_gather[f as usize * m * m..][..m * m];
-            load(
-                t,
-                &self.start,
-                ring_layout(self.start_num.n, 1, a_is_x),
-                0,
-                patch,
-            );
+            let layout = ring_layout(self.start_num.n, 1, a_is_x);
+            load(t, &self.start, layout, 0, patch);
+            self.base
+                .load_phantoms(f, self.start_num.n, layout, 0, patch);
         }
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
@@ -989,43 +1189,59 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 n,
                 a_is_x,
             };
-            let children: Vec<[T; 3]> = self
+            let k = self.first + s;
+            let children: Vec<Option<[T; 3]>> = self
                 .base
-                .evs
+                .special
                 .iter()
                 .zip(&self.alphas)
-                .map(|(&v, &alpha)| ev_child(&self.base, &fans, v, alpha, ring))
+                .map(|(&v, &alpha)| {
+                    let rule = self.base.features.vertex_rule(self.base.topo, v, k);
+                    let needs = self.base.features.needs_rule(self.base.topo, v, k);
+                    let next = Fans {
+                        slot: &self.fan_slot,
+                        patches: new,
+                        n: plan.n_new,
+                        a_is_x: !a_is_x,
+                    };
+                    needs.then(|| match rule {
+                        VertexRule::Corner => *fans.point_of(&self.base, v, 0),
+                        VertexRule::Crease => crease_child(&self.base, &fans, plan, v, k),
+                        VertexRule::Smooth if self.base.topo.valence(v) == 4 => {
+                            smooth_child(&self.base, &next, v, k)
+                        }
+                        VertexRule::Smooth => ev_child(&self.base, &fans, v, alpha, ring),
+                    })
+                })
                 .collect();
             let (n_new, new_a_is_x) = (plan.n_new, !a_is_x);
-            for (&v, child) in self.base.evs.iter().zip(&children) {
-                if last {
-                    // SAFETY: the workers are done; nothing else writes the output now.
-                    unsafe { out.write(v as usize, child) };
-                    continue;
+            if last {
+                for (&v, child) in self.base.special.iter().zip(&children) {
+                    if let Some(child) = child {
+                        // SAFETY: the workers are done; nothing else writes the output now.
+                        unsafe { out.write(v as usize, child) };
+                    }
                 }
+            } else {
                 let layout = ring_layout(n_new, 1, new_a_is_x);
-                for w in self.base.topo.rotation(v) {
-                    let f = w.face;
-                    let (cx, cy) = corner_at(w.corner, n_new, n_new);
-                    let (ax, ay) = TOWARD_NEXT[w.corner as usize];
-                    let (bx, by) = TOWARD_PREV[w.corner as usize];
-                    let owned = self
-                        .base
-                        .corner_ring(f, w.corner, n_new)
-                        .map(|(at, (g, x, y))| {
-                            let g = &new[self.fan_slot[g as usize] as usize];
-                            let i = layout.at(0, x, y);
-                            (at, [g[i], g[i + 1], g[i + 2]])
-                        });
+                for (&v, child) in self.base.special.iter().zip(&children) {
+                    let Some(child) = child else { continue };
+                    for w in self.base.topo.rotation(v) {
+                        let (cx, cy) = corner_at(w.corner, n_new, n_new);
+                        let i = layout.at(0, cx, cy);
+                        new[self.fan_slot[w.face as usize] as usize][i..i + 3]
+                            .copy_from_slice(child);
+                    }
+                }
+                let mut phantoms = Vec::new();
+                for &f in &self.fan_faces {
+                    self.base
+                        .refresh_ring(f, n_new, k + 1, layout, &self.fan_slot, new);
+                    phantoms.clear();
+                    self.base.phantoms(f, n_new, k + 1, &mut phantoms);
                     let patch = &mut new[self.fan_slot[f as usize] as usize];
-                    let mut set = |(x, y): (i64, i64), p: &[T; 3]| {
-                        let i = layout.at(0, x, y);
-                        patch[i..i + 3].copy_from_slice(p);
-                    };
-                    set((cx, cy), child);
-                    set((cx - ax - bx, cy - ay - by), &[T::default(); 3]);
-                    for (at, p) in owned {
-                        set(at, &p);
+                    for p in &phantoms {
+                        p.apply(layout, 0, patch);
                     }
                 }
             }
@@ -1036,13 +1252,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
     }
 
-    /// The output quads (every face of the base mesh becomes an N × N grid).
+    /// The output quads: every face of the base mesh but the holes becomes an N × N grid.
     pub fn faces(&self) -> Vec<[u32; 4]> {
         let num = &self.out_num;
         let n = num.n;
         let nf = self.base.topo.face_count();
         let mut faces = Vec::with_capacity(nf * (n * n) as usize);
-        for f in 0..nf {
+        for f in (0..nf).filter(|&f| !self.base.features.is_hole(f as u32)) {
             for y in 0..n {
                 for x in 0..n {
                     let i = |x, y| num.index(f, x, y).0 as u32;
@@ -1127,12 +1343,14 @@ fn lap(clock: &mut Instant) -> f64 {
     t
 }
 
-/// Vertices and quads of a closed quad mesh of V vertices and F quads after every edge is
-/// split into n: V + E(n − 1) + F(n − 1)² with E = 2F, and F n² (saturating).
-pub fn output_counts(vertices: u128, faces: u128, n: u128) -> (u128, u128) {
+/// Vertices and quads of a quad mesh of V vertices, E edges and F quads after every edge is
+/// split into n: V + E(n − 1) + F(n − 1)², and F n² (saturating).
+pub fn output_counts(vertices: u128, edges: u128, faces: u128, n: u128) -> (u128, u128) {
     let k = n.saturating_sub(1);
     (
-        vertices.saturating_add(faces.saturating_mul(k).saturating_mul(k.saturating_add(2))),
+        vertices
+            .saturating_add(edges.saturating_mul(k))
+            .saturating_add(faces.saturating_mul(k).saturating_mul(k)),
         faces.saturating_mul(n).saturating_mul(n),
     )
 }
@@ -1159,32 +1377,37 @@ pub struct Footprint {
 /// It follows the refiner's plan: the steps before masks are contained run on the whole mesh
 /// when it has EVs, faces with an EV corner are refined as whole patches level by level, the
 /// others depth first in blocks per worker.
-pub fn footprint<P>(
+pub fn footprint(
     t: &CurveTables<'_>,
     contained_from: usize,
-    mesh: &QuadMesh<P>,
+    topo: &Topology,
+    features: &Features,
     steps: usize,
     scalar_bytes: u128,
     threads: usize,
 ) -> Footprint {
     let n = |s: usize| t.image_len(t.axiom, s);
-    let (v0, f0) = (mesh.positions.len() as u128, mesh.faces.len() as u128);
-    let (vertices, quads) = output_counts(v0, f0, n(steps));
-    let mut valence = vec![0u32; mesh.positions.len()];
-    for &v in mesh.faces.iter().flatten() {
-        if let Some(c) = valence.get_mut(v as usize) {
-            *c += 1;
-        }
-    }
-    let fan_faces = mesh
-        .faces
-        .iter()
-        .filter(|f| f.iter().any(|&v| valence.get(v as usize) != Some(&4)))
-        .count() as u128;
-    let first = if fan_faces > 0 {
-        contained_from.min(steps)
-    } else {
+    let (v0, e0, f0) = (
+        topo.vertex_count() as u128,
+        topo.edge_count() as u128,
+        topo.face_count() as u128,
+    );
+    let (vertices, quads) = output_counts(v0, e0, f0, n(steps));
+    // The refiner's split of the faces (every face in lock-step if the features do not
+    // resolve: the refiner refuses them, and the bound stays a bound).
+    let base = Resolved::new(topo, features)
+        .ok()
+        .and_then(|r| Base::new(topo, r, steps).ok());
+    let fan_faces = match &base {
+        Some(b) => (0..topo.face_count() as u32)
+            .filter(|&f| !b.ordinary(f))
+            .count() as u128,
+        None => f0,
+    };
+    let first = if base.as_ref().is_some_and(|b| b.special.is_empty()) {
         0
+    } else {
+        contained_from.min(steps)
     };
     let point = 3 * scalar_bytes;
     // Points of a patch with its ring after s steps.
@@ -1194,7 +1417,7 @@ pub fn footprint<P>(
     };
     let input = v0 * 24 + f0 * 16 + f0 * 160;
     // The start level, and every face's start patch as u32 indices.
-    let start = output_counts(v0, f0, n(first))
+    let start = output_counts(v0, e0, f0, n(first))
         .0
         .saturating_mul(point)
         .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
@@ -1225,32 +1448,59 @@ pub fn footprint<P>(
     }
 }
 
-/// Refines a closed quad mesh once: [`Topology::build`], then [`subdivide_with`].
+/// Refines a quad mesh once (boundaries edge-and-corner, nothing sharp): [`Topology::build`],
+/// then [`subdivide_with`].
 pub fn subdivide<S: SurfaceScheme + Sync, T: Real>(
     scheme: &S,
     mesh: &QuadMesh,
     steps: usize,
     threads: usize,
 ) -> Result<QuadMesh<T>, SurfaceError> {
-    subdivide_with(scheme, mesh, &Topology::build(mesh)?, steps, threads)
+    let topo = Topology::build(mesh)?;
+    subdivide_with(scheme, mesh, &topo, &Features::default(), steps, threads)
 }
 
-/// Refines a closed quad mesh once, its topology `topo` at hand: `Refiner::new`, `refine`,
-/// `faces`.
+/// Refines a quad mesh once, its topology `topo` at hand: `Refiner::with_features`,
+/// `refine`, `faces`; with holes, the vertices only holes used are dropped (the others keep
+/// their order).
 pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
     scheme: &S,
     mesh: &QuadMesh,
     topo: &Topology,
+    features: &Features,
     steps: usize,
     threads: usize,
 ) -> Result<QuadMesh<T>, SurfaceError> {
-    let mut r = Refiner::new(scheme, topo, steps, threads)?;
+    let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
     r.refine(&mesh.positions)?;
     let faces = r.faces();
-    Ok(QuadMesh {
+    let holes = r.base.features.has_holes();
+    let out = QuadMesh {
         positions: r.into_positions(),
         faces,
-    })
+    };
+    Ok(if holes { without_unused(out) } else { out })
+}
+
+/// The mesh without the vertices no face uses, the others in their order.
+fn without_unused<T: Copy>(mesh: QuadMesh<T>) -> QuadMesh<T> {
+    let mut map = vec![u32::MAX; mesh.positions.len()];
+    for &v in mesh.faces.iter().flatten() {
+        map[v as usize] = 0;
+    }
+    let mut positions = Vec::with_capacity(mesh.positions.len());
+    for (m, p) in map.iter_mut().zip(&mesh.positions) {
+        if *m == 0 {
+            *m = positions.len() as u32;
+            positions.push(*p);
+        }
+    }
+    let faces = mesh
+        .faces
+        .iter()
+        .map(|f| f.map(|v| map[v as usize]))
+        .collect();
+    QuadMesh { positions, faces }
 }
 
 /// [`subdivide_with`] as a [`SurfaceVisitor`]: for a scheme known only by name (the generated
@@ -1261,6 +1511,8 @@ pub struct Subdivide<'m> {
     pub mesh: &'m QuadMesh,
     /// Its topology.
     pub topology: &'m Topology,
+    /// Its sharp features and boundary rule.
+    pub features: &'m Features,
     /// Refinement steps.
     pub steps: usize,
     /// Worker threads (the result does not depend on it).
@@ -1270,7 +1522,14 @@ pub struct Subdivide<'m> {
 impl SurfaceVisitor for Subdivide<'_> {
     type Output = Result<QuadMesh, SurfaceError>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
-        subdivide_with(scheme, self.mesh, self.topology, self.steps, self.threads)
+        subdivide_with(
+            scheme,
+            self.mesh,
+            self.topology,
+            self.features,
+            self.steps,
+            self.threads,
+        )
     }
 }
 
@@ -1333,6 +1592,65 @@ fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, fi: usize, dst
         let d = layout.at(fi, (j / m) as i64 - 1, (j % m) as i64 - 1);
         dst[d..d + 3].copy_from_slice(&p);
     }
+}
+
+/// The child of a crease vertex: the curve rule along its two sharp edges, the 1D plan's
+/// weights for its new point X' = 0 (the mask of its word, which is a palindrome: the word
+/// at a vertex of the symmetric W_s, \[G\] Cor. 4.4) on the points at distance |x| along
+/// the two sharp edges of the old level.
+fn crease_child<T: Real>(
+    base: &Base<'_>,
+    level: &Fans<'_, T>,
+    plan: &Plan,
+    v: u32,
+    k: usize,
+) -> [T; 3] {
+    let rot = base.topo.rotation(v);
+    let sharp = base.features.sharp_spokes(base.topo, v, k);
+    let mut along = sharp.iter().enumerate().filter(|&(_, &s)| s).map(|(i, _)| {
+        // Spoke i is wedge i's previous edge; the last spoke of a boundary vertex is the
+        // last wedge's next edge.
+        let (w, prev) = match rot.get(i) {
+            Some(&w) => (w, true),
+            None => (rot[rot.len() - 1], false),
+        };
+        let dir = if prev == w.next_is_plus {
+            TOWARD_PREV[w.corner as usize]
+        } else {
+            TOWARD_NEXT[w.corner as usize]
+        };
+        (w, dir)
+    });
+    let (behind, ahead) = (along.next(), along.next());
+    let (Some(behind), Some(ahead)) = (behind, ahead) else {
+        unreachable!("a crease vertex has two sharp edges");
+    };
+    let h = (plan.rows.len() - plan.n_new as usize - 1) / 2;
+    let mut acc = [0.0f64; 3];
+    for &(x, wt) in &plan.parents[plan.rows[h].clone()] {
+        let x = x as i64 - 1;
+        let (w, (dx, dy)) = if x < 0 { behind } else { ahead };
+        let (cx, cy) = corner_at(w.corner, level.n, level.n);
+        let p = level.point(w.face, cx + x.abs() * dx, cy + x.abs() * dy);
+        for (a, q) in acc.iter_mut().zip(p) {
+            *a += wt * q.to_f64();
+        }
+    }
+    acc.map(T::from_f64)
+}
+
+/// The child of a smooth vertex of valence 4 with a sharp edge (a dart): the surface rule, as
+/// a face whose ring at the vertex is all real computed it in the new level.
+fn smooth_child<T: Real>(base: &Base<'_>, next: &Fans<'_, T>, v: u32, k: usize) -> [T; 3] {
+    let w = base
+        .topo
+        .rotation(v)
+        .iter()
+        .find(|w| base.features.corner_kind(base.topo, w.face, w.corner, k) == CornerKind::Real)
+        .copied()
+        .unwrap_or(base.topo.rotation(v)[0]);
+    let (cx, cy) = corner_at(w.corner, next.n, next.n);
+    *next.point(w.face, cx, cy)
 }
 
 /// The EV child from the old 1-ring: (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)).

@@ -97,6 +97,10 @@ pub enum SurfaceError {
     UnknownWord(String),
     /// No α for a valence.
     Ev(EvError),
+    /// A crease, corner or hole names something the mesh does not have.
+    Features(crate::features::FeatureError),
+    /// A combination of scheme and mesh the drivers do not refine (the message says why).
+    Unsupported(String),
 }
 
 impl fmt::Display for SurfaceError {
@@ -106,6 +110,8 @@ impl fmt::Display for SurfaceError {
             SurfaceError::Axiom => write!(f, "surfaces need a one-symbol axiom"),
             SurfaceError::UnknownWord(w) => write!(f, "word {w} has no tabulated mask"),
             SurfaceError::Ev(e) => write!(f, "{e}"),
+            SurfaceError::Features(e) => write!(f, "{e}"),
+            SurfaceError::Unsupported(m) => write!(f, "{m}"),
         }
     }
 }
@@ -168,6 +174,7 @@ fn refine_from<S: SurfaceScheme>(
                 &built
             }
         };
+        topo.require_closed()?;
         let cx = Step {
             t,
             s: scheme.surface(),
@@ -337,7 +344,8 @@ impl Step<'_> {
                 return None; // straight through an EV
             }
             let far_local = if plus { cp } else { (cp + 3) % 4 };
-            let (g, gl) = self.topo.across(f, far_local);
+            // Closed meshes only (`refine_from` checks), so there is a face across.
+            let (g, gl) = self.topo.across(f, far_local)?;
             let vc = self.topo.vertex(f, cp);
             let gc = if self.topo.vertex(g, gl) == vc {
                 gl

@@ -1,5 +1,8 @@
-//! Connectivity of a closed 2-manifold quad mesh, oriented or not, and what can be wrong with
-//! it (faces, edges and vertices named by index).
+//! Connectivity of a 2-manifold quad mesh, oriented or not, closed or with boundaries, and what
+//! can be wrong with it (faces, edges and vertices named by index).
+//!
+//! A boundary edge has one face; the faces around a vertex form one fan: a cycle for an
+//! interior vertex, an open chain from one boundary edge to the other for a boundary vertex.
 //!
 //! Nothing here assumes that adjacent faces list a shared edge in opposite directions, so
 //! non-orientable meshes (Klein bottles, Möbius-glued closed meshes) work. Everything is stored
@@ -45,7 +48,7 @@ pub enum TopologyError {
         /// The later face.
         second: u32,
     },
-    /// An edge with only one face.
+    /// An edge with only one face, where a closed mesh is needed.
     BoundaryEdge {
         /// Endpoints, smaller first.
         edge: [u32; 2],
@@ -61,11 +64,11 @@ pub enum TopologyError {
         /// The first face on it.
         face: u32,
     },
-    /// The faces around a vertex form more than one cycle.
+    /// The faces around a vertex form more than one fan.
     NonManifoldVertex {
         /// The vertex.
         vertex: u32,
-        /// Number of separate fans (cycles).
+        /// Number of separate fans (cycles or chains).
         fans: usize,
     },
     /// A vertex used by no face.
@@ -73,7 +76,7 @@ pub enum TopologyError {
         /// The vertex.
         vertex: u32,
     },
-    /// A vertex where only two faces meet: a closed manifold, but no extraordinary-vertex
+    /// An interior vertex where only two faces meet: a manifold, but no extraordinary-vertex
     /// rule applies (\[G\] §2.2.2 needs valence ≥ 3).
     LowValence {
         /// The vertex.
@@ -145,7 +148,8 @@ impl std::error::Error for TopologyError {}
 /// which of the corner's two face edges is shared with the NEXT entry of the rotation:
 /// `next_is_plus == true` means the edge from corner c to corner (c+1)%4, false means the edge
 /// from c to (c+3)%4. Consecutive entries k, k+1 (cyclically) share exactly that edge; the other
-/// edge of entry k is shared with entry k-1.
+/// edge of entry k is shared with entry k-1. At a boundary vertex the rotation is a chain: the
+/// previous edge of the first entry and the next edge of the last are boundary edges.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Wedge {
     /// Face index.
@@ -177,7 +181,7 @@ impl Wedge {
     }
 }
 
-/// Connectivity of a validated closed 2-manifold quad mesh.
+/// Connectivity of a validated 2-manifold quad mesh.
 #[derive(Clone, Debug)]
 pub struct Topology {
     vertex_count: usize,
@@ -185,7 +189,7 @@ pub struct Topology {
     faces: Vec<[u32; 4]>,
     /// Edge id of half-edge `4 f + i` (the edge from corner i to i+1).
     face_edges: Vec<u32>,
-    /// The other half-edge of the same edge.
+    /// The other half-edge of the same edge (`NONE` on a boundary edge).
     mates: Vec<u32>,
     /// Endpoints of each edge, smaller first.
     edge_verts: Vec<[u32; 2]>,
@@ -199,15 +203,16 @@ pub struct Topology {
 const NONE: u32 = u32::MAX;
 
 impl Topology {
-    /// Validates that the mesh is a closed 2-manifold quad mesh and builds the connectivity.
+    /// Validates that the mesh is a 2-manifold quad mesh (boundaries allowed) and builds the
+    /// connectivity.
     ///
     /// Checks, in this order (the first failure is returned): no faces; size fits 32-bit
     /// indices; index out of range; face repeating a vertex; duplicate faces (same vertex set);
-    /// boundary edge (1 face) or non-manifold edge (>2 faces), first in edge order; isolated
-    /// vertex (used by no face); non-manifold vertex (faces around it form more than one cycle).
-    /// Edges are numbered in the order they are first met scanning faces in order and local
-    /// edges 0..4. Each rotation starts at the vertex's first corner in face order, with
-    /// `next_is_plus == true`.
+    /// non-manifold edge (>2 faces), first in edge order; isolated vertex (used by no face);
+    /// non-manifold vertex (faces around it form more than one fan). Edges are numbered in the
+    /// order they are first met scanning faces in order and local edges 0..4. The rotation of
+    /// an interior vertex starts at its first corner in face order, with `next_is_plus ==
+    /// true`; that of a boundary vertex at one end of its chain.
     pub fn build<T>(mesh: &QuadMesh<T>) -> Result<Topology, TopologyError> {
         let nv = mesh.positions.len();
         let nf = mesh.faces.len();
@@ -293,22 +298,14 @@ impl Topology {
             let r = rep[h] as usize;
             if r == h {
                 let (lo, hi) = ends(h);
-                if mates[h] == NONE {
-                    let bucket =
-                        &order[offsets[lo as usize] as usize..offsets[lo as usize + 1] as usize];
-                    let faces = bucket.iter().filter(|&&x| ends(x as usize).1 == hi).count();
-                    let face = (h / 4) as u32;
-                    return Err(if faces == 1 {
-                        TopologyError::BoundaryEdge {
-                            edge: [lo, hi],
-                            face,
-                        }
-                    } else {
-                        TopologyError::NonManifoldEdge {
-                            edge: [lo, hi],
-                            faces,
-                            face,
-                        }
+                let bucket =
+                    &order[offsets[lo as usize] as usize..offsets[lo as usize + 1] as usize];
+                let faces = bucket.iter().filter(|&&x| ends(x as usize).1 == hi).count();
+                if faces > 2 {
+                    return Err(TopologyError::NonManifoldEdge {
+                        edge: [lo, hi],
+                        faces,
+                        face: (h / 4) as u32,
                     });
                 }
                 face_edges[h] = edge_verts.len() as u32;
@@ -339,28 +336,20 @@ impl Topology {
         for v in 0..nv {
             let valence = (rot_offsets[v + 1] - rot_offsets[v]) as usize;
             let start = first_corner[v];
-            let mut w = Wedge {
+            let first = Wedge {
                 face: start / 4,
                 corner: (start % 4) as u8,
                 next_is_plus: true,
             };
-            loop {
-                rot.push(w);
-                let next = step(face_verts, &mates, v as u32, w);
-                if 4 * next.face + u32::from(next.corner) == start
-                    || rot.len() - rot_offsets[v] as usize >= valence
-                {
-                    break;
-                }
-                w = next;
-            }
-            if rot.len() - (rot_offsets[v] as usize) < valence {
+            let fan = fan(face_verts, &mates, v as u32, first, valence);
+            if fan.len() < valence {
                 let fans = count_fans(face_verts, &mates, v as u32);
                 return Err(TopologyError::NonManifoldVertex {
                     vertex: v as u32,
                     fans,
                 });
             }
+            rot.extend(fan);
         }
         Ok(Topology {
             vertex_count: nv,
@@ -374,10 +363,11 @@ impl Topology {
         })
     }
 
-    /// Refuses the first vertex of valence below 3: a closed manifold may have one (two faces
-    /// sharing two consecutive edges), but no extraordinary-vertex rule applies there.
+    /// Refuses the first interior vertex of valence below 3: a manifold may have one (two
+    /// faces sharing two consecutive edges), but no extraordinary-vertex rule applies there.
+    /// Boundary vertices may have any number of faces.
     pub fn check_valences(&self) -> Result<(), TopologyError> {
-        match (0..self.vertex_count as u32).find(|&v| self.valence(v) < 3) {
+        match (0..self.vertex_count as u32).find(|&v| self.valence(v) < 3 && !self.is_boundary(v)) {
             Some(v) => Err(TopologyError::LowValence {
                 vertex: v,
                 valence: self.valence(v),
@@ -421,28 +411,71 @@ impl Topology {
         self.edge_verts[edge as usize]
     }
 
-    /// The two sides of an edge as (face, local edge index); the first is where the edge is
-    /// first met scanning faces in order.
-    pub fn edge_faces(&self, edge: u32) -> [(u32, u8); 2] {
+    /// The sides of an edge as (face, local edge index): the first where the edge is first met
+    /// scanning faces in order, the second none on a boundary edge.
+    pub fn edge_faces(&self, edge: u32) -> ((u32, u8), Option<(u32, u8)>) {
         let h = self.edge_half[edge as usize];
+        let side = |h: u32| (h / 4, (h % 4) as u8);
         let m = self.mates[h as usize];
-        [(h / 4, (h % 4) as u8), (m / 4, (m % 4) as u8)]
+        (side(h), (m != NONE).then(|| side(m)))
     }
 
-    /// The other face on local edge `local` of `face`, and that edge's local index in the other
-    /// face.
-    pub fn across(&self, face: u32, local: u8) -> (u32, u8) {
+    /// The other face on local edge `local` of `face` and that edge's local index in it; none
+    /// on a boundary edge.
+    pub fn across(&self, face: u32, local: u8) -> Option<(u32, u8)> {
         let m = self.mates[half(face, local)];
-        (m / 4, (m % 4) as u8)
+        (m != NONE).then_some((m / 4, (m % 4) as u8))
     }
 
-    /// The rotation (cyclic sequence of wedges) around vertex v; its length is the valence.
+    /// Whether local edge `local` of `face` is a boundary edge (it has no other face).
+    pub fn is_boundary_edge(&self, face: u32, local: u8) -> bool {
+        self.mates[half(face, local)] == NONE
+    }
+
+    /// The edge between vertices a and b, if they share one.
+    pub fn edge_between(&self, a: u32, b: u32) -> Option<u32> {
+        if a as usize >= self.vertex_count || b as usize >= self.vertex_count {
+            return None;
+        }
+        crate::features::spokes(self, a).find(|&e| {
+            let [x, y] = self.edge_vertices(e);
+            (x, y) == (a.min(b), a.max(b))
+        })
+    }
+
+    /// Whether vertex v is on the boundary: the first wedge of its rotation (a chain then)
+    /// has a boundary edge before it.
+    pub fn is_boundary(&self, v: u32) -> bool {
+        let w = self.rotation(v)[0];
+        self.is_boundary_edge(w.face, w.prev_local())
+    }
+
+    /// Whether the mesh has no boundary edge.
+    pub fn is_closed(&self) -> bool {
+        !self.mates.contains(&NONE)
+    }
+
+    /// The first boundary edge, as an error for the drivers that need a closed mesh.
+    pub fn require_closed(&self) -> Result<(), TopologyError> {
+        match self.mates.iter().position(|&m| m == NONE) {
+            None => Ok(()),
+            Some(h) => Err(TopologyError::BoundaryEdge {
+                edge: self.edge_verts[self.face_edges[h] as usize],
+                face: (h / 4) as u32,
+            }),
+        }
+    }
+
+    /// The rotation around vertex v: its wedges, cyclic at an interior vertex, a chain from
+    /// boundary edge to boundary edge at a boundary vertex; its length is the valence (the
+    /// number of faces at v).
     pub fn rotation(&self, v: u32) -> &[Wedge] {
         let v = v as usize;
         &self.rot[self.rot_offsets[v] as usize..self.rot_offsets[v + 1] as usize]
     }
 
-    /// Number of faces (equivalently edges) around vertex v.
+    /// Number of faces around vertex v (and of edges, at an interior vertex; one more at a
+    /// boundary vertex).
     pub fn valence(&self, v: u32) -> usize {
         let v = v as usize;
         (self.rot_offsets[v + 1] - self.rot_offsets[v]) as usize
@@ -479,11 +512,14 @@ fn half(face: u32, local: u8) -> usize {
 }
 
 /// The wedge after `w` in the rotation of `v`: across w's next edge, entered through the edge
-/// just crossed, so it leaves through its other edge.
-fn step(face_verts: &[u32], mates: &[u32], v: u32, w: Wedge) -> Wedge {
+/// just crossed, so it leaves through its other edge; none across a boundary edge.
+fn step(face_verts: &[u32], mates: &[u32], v: u32, w: Wedge) -> Option<Wedge> {
     let m = mates[4 * w.face as usize + w.next_local() as usize];
+    if m == NONE {
+        return None;
+    }
     let (g, l) = (m / 4, m % 4);
-    if face_verts[m as usize] == v {
+    Some(if face_verts[m as usize] == v {
         // Entered through g's edge l -> l+1, i.e. the plus edge of corner l.
         Wedge {
             face: g,
@@ -497,10 +533,49 @@ fn step(face_verts: &[u32], mates: &[u32], v: u32, w: Wedge) -> Wedge {
             corner: ((l + 1) % 4) as u8,
             next_is_plus: true,
         }
-    }
+    })
 }
 
-/// Number of separate cycles of faces around `v` (only called on the error path).
+/// The fan of v that holds wedge `first`, at most `max` wedges: the cycle from `first` when it
+/// closes, else the chain from one boundary edge to the other (walked forward to one end,
+/// then back from it).
+fn fan(face_verts: &[u32], mates: &[u32], v: u32, first: Wedge, max: usize) -> Vec<Wedge> {
+    let corner = |w: Wedge| 4 * w.face + u32::from(w.corner);
+    let mut out = vec![first];
+    let mut w = first;
+    while out.len() < max {
+        match step(face_verts, mates, v, w) {
+            Some(n) if corner(n) == corner(first) => return out,
+            Some(n) => {
+                out.push(n);
+                w = n;
+            }
+            None => {
+                // An end of the chain: start again from it, turned around.
+                let mut end = Wedge {
+                    next_is_plus: !w.next_is_plus,
+                    ..w
+                };
+                out.clear();
+                out.push(end);
+                while out.len() < max {
+                    match step(face_verts, mates, v, end) {
+                        Some(n) => {
+                            out.push(n);
+                            end = n;
+                        }
+                        None => break,
+                    }
+                }
+                return out;
+            }
+        }
+    }
+    out
+}
+
+/// Number of separate fans (cycles or chains) of faces around `v` (only called on the error
+/// path).
 fn count_fans(face_verts: &[u32], mates: &[u32], v: u32) -> usize {
     let corners: Vec<u32> = (0..face_verts.len() as u32)
         .filter(|&h| face_verts[h as usize] == v)
@@ -512,20 +587,14 @@ fn count_fans(face_verts: &[u32], mates: &[u32], v: u32) -> usize {
             continue;
         }
         fans += 1;
-        let start = corners[k];
-        let mut w = Wedge {
-            face: start / 4,
-            corner: (start % 4) as u8,
+        let start = Wedge {
+            face: corners[k] / 4,
+            corner: (corners[k] % 4) as u8,
             next_is_plus: true,
         };
-        for _ in 0..corners.len() {
-            let h = 4 * w.face + u32::from(w.corner);
-            if let Ok(i) = corners.binary_search(&h) {
+        for w in fan(face_verts, mates, v, start, corners.len()) {
+            if let Ok(i) = corners.binary_search(&(4 * w.face + u32::from(w.corner))) {
                 visited[i] = true;
-            }
-            w = step(face_verts, mates, v, w);
-            if 4 * w.face + u32::from(w.corner) == start {
-                break;
             }
         }
     }
@@ -571,7 +640,12 @@ mod tests {
     fn check_consistent(mesh: &QuadMesh, t: &Topology) {
         assert_eq!(t.vertex_count(), mesh.positions.len());
         assert_eq!(t.face_count(), mesh.faces.len());
-        assert_eq!(t.edge_count(), 2 * t.face_count());
+        let boundary = (0..t.face_count() as u32)
+            .flat_map(|f| (0..4).map(move |i| (f, i)))
+            .filter(|&(f, i)| t.is_boundary_edge(f, i))
+            .count();
+        assert_eq!(2 * t.edge_count(), 4 * t.face_count() + boundary);
+        assert_eq!(t.is_closed(), boundary == 0);
         let mut corner_seen = vec![false; 4 * t.face_count()];
         for f in 0..t.face_count() as u32 {
             for i in 0..4u8 {
@@ -581,21 +655,37 @@ mod tests {
                 ends.sort_unstable();
                 assert_eq!(t.edge_vertices(e), ends);
                 // across is an involution and lands on the same edge.
-                let (g, l) = t.across(f, i);
+                let (first, second) = t.edge_faces(e);
+                let Some((g, l)) = t.across(f, i) else {
+                    assert_eq!((first, second), ((f, i), None));
+                    continue;
+                };
                 assert_ne!(g, f);
-                assert_eq!(t.across(g, l), (f, i));
+                assert_eq!(t.across(g, l), Some((f, i)));
                 assert_eq!(t.edge_of(g, l), e);
-                let sides = t.edge_faces(e);
-                assert!(sides.contains(&(f, i)) && sides.contains(&(g, l)));
+                let sides = [Some(first), second];
+                assert!(sides.contains(&Some((f, i))) && sides.contains(&Some((g, l))));
             }
         }
         let mut total = 0;
         for v in 0..t.vertex_count() as u32 {
             let r = t.rotation(v);
             assert_eq!(r.len(), t.valence(v));
-            assert!(r.len() >= 2);
+            let open = t.is_boundary(v);
+            assert!(r.len() >= 2 || open);
+            if open {
+                let last = r[r.len() - 1];
+                assert!(t.is_boundary_edge(last.face, last.next_local()));
+            }
             total += r.len();
             for (k, w) in r.iter().enumerate() {
+                if open && k + 1 == r.len() {
+                    assert_eq!(t.vertex(w.face, w.corner), v);
+                    let h = 4 * w.face as usize + w.corner as usize;
+                    assert!(!corner_seen[h], "corner in two rotations");
+                    corner_seen[h] = true;
+                    continue;
+                }
                 assert_eq!(t.vertex(w.face, w.corner), v);
                 let h = 4 * w.face as usize + w.corner as usize;
                 assert!(!corner_seen[h], "corner in two rotations");
@@ -606,7 +696,10 @@ mod tests {
                     t.edge_of(w.face, w.next_local()),
                     t.edge_of(n.face, n.prev_local())
                 );
-                assert_eq!(t.across(w.face, w.next_local()), (n.face, n.prev_local()));
+                assert_eq!(
+                    t.across(w.face, w.next_local()),
+                    Some((n.face, n.prev_local()))
+                );
                 // The shared edge contains v.
                 assert!(t
                     .edge_vertices(t.edge_of(w.face, w.next_local()))
@@ -630,7 +723,9 @@ mod tests {
             let mut stack = vec![seed as u32];
             while let Some(f) = stack.pop() {
                 for i in 0..4u8 {
-                    let (g, l) = t.across(f, i);
+                    let Some((g, l)) = t.across(f, i) else {
+                        continue;
+                    };
                     let same_dir = t.vertex(f, i) == t.vertex(g, l);
                     let want = if same_dir {
                         -sign[f as usize]
@@ -825,10 +920,13 @@ mod tests {
         let c = cube();
         let err = |m: &QuadMesh| Topology::build(m).expect_err("should be rejected");
 
-        // Boundary: the cube without its last face.
+        // Boundary: the cube without its last face is an open mesh; drivers that need a
+        // closed one say which edge is open.
         let mut m = c.clone();
         m.faces.pop();
-        let e = err(&m);
+        let t = build(&m);
+        assert!(!t.is_closed());
+        let e = t.require_closed().expect_err("open");
         assert!(matches!(e, TopologyError::BoundaryEdge { .. }), "{e}");
         assert_eq!(
             e.to_string(),
@@ -941,7 +1039,7 @@ mod tests {
                     let e = t.edge_of(f, i);
                     assert!(e <= next);
                     if e == next {
-                        assert_eq!(t.edge_faces(e)[0], (f, i));
+                        assert_eq!(t.edge_faces(e).0, (f, i));
                         next += 1;
                     }
                 }

@@ -47,17 +47,21 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         limit,
     } = a;
     let lsubdiv::mesh_file::Checked {
-        mesh: m, topology, ..
+        mesh: m,
+        topology,
+        features,
+        ..
     } = bench::mesh(&mesh, limit.bytes())?;
     let r = load(&scheme, None)?;
     let surface = GenericSurface::new(build(&r)?)?;
     let implementation = path.pick(&r, Geometry::Surface)?;
-    let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &m, 4_200_000));
+    let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &topology, 4_200_000));
     let scalar = if f32 { 4 } else { 8 };
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
-        &m,
+        &topology,
+        &features,
         steps,
         scalar,
         threads,

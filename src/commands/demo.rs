@@ -110,9 +110,11 @@ pub fn run() -> Result<(), Error> {
     let surface = GenericSurface::new(build(&r)?)?;
     let steps = 3;
     let topology = Topology::build(&cube).map_err(|e| Error::internal(None, e.to_string()))?;
+    let features = Default::default();
     let job = |threads| Subdivide {
         mesh: &cube,
         topology: &topology,
+        features: &features,
         steps,
         threads,
     };

@@ -118,7 +118,8 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Q
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
-        m,
+        topology,
+        &input.features,
         steps,
         8,
         threads,
@@ -142,6 +143,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Q
         let refine = Subdivide {
             mesh: scaled.as_ref().unwrap_or(m),
             topology,
+            features: &input.features,
             steps,
             threads,
         };
@@ -155,6 +157,8 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Q
         let fine = result.map_err(|e| match e {
             SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
             SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
+            SurfaceError::Features(e) => Error::in_file(name, e.to_string()),
+            SurfaceError::Unsupported(m) => Error::in_file(name, m),
             e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
                 Error::internal(None, e.to_string())
             }

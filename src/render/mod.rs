@@ -228,9 +228,10 @@ impl<'m> Scene<'m> {
     fn wireframe(&self, projected: &Projected<'_>, frame: &mut Frame, s: usize) {
         for e in 0..self.topology.edge_count() as u32 {
             let [a, b] = self.topology.edge_vertices(e);
-            let faces = self.topology.edge_faces(e).map(|(f, _)| f);
+            let (first, second) = self.topology.edge_faces(e);
+            let faces = [Some(first.0), second.map(|(f, _)| f)];
             let visible = |t: u32, surface: f32, line: f64| {
-                t == EMPTY || faces.contains(&(t / 2)) || line >= f64::from(surface) * 0.998
+                t == EMPTY || faces.contains(&Some(t / 2)) || line >= f64::from(surface) * 0.998
             };
             if let Some((pa, pb)) = projected.segment(a as usize, b as usize) {
                 frame.line(pa, pb, s, visible);

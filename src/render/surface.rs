@@ -81,7 +81,9 @@ pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
         while let Some(f) = queue.pop_front() {
             component.push(f);
             for l in 0..4u8 {
-                let (g, m) = topo.across(f as u32, l);
+                let Some((g, m)) = topo.across(f as u32, l) else {
+                    continue;
+                };
                 let g = g as usize;
                 // Consistent windings traverse a shared edge in opposite directions.
                 let same_direction = mesh.faces[g][m as usize] == mesh.faces[f][l as usize];

@@ -25,17 +25,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (before, after) = (coarse.points.len(), fine.points.len());
     println!("polygon: {before} points → {after} points");
 
-    // A quad mesh of any topology: read (OBJ or PLY, at most 1 GiB; errors name the file's
-    // line) or built.
-    let (mesh, topology) = match args.next() {
+    // A quad mesh of any topology, open or closed: read (OBJ or PLY, at most 1 GiB; errors
+    // name the file's line; creases, corners and holes from OBJ `t` tags) or built.
+    let (mesh, topology, features) = match args.next() {
         Some(input) => {
             let read = lsubdiv::read_mesh(&input, 1 << 30)?;
-            (read.mesh, read.topology)
+            (read.mesh, read.topology, read.features)
         }
         None => {
             let cube = lsubdiv::runtime::generators::cube();
             let topology = lsubdiv::runtime::topology::Topology::build(&cube)?;
-            (cube, topology)
+            (cube, topology, Default::default())
         }
     };
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
@@ -43,6 +43,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &my_scheme::Scheme,
         &mesh,
         &topology,
+        &features,
         3,
         threads,
     )?;
