@@ -147,3 +147,192 @@ fn an_open_grid_is_the_tensor_product_of_its_rows_and_columns() {
         }
     }
 }
+
+/// The boundary loops of a mesh as vertex sequences (each loop once, from its smallest
+/// vertex, in the direction of its smaller neighbour).
+fn boundary_loops(mesh: &QuadMesh) -> Vec<Vec<u32>> {
+    let topo = Topology::build(mesh).unwrap();
+    let mut next: std::collections::HashMap<u32, Vec<u32>> = Default::default();
+    for f in 0..topo.face_count() as u32 {
+        for l in 0..4 {
+            if topo.is_boundary_edge(f, l) {
+                let (a, b) = (topo.vertex(f, l), topo.vertex(f, (l + 1) % 4));
+                next.entry(a).or_default().push(b);
+                next.entry(b).or_default().push(a);
+            }
+        }
+    }
+    let mut seen = std::collections::HashSet::new();
+    let mut starts: Vec<u32> = next.keys().copied().collect();
+    starts.sort_unstable();
+    let mut loops = Vec::new();
+    for s in starts {
+        if seen.contains(&s) {
+            continue;
+        }
+        let mut lp = vec![s];
+        seen.insert(s);
+        let mut at = s;
+        let mut prev = u32::MAX;
+        loop {
+            let ns = &next[&at];
+            let n = if prev == u32::MAX {
+                *ns.iter().min().unwrap()
+            } else {
+                *ns.iter().find(|&&n| n != prev).unwrap()
+            };
+            if n == s {
+                break;
+            }
+            seen.insert(n);
+            lp.push(n);
+            prev = at;
+            at = n;
+        }
+        loops.push(lp);
+    }
+    loops
+}
+
+/// Checks that every boundary loop of `mesh` refined by `name` is the 1D refinement of the
+/// base loop: closed when it has no corner (a boundary vertex with one face), else open with
+/// interpolated ends between consecutive corners.
+fn boundaries_are_curves(name: &str, mesh: &QuadMesh, steps: usize) {
+    let s = surface(name);
+    let (mut c, sigma) = curve(name);
+    let topo = Topology::build(mesh).unwrap();
+    let fine = lsubdiv::runtime::patch::subdivide::<_, f64>(&s, mesh, steps, 2)
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let nv = mesh.positions.len() as u32;
+    let base = boundary_loops(mesh);
+    let refined = boundary_loops(&fine);
+    assert_eq!(
+        base.len(),
+        refined.len(),
+        "{name}: the same number of boundary loops"
+    );
+    for lp in &base {
+        // The refined loop through the child of lp[0] (base vertices keep their index),
+        // walked the same way round.
+        let r = refined
+            .iter()
+            .find(|r| r.contains(&lp[0]))
+            .expect("loop kept");
+        let k = r.iter().position(|&v| v == lp[0]).unwrap();
+        let mut walk: Vec<u32> = r[k..].iter().chain(&r[..k]).copied().collect();
+        let bases: Vec<u32> = walk.iter().copied().filter(|&v| v < nv).collect();
+        if bases.get(1) != lp.get(1) {
+            walk[1..].reverse();
+        }
+        let bases: Vec<u32> = walk.iter().copied().filter(|&v| v < nv).collect();
+        assert_eq!(&bases, lp, "{name}: base vertices in order along the loop");
+        let corners: Vec<usize> = (0..lp.len())
+            .filter(|&i| topo.valence(lp[i]) == 1)
+            .collect();
+        let point = |v: u32| fine.positions[v as usize];
+        let mut worst = 0.0f64;
+        let mut compare = |want: &[[f64; 3]], got: &[u32]| {
+            assert_eq!(want.len(), got.len(), "{name}: points along the boundary");
+
+            for (w, &g) in want.iter().zip(got) {
+                for k in 0..3 {
+                    worst = worst.max((w[k] - point(g)[k]).abs());
+                }
+            }
+        };
+        if corners.is_empty() {
+            let pts: Vec<[f64; 3]> = lp.iter().map(|&v| mesh.positions[v as usize]).collect();
+            let coarse = lsubdiv::Curve::with_axiom(&c.tables(), pts, true);
+            // A refined closed curve starts at another point of the loop: the shift that
+            // puts the child of lp[0] first.
+            let want = lsubdiv::refine(&c, &coarse, steps).unwrap().points;
+            let p0 = point(lp[0]);
+            let d = |q: &[f64; 3]| (0..3).map(|k| (q[k] - p0[k]).abs()).fold(0.0, f64::max);
+            let shift = (0..want.len())
+                .min_by(|&a, &b| d(&want[a]).total_cmp(&d(&want[b])))
+                .unwrap();
+            let want: Vec<[f64; 3]> = want[shift..]
+                .iter()
+                .chain(&want[..shift])
+                .copied()
+                .collect();
+            compare(&want, &walk);
+        } else {
+            // Rotate so that the loop starts at a corner, then each piece corner to corner.
+            let first = corners[0];
+            let rot_base: Vec<u32> = lp[first..]
+                .iter()
+                .chain(&lp[..first])
+                .copied()
+                .chain([lp[first]])
+                .collect();
+            let k = walk.iter().position(|&v| v == lp[first]).unwrap();
+            let rot_walk: Vec<u32> = walk[k..]
+                .iter()
+                .chain(&walk[..k])
+                .copied()
+                .chain([lp[first]])
+                .collect();
+            let is_corner = |v: u32| v < nv && topo.valence(v) == 1;
+            let (mut i, mut j) = (0, 0);
+            while i + 1 < rot_base.len() {
+                let i2 = i
+                    + 1
+                    + rot_base[i + 1..]
+                        .iter()
+                        .position(|&v| is_corner(v))
+                        .unwrap();
+                let j2 = j
+                    + 1
+                    + rot_walk[j + 1..]
+                        .iter()
+                        .position(|&v| is_corner(v))
+                        .unwrap();
+                let pts: Vec<[f64; 3]> = rot_base[i..=i2]
+                    .iter()
+                    .map(|&v| mesh.positions[v as usize])
+                    .collect();
+                let piece = EndCurve::with_axiom(&c.tables(), pts);
+                let extended = piece.extended(&c.tables(), &sigma).unwrap();
+                c.prepare(&extended).unwrap();
+                let want = refine_ends(&c, &sigma, &piece, steps).unwrap();
+                compare(&want.points, &rot_walk[j..=j2]);
+                (i, j) = (i2, j2);
+            }
+        }
+        assert!(
+            worst < 1e-12,
+            "{name} steps={steps}: boundary off by {worst:e}"
+        );
+    }
+}
+
+/// The cube without its top face: a square rim of boundary vertices with two faces each
+/// (a closed boundary loop) and four interior EVs of valence 3.
+fn open_box() -> QuadMesh {
+    let mut m = lsubdiv::runtime::generators::cube();
+    m.faces.pop();
+    m
+}
+
+/// Three quads around a boundary vertex (vertex 4 of a 3 × 3 point grid without its last
+/// quad): that vertex has three faces (a boundary EV), five boundary vertices have one.
+fn l_shape() -> QuadMesh {
+    let mut m = grid(2, 2);
+    m.faces.pop();
+    m.positions.pop();
+    m
+}
+
+#[test]
+fn boundary_loops_are_the_schemes_curves() {
+    for name in SCHEMES {
+        for steps in 1..=3 {
+            boundaries_are_curves(name, &grid(2, 3), steps);
+            if name != "binary-ternary" {
+                boundaries_are_curves(name, &open_box(), steps);
+                boundaries_are_curves(name, &l_shape(), steps);
+            }
+        }
+    }
+}

@@ -44,10 +44,12 @@ impl<const D: usize> EndCurve<D> {
         if d.is_multiple_of(2) {
             return Err(CurveError::EvenDegree(d));
         }
-        // The extension mirrors d edges at each end.
-        if self.points.len() < d + 1 {
+        // The extension mirrors (d − 1)/2 points at each end (and d edges, reflected again at
+        // the far end when the polygon is shorter).
+        let needed = (d + 1) / 2;
+        if self.points.len() < needed {
             return Err(CurveError::TooFewPoints {
-                needed: d + 1,
+                needed,
                 got: self.points.len(),
             });
         }
@@ -68,7 +70,10 @@ impl<const D: usize> EndCurve<D> {
     }
 
     /// The odd-symmetric extension: (d − 1)/2 phantom points and d mirrored labels at each end,
-    /// an open [`Curve`] whose refinement holds the refinement of `self` (checked first).
+    /// an open [`Curve`] whose refinement holds the refinement of `self` (checked first). The
+    /// labels are those of the polygon unfolded by reflection at both ends (edge −1 − i is
+    /// σ(edge i), edge m − 1 + i is σ(edge m − 2 − i)), so a polygon of fewer than d edges
+    /// extends as its faces do on a surface between two corners.
     pub fn extended(&self, t: &CurveTables<'_>, sigma: &[u8]) -> Result<Curve<D>, CurveError> {
         self.check(t)?;
         let d = t.degree;
@@ -79,9 +84,18 @@ impl<const D: usize> EndCurve<D> {
         let mut points: Vec<[f64; D]> = (1..=r).rev().map(|j| reflect(p[0], p[j])).collect();
         points.extend_from_slice(p);
         points.extend((1..=r).map(|j| reflect(p[m - 1], p[m - 1 - j])));
-        let mut labels: Vec<u8> = (0..d).rev().map(|j| twin(e[j])).collect();
+        // Edge i of the unfolded polygon (period 2(m − 1)), i ≥ 0.
+        let unfolded = |i: usize| {
+            let i = i % (2 * (m - 1));
+            if i < m - 1 {
+                e[i]
+            } else {
+                twin(e[2 * (m - 1) - 1 - i])
+            }
+        };
+        let mut labels: Vec<u8> = (0..d).rev().map(|j| twin(unfolded(j))).collect();
         labels.extend_from_slice(e);
-        labels.extend((1..=d).map(|j| twin(e[m - 1 - j])));
+        labels.extend((1..=d).map(|j| unfolded(m - 2 + j)));
         Ok(Curve {
             points,
             labels,
