@@ -543,3 +543,30 @@ fn the_closed_reference_refuses_a_boundary() {
     let g = Grid::new(2);
     catmull_clark_polygons(&g.p, &g.faces);
 }
+
+#[test]
+fn the_built_in_open_meshes_through_the_reference() {
+    use lsubdiv::runtime::generators::{pentagon_star, tube};
+    // A tube has no corners: both boundary modes agree, and the boundary loops stay in their
+    // planes z = ±1 (crease rule and midpoints of points with the same z).
+    let t = tube(2, 8);
+    let quads: Vec<Vec<u32>> = t.faces.iter().map(|q| q.to_vec()).collect();
+    let (a, _) = catmull_clark_features_steps(&t.positions, &quads, &Features::default(), 2);
+    let only = Features::with_boundary(Boundary::EdgeOnly);
+    let (b, _) = catmull_clark_features_steps(&t.positions, &quads, &only, 2);
+    assert_eq!(bits(&a), bits(&b));
+    let rims = a.positions.iter().filter(|q| q[2].abs() == 1.0).count();
+    assert_eq!(rims, 2 * 8 * 4);
+    // The star's tips have one face: fixed with edge-and-corner, creases with edge-only.
+    let s = pentagon_star();
+    let polygons: Vec<Vec<u32>> = s.faces().map(<[u32]>::to_vec).collect();
+    let (a, _) = catmull_clark_features(&s.positions, &polygons, &Features::default());
+    let (b, _) = catmull_clark_features(&s.positions, &polygons, &only);
+    for i in 0..5 {
+        let tip = 5 + i;
+        assert_eq!(a.positions[tip], s.positions[tip]);
+        let want = crease(s.positions[i], s.positions[tip], s.positions[(i + 1) % 5]);
+        assert_close(b.positions[tip], want, "tip");
+    }
+    assert_eq!(a.faces.len(), 5 + 5 * 3);
+}
