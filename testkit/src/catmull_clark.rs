@@ -47,8 +47,9 @@
 //!   (`Vtr::Refinement::populateFaceTagsFromParentFaces`: "Tags for faces originating from
 //!   faces are inherited from the parent face"; "Hierarchical Edits" page: "none of their
 //!   children will appear"). Holes change no position.
-//! * A vertex with no faces stays where it is (OpenSubdiv tags it non-manifold and sharpens it
-//!   to a corner).
+//! * A vertex with no faces stays where it is: OpenSubdiv tags it non-manifold
+//!   (`Vtr::internal::Level::orderVertexFacesAndEdges` fails for no faces) and
+//!   `prepareComponentTagsAndSharpness` makes a non-manifold vertex infinitely sharp, a corner.
 //!
 //! Limits: an edge with more than two faces panics; a vertex where several fans meet is not
 //! detected as non-manifold (OpenSubdiv makes it a corner) unless it has three or more boundary
