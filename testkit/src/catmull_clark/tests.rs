@@ -570,3 +570,12 @@ fn the_built_in_open_meshes_through_the_reference() {
     }
     assert_eq!(a.faces.len(), 5 + 5 * 3);
 }
+
+#[test]
+fn a_vertex_without_faces_stays() {
+    let g = Grid::new(1);
+    let mut p = g.p.clone();
+    p.push([5.0, 6.0, 7.0]);
+    let (m, _) = catmull_clark_features(&p, &g.faces, &Features::default());
+    assert_eq!(m.positions[4], [5.0, 6.0, 7.0]);
+}
