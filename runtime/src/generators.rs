@@ -1,6 +1,9 @@
-//! Standard closed quad meshes for tests and examples. Faces are oriented counter-clockwise seen
-//! from outside wherever the surface is orientable.
+//! Standard meshes for tests and examples: closed quad meshes, open ones (boundaries, OpenSubdiv's
+//! boundary rules), polygon meshes (n-gons), and meshes with sharp features ([`Features`]: creases,
+//! holes). Faces are oriented counter-clockwise seen from outside (for an open mesh: from the side
+//! its documentation names) wherever the surface is orientable.
 
+use crate::features::{Features, Sharpness};
 use crate::mesh::QuadMesh;
 use crate::polygon::PolyMesh;
 use std::collections::HashMap;
@@ -214,23 +217,225 @@ pub fn klein_bottle(rows: usize, cols: usize) -> QuadMesh {
     QuadMesh { positions, faces }
 }
 
+/// An open quad grid of `rows` × `cols` quads over [-1, 1]², gently bumped: vertex
+/// `i * (cols + 1) + j` sits at x = 2j/cols − 1, y = 2i/rows − 1, z = 0.15 sin(2x + 0.7)
+/// cos(1.3y) (no symmetry, so a wrong index shows), and face `r * cols + c` is (r, c),
+/// (r, c + 1), (r + 1, c + 1), (r + 1, c), counter-clockwise seen from +z. (rows + 1)(cols + 1)
+/// vertices; the four corners have one face, the other boundary vertices two, the interior
+/// ones four. Panics unless rows, cols ≥ 1.
+pub fn open_grid(rows: usize, cols: usize) -> QuadMesh {
+    assert!(rows >= 1 && cols >= 1, "open_grid needs rows, cols >= 1");
+    let mut positions = Vec::with_capacity((rows + 1) * (cols + 1));
+    for i in 0..=rows {
+        let y = 2.0 * i as f64 / rows as f64 - 1.0;
+        for j in 0..=cols {
+            let x = 2.0 * j as f64 / cols as f64 - 1.0;
+            positions.push([x, y, 0.15 * (2.0 * x + 0.7).sin() * (1.3 * y).cos()]);
+        }
+    }
+    let id = |i: usize, j: usize| (i * (cols + 1) + j) as u32;
+    let mut faces = Vec::with_capacity(rows * cols);
+    for r in 0..rows {
+        for c in 0..cols {
+            faces.push([id(r, c), id(r, c + 1), id(r + 1, c + 1), id(r + 1, c)]);
+        }
+    }
+    QuadMesh { positions, faces }
+}
+
+/// An open cylinder (no caps) of radius 1 around z, from z = −1 to 1: `cols` quads around,
+/// `rows` along. Vertex `i * cols + j` sits at angle 2πj/cols and height 2i/rows − 1; face
+/// `i * cols + j` is (i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j), oriented outward.
+/// (rows + 1) cols vertices, rows · cols faces; two boundary loops of `cols` edges without
+/// corners (every boundary vertex has two faces), interior vertices valence 4. Panics unless
+/// rows ≥ 1 and cols ≥ 3.
+pub fn tube(rows: usize, cols: usize) -> QuadMesh {
+    assert!(rows >= 1 && cols >= 3, "tube needs rows >= 1, cols >= 3");
+    let mut positions = Vec::with_capacity((rows + 1) * cols);
+    for i in 0..=rows {
+        let z = 2.0 * i as f64 / rows as f64 - 1.0;
+        for j in 0..cols {
+            let a = TAU * j as f64 / cols as f64;
+            positions.push([a.cos(), a.sin(), z]);
+        }
+    }
+    let id = |i: usize, j: usize| (i * cols + j % cols) as u32;
+    let mut faces = Vec::with_capacity(rows * cols);
+    for i in 0..rows {
+        for j in 0..cols {
+            faces.push([id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]);
+        }
+    }
+    QuadMesh { positions, faces }
+}
+
+/// [`open_grid`]`(n, n)` whose centre face, (n/2) n + n/2, is a hole (its only feature). Every
+/// vertex of the hole has four faces, so the hole is surrounded by a ring of faces. Panics
+/// unless n is odd and ≥ 3.
+pub fn grid_with_hole(n: usize) -> (QuadMesh, Features) {
+    assert!(n >= 3 && n % 2 == 1, "grid_with_hole needs an odd n >= 3");
+    let features = Features {
+        holes: vec![((n / 2) * n + n / 2) as u32],
+        ..Features::default()
+    };
+    (open_grid(n, n), features)
+}
+
+/// The closed pentagonal pyramid, triangles and a pentagon: base vertices 0..5 on the unit
+/// circle at z = 0 (vertex i at angle 2πi/5), apex 5 at (0, 0, 1.2); faces the base (4, 3, 2,
+/// 1, 0) then triangle i = (i, i + 1, 5), oriented outward. 6 vertices, 10 edges, 6 faces; the
+/// apex has valence 5, the base vertices 3.
+pub fn pentagonal_pyramid() -> PolyMesh {
+    let mut m = PolyMesh::new();
+    m.positions = (0..5)
+        .map(|i| {
+            let a = TAU * i as f64 / 5.0;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    m.positions.push([0.0, 0.0, 1.2]);
+    m.push_face(&[4, 3, 2, 1, 0]);
+    for i in 0..5 {
+        m.push_face(&[i, (i + 1) % 5, 5]);
+    }
+    m
+}
+
+/// An open mesh of a pentagon and five triangles, one on each of its edges (a five-pointed
+/// star): pentagon vertices 0..5 on the unit circle at z = 0 (vertex i at angle 2πi/5), tip
+/// 5 + i at radius 1.6, angle 2π(i + ½)/5 and z = 0.3; faces the pentagon (0, 1, 2, 3, 4) then
+/// triangle i = (i, 5 + i, i + 1), counter-clockwise seen from +z. 10 vertices, 15 edges (10 on
+/// the boundary), 6 faces. The tips have one face (corners in OpenSubdiv's edge-and-corner
+/// mode), the pentagon's vertices three faces and two boundary edges.
+pub fn pentagon_star() -> PolyMesh {
+    let mut m = PolyMesh::new();
+    m.positions = (0..5)
+        .map(|i| {
+            let a = TAU * i as f64 / 5.0;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    for i in 0..5 {
+        let a = TAU * (i as f64 + 0.5) / 5.0;
+        m.positions.push([1.6 * a.cos(), 1.6 * a.sin(), 0.3]);
+    }
+    m.push_face(&[0, 1, 2, 3, 4]);
+    for i in 0..5 {
+        m.push_face(&[i, 5 + i, (i + 1) % 5]);
+    }
+    m
+}
+
+/// The edges of [`cube`] (lower index first), each once, in the order first met scanning its
+/// faces.
+fn cube_edges() -> Vec<[u32; 2]> {
+    let mut edges = Vec::with_capacity(12);
+    for f in cube().faces {
+        for i in 0..4 {
+            let (a, b) = (f[i], f[(i + 1) % 4]);
+            let e = [a.min(b), a.max(b)];
+            if !edges.contains(&e) {
+                edges.push(e);
+            }
+        }
+    }
+    edges
+}
+
+/// [`cube`] with its 12 edges infinitely sharp: every vertex has three sharp edges, so it is a
+/// corner (OpenSubdiv's `Crease::DetermineVertexVertexRule`), and every face refines as a flat
+/// patch: the limit surface is the cube itself.
+pub fn creased_cube() -> (QuadMesh, Features) {
+    let features = Features {
+        creases: cube_edges()
+            .into_iter()
+            .map(|e| (e, Sharpness::INFINITE))
+            .collect(),
+        ..Features::default()
+    };
+    (cube(), features)
+}
+
+/// [`cube`] with the four edges around its top face (z = 1: vertices 4, 5, 7, 6) creased with
+/// the given sharpness (e.g. `Sharpness::steps(2)`, semi-sharp: sharp for two steps): a closed
+/// crease loop through four crease vertices (two sharp edges each).
+pub fn cube_with_creased_top(sharpness: Sharpness) -> (QuadMesh, Features) {
+    let top = [4, 5, 6, 7];
+    let features = Features {
+        creases: cube_edges()
+            .into_iter()
+            .filter(|e| e.iter().all(|v| top.contains(v)))
+            .map(|e| (e, sharpness))
+            .collect(),
+        ..Features::default()
+    };
+    (cube(), features)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Signed volume by the divergence theorem (each quad as two triangles); positive when the
-    /// faces are oriented outward.
-    fn volume(m: &QuadMesh) -> f64 {
-        let p = |v: u32| m.positions[v as usize];
+    /// Signed volume by the divergence theorem (each face as a fan of triangles from its first
+    /// corner); positive when the faces are oriented outward.
+    fn volume<'a>(p: &[[f64; 3]], faces: impl IntoIterator<Item = &'a [u32]>) -> f64 {
+        let p = |v: u32| p[v as usize];
         let tri = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
             (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                 + a[2] * (b[0] * c[1] - b[1] * c[0]))
                 / 6.0
         };
-        m.faces
-            .iter()
-            .map(|f| tri(p(f[0]), p(f[1]), p(f[2])) + tri(p(f[0]), p(f[2]), p(f[3])))
+        faces
+            .into_iter()
+            .map(|f| {
+                (1..f.len() - 1)
+                    .map(|i| tri(p(f[0]), p(f[i]), p(f[i + 1])))
+                    .sum::<f64>()
+            })
             .sum()
+    }
+
+    fn quads(m: &QuadMesh) -> impl Iterator<Item = &[u32]> {
+        m.faces.iter().map(|f| &f[..])
+    }
+
+    /// How many faces each edge (lower index first) has.
+    fn edge_faces<'a>(faces: impl IntoIterator<Item = &'a [u32]>) -> HashMap<(u32, u32), usize> {
+        let mut uses = HashMap::new();
+        for f in faces {
+            for i in 0..f.len() {
+                let (a, b) = (f[i], f[(i + 1) % f.len()]);
+                *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        uses
+    }
+
+    /// How many faces each vertex has.
+    fn vertex_faces<'a>(nv: usize, faces: impl IntoIterator<Item = &'a [u32]>) -> Vec<usize> {
+        let mut n = vec![0; nv];
+        for f in faces {
+            for &v in f {
+                n[v as usize] += 1;
+            }
+        }
+        n
+    }
+
+    /// No directed edge appears twice: neighbouring faces agree on their orientation.
+    fn directed_once<'a>(faces: impl IntoIterator<Item = &'a [u32]>) -> bool {
+        let mut seen = std::collections::HashSet::new();
+        faces
+            .into_iter()
+            .all(|f| (0..f.len()).all(|i| seen.insert((f[i], f[(i + 1) % f.len()]))))
+    }
+
+    /// Every edge has one or two faces (the mesh is a 2-manifold with boundary, edge-wise);
+    /// returns the number of boundary edges.
+    fn boundary_edges<'a>(faces: impl IntoIterator<Item = &'a [u32]>) -> usize {
+        let uses = edge_faces(faces);
+        assert!(uses.values().all(|&k| k == 1 || k == 2), "{uses:?}");
+        uses.values().filter(|&&k| k == 1).count()
     }
 
     /// Every directed edge appears once (consistent orientation of a closed mesh).
@@ -244,18 +449,22 @@ mod tests {
 
     #[test]
     fn volumes_are_positive_and_plausible() {
-        let v = volume(&cube());
+        let c = cube();
+        let v = volume(&c.positions, quads(&c));
         assert!((v - 8.0).abs() < 1e-12, "{v}");
-        let v = volume(&torus(48, 32));
+        let t = torus(48, 32);
+        let v = volume(&t.positions, quads(&t));
         let exact = 2.0 * std::f64::consts::PI.powi(2) * 1.0 * 0.35f64.powi(2);
         assert!((v - exact).abs() < 0.03 * exact, "{v} vs {exact}");
         for n in [3, 5, 9] {
-            let v = volume(&prism(n));
+            let m = prism(n);
+            let v = volume(&m.positions, quads(&m));
             let exact = 2.0 * 0.5 * n as f64 * (TAU / n as f64).sin();
             assert!((v - exact).abs() < 1e-12, "n = {n}: {v} vs {exact}");
         }
         // The star is the 9-gonal prism with extra points on its boundary.
-        let v = volume(&star());
+        let m = star();
+        let v = volume(&m.positions, quads(&m));
         let exact = 9.0 * (TAU / 9.0).sin();
         assert!((v - exact).abs() < 1e-12, "{v} vs {exact}");
     }
@@ -302,5 +511,143 @@ mod tests {
             m.faces,
             vec![[0, 4, 8, 7], [1, 5, 8, 4], [2, 6, 8, 5], [3, 7, 8, 6]]
         );
+    }
+
+    #[test]
+    fn open_grid_counts_boundary_and_valences() {
+        for (rows, cols) in [(1, 1), (3, 5), (4, 2)] {
+            let m = open_grid(rows, cols);
+            assert_eq!(m.positions.len(), (rows + 1) * (cols + 1));
+            assert_eq!(m.faces.len(), rows * cols);
+            assert_eq!(boundary_edges(quads(&m)), 2 * (rows + cols));
+            assert!(directed_once(quads(&m)));
+            let n = vertex_faces(m.positions.len(), quads(&m));
+            let count = |k| n.iter().filter(|&&x| x == k).count();
+            let (interior, boundary) = ((rows - 1) * (cols - 1), 2 * (rows + cols) - 4);
+            assert_eq!((count(1), count(2), count(4)), (4, boundary, interior));
+            assert_eq!(count(1) + count(2) + count(4), m.positions.len());
+            for corner in [0, cols, rows * (cols + 1), (rows + 1) * (cols + 1) - 1] {
+                assert_eq!(n[corner], 1);
+            }
+            // Counter-clockwise seen from +z: the first quad's signed area in xy is positive.
+            let p = |v: u32| m.positions[v as usize];
+            let f = m.faces[0];
+            let area: f64 = (0..4)
+                .map(|i| {
+                    let (a, b) = (p(f[i]), p(f[(i + 1) % 4]));
+                    a[0] * b[1] - a[1] * b[0]
+                })
+                .sum();
+            assert!(area > 0.0);
+            assert!(m.positions.iter().flatten().all(|x| x.is_finite()));
+        }
+    }
+
+    #[test]
+    fn tube_has_two_boundary_loops_without_corners() {
+        for (rows, cols) in [(1, 3), (4, 6)] {
+            let m = tube(rows, cols);
+            assert_eq!(m.positions.len(), (rows + 1) * cols);
+            assert_eq!(m.faces.len(), rows * cols);
+            assert_eq!(boundary_edges(quads(&m)), 2 * cols);
+            assert!(directed_once(quads(&m)));
+            let n = vertex_faces(m.positions.len(), quads(&m));
+            for (v, &k) in n.iter().enumerate() {
+                let on_boundary = v < cols || v >= rows * cols;
+                assert_eq!(k, if on_boundary { 2 } else { 4 }, "vertex {v}");
+            }
+            // Outward: the first quad's normal points away from the axis.
+            let p = |v: u32| m.positions[v as usize];
+            let f = m.faces[0];
+            let (a, b, c) = (p(f[0]), p(f[1]), p(f[3]));
+            let (u, w) = (
+                [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+                [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+            );
+            let normal = [u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2]];
+            assert!(normal[0] * (a[0] + b[0]) + normal[1] * (a[1] + b[1]) > 0.0);
+        }
+    }
+
+    #[test]
+    fn grid_with_hole_marks_its_centre_face() {
+        for n in [3, 5] {
+            let (m, f) = grid_with_hole(n);
+            assert_eq!(m, open_grid(n, n));
+            assert_eq!(f.holes.len(), 1);
+            assert!(f.creases.is_empty() && f.corners.is_empty());
+            let hole = m.faces[f.holes[0] as usize];
+            let faces = vertex_faces(m.positions.len(), quads(&m));
+            assert!(hole.iter().all(|&v| faces[v as usize] == 4));
+            // The centre: its centroid is the grid's, (0, 0) in xy.
+            for c in 0..2 {
+                let mean: f64 = hole.iter().map(|&v| m.positions[v as usize][c]).sum();
+                assert!(mean.abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn pentagonal_pyramid_is_closed_and_outward() {
+        let m = pentagonal_pyramid();
+        assert_eq!((m.positions.len(), m.face_count()), (6, 6));
+        let degrees: Vec<usize> = m.faces().map(<[u32]>::len).collect();
+        assert_eq!(degrees, vec![5, 3, 3, 3, 3, 3]);
+        let uses = edge_faces(m.faces());
+        assert_eq!(uses.len(), 10);
+        assert!(uses.values().all(|&k| k == 2));
+        assert!(directed_once(m.faces()));
+        let n = vertex_faces(6, m.faces());
+        assert_eq!(n, vec![3, 3, 3, 3, 3, 5]);
+        // Base area (5/2) sin(2π/5), height 1.2.
+        let exact = 2.5 * (TAU / 5.0).sin() * 1.2 / 3.0;
+        let v = volume(&m.positions, m.faces());
+        assert!((v - exact).abs() < 1e-12, "{v} vs {exact}");
+    }
+
+    #[test]
+    fn pentagon_star_is_open_with_corner_tips() {
+        let m = pentagon_star();
+        assert_eq!((m.positions.len(), m.face_count()), (10, 6));
+        let degrees: Vec<usize> = m.faces().map(<[u32]>::len).collect();
+        assert_eq!(degrees, vec![5, 3, 3, 3, 3, 3]);
+        assert_eq!(edge_faces(m.faces()).len(), 15);
+        assert_eq!(boundary_edges(m.faces()), 10);
+        assert!(directed_once(m.faces()));
+        let n = vertex_faces(10, m.faces());
+        assert_eq!(n, vec![3, 3, 3, 3, 3, 1, 1, 1, 1, 1]);
+    }
+
+    #[test]
+    fn creased_cubes() {
+        let (m, f) = creased_cube();
+        assert_eq!(m, cube());
+        assert!(f.corners.is_empty() && f.holes.is_empty());
+        assert_eq!(f.creases.len(), 12);
+        let edges = edge_faces(quads(&m));
+        let mut sharp_at = [0; 8];
+        for &([a, b], s) in &f.creases {
+            assert!(s.is_infinite());
+            assert!(edges.contains_key(&(a.min(b), a.max(b))));
+            sharp_at[a as usize] += 1;
+            sharp_at[b as usize] += 1;
+        }
+        // Three sharp edges at every vertex: corners.
+        assert_eq!(sharp_at, [3; 8]);
+
+        let (m, f) = cube_with_creased_top(Sharpness::steps(2));
+        assert_eq!(m, cube());
+        assert_eq!(f.creases.len(), 4);
+        let mut sharp_at = [0; 8];
+        for &([a, b], s) in &f.creases {
+            assert_eq!(s, Sharpness::steps(2));
+            assert!(edges.contains_key(&(a.min(b), a.max(b))));
+            // Both ends on the top face z = 1.
+            assert!(m.positions[a as usize][2] == 1.0 && m.positions[b as usize][2] == 1.0);
+            sharp_at[a as usize] += 1;
+            sharp_at[b as usize] += 1;
+        }
+        // A loop: two sharp edges at each top vertex (crease vertices), none below.
+        assert_eq!(sharp_at, [0, 0, 0, 0, 2, 2, 2, 2]);
     }
 }
