@@ -6,7 +6,9 @@ use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::features::Features;
-use lsubdiv::runtime::generators::{cube, polygon_prism, star, torus};
+use lsubdiv::runtime::generators::{
+    creased_cube, cube, grid_with_hole, open_grid, polygon_prism, star, torus, tube,
+};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
 use lsubdiv::runtime::polygon::catmull_clark;
@@ -24,11 +26,18 @@ pub const MAX_TORUS_FACES: usize = 1 << 24;
 pub const MAX_PRISM_SIDES: usize = 10_000;
 
 /// A built-in mesh (`torus:R:C`, `cube`, `star`, `prism:N`: n-gon caps, split by a
-/// Catmull–Clark step) or an OBJ or PLY file read under
-/// `--max-memory max` ([`crate::limits::read_mesh`]), with its topology.
+/// Catmull–Clark step; open: `grid` (8 × 8 quads), `tube` (8 along, 16 around), `hole` (a
+/// 9 × 9 grid whose centre face is a hole); `creased-cube` (every edge sharp)) or an OBJ or
+/// PLY file read under `--max-memory max` ([`crate::limits::read_mesh`]), with its
+/// topology.
 pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
     let parts: Vec<&str> = spec.split(':').collect();
+    let featured = |(mesh, features)| checked(spec, mesh, false, features);
     let built = match parts.as_slice() {
+        ["grid"] => open_grid(8, 8),
+        ["tube"] => tube(8, 16),
+        ["hole"] => return featured(grid_with_hole(9)),
+        ["creased-cube"] => return featured(creased_cube()),
         ["torus", r, c] => {
             let p = |s: &str| {
                 s.parse::<usize>()
@@ -65,22 +74,22 @@ pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
             // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
             let split = catmull_clark(&polygon_prism(n))
                 .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
-            return checked(spec, split.mesh, true);
+            return checked(spec, split.mesh, true, Features::default());
         }
         _ => return crate::limits::read_mesh(std::path::Path::new(spec), max),
     };
-    checked(spec, built, false)
+    checked(spec, built, false, Features::default())
 }
 
 /// A built-in mesh with its topology (`split`: after its first, Catmull–Clark, step).
-fn checked(spec: &str, mesh: QuadMesh, split: bool) -> Result<Checked, Error> {
+fn checked(spec: &str, mesh: QuadMesh, split: bool, features: Features) -> Result<Checked, Error> {
     let topology = Topology::build(&mesh)
         .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
     Ok(Checked {
         mesh,
         split,
         topology,
-        features: Features::default(),
+        features,
         warnings: Vec::new(),
     })
 }
@@ -114,6 +123,7 @@ impl Measurement {
 struct Timed<'m, T> {
     mesh: &'m QuadMesh,
     topology: &'m Topology,
+    features: &'m Features,
     threads: usize,
     steps: usize,
     runs: usize,
@@ -123,8 +133,14 @@ struct Timed<'m, T> {
 impl<T: Real> SurfaceVisitor for Timed<'_, T> {
     type Output = Result<Measurement, String>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
-        let mut r = Refiner::<S, T>::new(scheme, self.topology, self.steps, self.threads)
-            .map_err(|e| e.to_string())?;
+        let mut r = Refiner::<S, T>::with_features(
+            scheme,
+            self.topology,
+            self.features,
+            self.steps,
+            self.threads,
+        )
+        .map_err(|e| e.to_string())?;
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
         let mut phases: Vec<[f64; 3]> = Vec::new();
@@ -156,22 +172,22 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
     }
 }
 
-/// Refines `mesh` (of topology `topology`) with the scheme by `path` and reports the median
-/// time of one refinement.
-#[allow(clippy::too_many_arguments)]
+/// Refines `input` (its mesh, topology and features) with the scheme by `path` and reports
+/// the median time of one refinement.
 pub fn measure<T: Real>(
     scheme: &str,
     surface: &GenericSurface,
-    mesh: &QuadMesh,
-    topology: &Topology,
+    input: &Checked,
     path: Implementation,
     threads: usize,
     steps: usize,
     runs: usize,
 ) -> Result<Measurement, String> {
+    let (mesh, topology) = (&input.mesh, &input.topology);
     let timed = Timed::<T> {
         mesh,
         topology,
+        features: &input.features,
         threads,
         steps,
         runs,

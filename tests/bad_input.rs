@@ -399,7 +399,10 @@ fn predicted_curve_sizes_are_exact() {
 
 #[test]
 fn predicted_surface_sizes_are_exact() {
-    use lsubdiv::runtime::generators::{cube, star, torus};
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::generators::{
+        creased_cube, cube, grid_with_hole, open_grid, star, torus, tube,
+    };
     use lsubdiv::runtime::surface::SurfaceScheme;
     use lsubdiv::CurveScheme;
     for name in ["binary-ternary", "fibonacci", "uniform-binary"] {
@@ -408,17 +411,29 @@ fn predicted_surface_sizes_are_exact() {
                 .unwrap(),
         )
         .unwrap();
-        for mesh in [cube(), star(), torus(3, 4)] {
+        let plain = |m| (m, Features::default());
+        let meshes = [
+            plain(cube()),
+            plain(star()),
+            plain(torus(3, 4)),
+            plain(open_grid(3, 2)),
+            plain(tube(2, 5)),
+            grid_with_hole(3),
+            creased_cube(),
+        ];
+        for (mesh, features) in &meshes {
             for steps in 0..4 {
-                let fine =
-                    lsubdiv::runtime::patch::subdivide::<_, f64>(&s, &mesh, steps, 1).unwrap();
+                let topo = lsubdiv::runtime::topology::Topology::build(mesh).unwrap();
+                let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+                    &s, mesh, &topo, features, steps, 1,
+                )
+                .unwrap();
                 let t = s.tables();
-                let topo = lsubdiv::runtime::topology::Topology::build(&mesh).unwrap();
                 let p = lsubdiv_cli::limits::surface(
                     &t,
                     s.surface().contained_from,
                     &topo,
-                    &Default::default(),
+                    features,
                     steps,
                     8,
                     1,

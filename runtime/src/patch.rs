@@ -1355,6 +1355,24 @@ pub fn output_counts(vertices: u128, edges: u128, faces: u128, n: u128) -> (u128
     )
 }
 
+/// Vertices and quads [`subdivide_with`] writes when every edge splits into n and the holes'
+/// points that no other face uses are dropped: each vertex, edge and face counted once if a
+/// face that is not a hole has it.
+fn written_counts(topo: &Topology, features: &Resolved, n: u128) -> (u128, u128) {
+    let kept = |f: u32| !features.is_hole(f);
+    let faces = (0..topo.face_count() as u32).filter(|&f| kept(f)).count() as u128;
+    let mut edge = vec![false; topo.edge_count()];
+    let mut vertex = vec![false; topo.vertex_count()];
+    for f in (0..topo.face_count() as u32).filter(|&f| kept(f)) {
+        for l in 0..4 {
+            edge[topo.edge_of(f, l) as usize] = true;
+            vertex[topo.vertex(f, l) as usize] = true;
+        }
+    }
+    let count = |v: &[bool]| v.iter().filter(|&&b| b).count() as u128;
+    output_counts(count(&vertex), count(&edge), faces, n)
+}
+
 /// What a refinement by [`Refiner`] makes and holds, in bytes at most (see [`footprint`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Footprint {
@@ -1392,12 +1410,15 @@ pub fn footprint(
         topo.edge_count() as u128,
         topo.face_count() as u128,
     );
-    let (vertices, quads) = output_counts(v0, e0, f0, n(steps));
     // The refiner's split of the faces (every face in lock-step if the features do not
     // resolve: the refiner refuses them, and the bound stays a bound).
     let base = Resolved::new(topo, features)
         .ok()
         .and_then(|r| Base::new(topo, r, steps).ok());
+    let (vertices, quads) = match &base {
+        Some(b) if b.features.has_holes() => written_counts(topo, &b.features, n(steps)),
+        _ => output_counts(v0, e0, f0, n(steps)),
+    };
     let fan_faces = match &base {
         Some(b) => (0..topo.face_count() as u32)
             .filter(|&f| !b.ordinary(f))

@@ -39,6 +39,26 @@ pub struct PolygonArgs {
     pub degree: Option<usize>,
 }
 
+/// `--boundary`: how boundary vertices with one face are refined (OpenSubdiv's
+/// `VtxBoundaryInterpolation`, see `lsubdiv::runtime::features::Boundary`).
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum BoundaryArg {
+    /// Boundary edges sharp, vertices with one face interpolated corners (USD's default).
+    EdgeAndCorner,
+    /// Boundary edges sharp, vertices with one face smooth.
+    EdgeOnly,
+}
+
+impl BoundaryArg {
+    /// The runtime's boundary rule.
+    pub fn rule(self) -> lsubdiv::runtime::features::Boundary {
+        match self {
+            BoundaryArg::EdgeAndCorner => lsubdiv::runtime::features::Boundary::EdgeAndCorner,
+            BoundaryArg::EdgeOnly => lsubdiv::runtime::features::Boundary::EdgeOnly,
+        }
+    }
+}
+
 /// `--max-memory`, for the commands that refine.
 #[derive(clap::Args)]
 pub struct MemoryLimit {

@@ -46,22 +46,18 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         runs,
         limit,
     } = a;
-    let lsubdiv::mesh_file::Checked {
-        mesh: m,
-        topology,
-        features,
-        ..
-    } = bench::mesh(&mesh, limit.bytes())?;
+    let input = bench::mesh(&mesh, limit.bytes())?;
+    let (topology, features) = (&input.topology, &input.features);
     let r = load(&scheme, None)?;
     let surface = GenericSurface::new(build(&r)?)?;
     let implementation = path.pick(&r, Geometry::Surface)?;
-    let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, &topology, 4_200_000));
+    let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, topology, 4_200_000));
     let scalar = if f32 { 4 } else { 8 };
     lsubdiv_cli::limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
-        &topology,
-        &features,
+        topology,
+        features,
         steps,
         scalar,
         threads,
@@ -80,8 +76,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
     let r = measure(
         &r.ls.name,
         &surface,
-        &m,
-        &topology,
+        &input,
         implementation,
         threads,
         steps,
