@@ -627,27 +627,11 @@ fn every_mesh_error_names_its_line_or_element() {
             format!("{square}f 1 2\n"),
             ":5: error: face has 2 vertices; a face has at least 3",
         ),
-        // A triangle is read (and split), but this one is an open mesh.
-        (
-            "open-tri.obj",
-            format!("{square}f 1 2 3\n"),
-            ":5: error: edge 1–2 of this face has no other face (open boundary",
-        ),
-        (
-            "penta.obj",
-            format!("{square}v 2 2 2\nf 1 2 3 4 5\n"),
-            ":6: error: edge 1–2 of this face has no other face (open boundary",
-        ),
         ("empty.obj", String::new(), ": error: empty mesh: no faces"),
         (
             "comments.obj",
             "# a comment\n\n# another\n".into(),
             ": error: empty mesh: no faces",
-        ),
-        (
-            "open.obj",
-            format!("{square}f 1 2 3 4\n"),
-            ":5: error: edge 1–2 of this face has no other face (open boundary",
         ),
         (
             "fin.obj",
@@ -731,10 +715,10 @@ fn failed_runs_leave_previous_outputs_and_no_temporary_files() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let cube = write(d, "cube.obj", CUBE);
-    let open = write(
+    let broken = write(
         d,
-        "open.obj",
-        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+        "broken.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 5\n",
     );
     let square = write(d, "square.txt", "0 0\n1 0\n1 1\n0 1\n");
     let bad_scheme = write(
@@ -788,7 +772,7 @@ fn failed_runs_leave_previous_outputs_and_no_temporary_files() {
             "binary-ternary",
             "--steps",
             "1",
-            &open,
+            &broken,
             "-o",
             &s(&mesh),
         ],

@@ -151,7 +151,7 @@ impl Places {
             TopologyError::BoundaryEdge { edge, face: f } => (
                 face(f),
                 format!(
-                    "edge {}–{} of this face has no other face (open boundary; lsubdiv refines closed meshes)",
+                    "edge {}–{} of this face has no other face (open boundary; this needs a closed mesh)",
                     num(edge[0]),
                     num(edge[1])
                 ),

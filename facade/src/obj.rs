@@ -442,8 +442,8 @@ mod tests {
             );
         }
         // Topology errors are placed at the first line of a continued face.
-        let p = parse("t.obj", &format!("{SQUARE_V}\nf 1 2 \\\n 3 4\n")).unwrap();
-        let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("open");
+        let p = parse("t.obj", &format!("{SQUARE_V}\nf 1 2 \\\n 3 3\n")).unwrap();
+        let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("repeated");
         assert_eq!(
             p.places.locate("t.obj", &e).at,
             Some(Location::line("t.obj", 6))
@@ -659,14 +659,14 @@ mod tests {
     #[test]
     fn topology_errors_are_placed_at_the_lines_read() {
         // Comments, blank lines and a skipped directive shift the lines of `v` and `f`.
-        let text = "# square\n\nv 0 0 0\nvt 0 0\nv 1 0 0\nv 1 1 0\n\nv 0 1 0\nv 5 5 5\n# face\nf 1 2 3 4\n";
+        let text = "# square\n\nv 0 0 0\nvt 0 0\nv 1 0 0\nv 1 1 0\n\nv 0 1 0\nv 5 5 5\n# face\nf 1 2 3 3\n";
         let p = parse("t.obj", text).unwrap();
         assert_eq!(p.places.vertices, vec![3, 5, 6, 8, 9]);
         assert_eq!(p.places.faces, vec![11]);
-        let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("open");
+        let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("repeated");
         assert_eq!(
             p.places.locate("t.obj", &e).to_string(),
-            "t.obj:11: error: edge 1–2 of this face has no other face (open boundary; lsubdiv refines closed meshes)"
+            "t.obj:11: error: the face lists vertex 3 twice"
         );
         let isolated = TopologyError::IsolatedVertex { vertex: 4 };
         assert_eq!(

@@ -46,7 +46,7 @@ impl<const D: usize> EndCurve<D> {
         }
         // The extension mirrors (d − 1)/2 points at each end (and d edges, reflected again at
         // the far end when the polygon is shorter).
-        let needed = (d + 1) / 2;
+        let needed = d.div_ceil(2);
         if self.points.len() < needed {
             return Err(CurveError::TooFewPoints {
                 needed,

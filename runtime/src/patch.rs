@@ -383,7 +383,7 @@ impl<'t> Base<'t> {
     /// Point t = 0..=N of face f's ring across its local edge l (which runs from corner l to
     /// l+1; side N): its place in f's frame, and the (face, x, y) that owns it, one step
     /// inside the neighbour (none across a boundary edge).
-    fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> ((i64, i64), Option<(u32, i64, i64)>) {
+    fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> RingPoint {
         let (cx, cy) = corner_at(l, n, n);
         let (dx, dy) = TOWARD_NEXT[l as usize];
         // Outward normal of edge l: the opposite of the step toward corner l−1.
@@ -505,6 +505,10 @@ impl Base<'_> {
         }
     }
 }
+
+/// A ring point of a face: (x, y) in that face, and (face, x, y) of its owner (none across a
+/// boundary).
+type RingPoint = ((i64, i64), Option<(u32, i64, i64)>);
 
 /// A point of a patch that is an affine combination of other points of the same patch (a
 /// phantom across a sharp edge, or a corner's diagonal), or zero with no terms.

@@ -152,9 +152,7 @@ impl<'m> Scene<'m> {
                 );
             }
         }
-        if opts.wireframe {
-            self.wireframe(&projected, &mut frame, s);
-        }
+        self.edges(&projected, &mut frame, s, opts.wireframe);
         let (values, range) = if opts.shading == Shading::Curvature {
             let h = curvature::mean_curvature(&self.mesh, self.topology, &self.oriented.normals);
             // A given range is in the mesh's units: H scales as 1/length.
@@ -174,6 +172,10 @@ impl<'m> Scene<'m> {
         let shader = shade::Shader {
             mesh: &self.mesh,
             normals: &self.oriented.normals,
+            flip: self
+                .oriented
+                .orientable
+                .then_some(self.oriented.flip.as_slice()),
             curvature: values.as_deref().zip(range.map(|r| r.span)),
             camera: &camera,
             shading: opts.shading,
@@ -222,19 +224,25 @@ impl<'m> Scene<'m> {
             .collect()
     }
 
-    /// Marks the quad edges, one pixel wide. A sample shows the line unless a surface other than
-    /// the edge's two faces is in front of it by more than a small depth offset (0.2 % of the
-    /// depth), which keeps lines whole over their own faces at grazing angles.
-    fn wireframe(&self, projected: &Projected<'_>, frame: &mut Frame, s: usize) {
+    /// Marks the boundary edges, two pixels wide, and with `wireframe` every other quad edge,
+    /// one pixel wide. A sample shows the line unless a surface other than the edge's faces is
+    /// in front of it by more than a small depth offset (0.2 % of the depth), which keeps lines
+    /// whole over their own faces at grazing angles.
+    fn edges(&self, projected: &Projected<'_>, frame: &mut Frame, s: usize, wireframe: bool) {
         for e in 0..self.topology.edge_count() as u32 {
             let [a, b] = self.topology.edge_vertices(e);
             let (first, second) = self.topology.edge_faces(e);
+            let (kind, width) = match second {
+                None => (raster::BOUNDARY_LINE, 2 * s),
+                Some(_) if wireframe => (raster::WIRE_LINE, s),
+                Some(_) => continue,
+            };
             let faces = [Some(first.0), second.map(|(f, _)| f)];
             let visible = |t: u32, surface: f32, line: f64| {
                 t == EMPTY || faces.contains(&Some(t / 2)) || line >= f64::from(surface) * 0.998
             };
             if let Some((pa, pb)) = projected.segment(a as usize, b as usize) {
-                frame.line(pa, pb, s, visible);
+                frame.line(pa, pb, width, kind, visible);
             }
         }
     }

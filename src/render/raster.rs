@@ -38,9 +38,17 @@ pub struct Frame {
     pub triangle: Vec<u32>,
     /// Perspective-correct weights of the seen triangle's corners 1 and 2.
     pub bary: Vec<[f32; 2]>,
-    /// A wireframe line covers the sample.
-    pub wire: Vec<bool>,
+    /// Which line covers the sample: [`NO_LINE`], [`WIRE_LINE`] or [`BOUNDARY_LINE`] (the
+    /// larger wins).
+    pub wire: Vec<u8>,
 }
+
+/// No line covers the sample.
+pub const NO_LINE: u8 = 0;
+/// A wireframe line.
+pub const WIRE_LINE: u8 = 1;
+/// A boundary edge (drawn over the wireframe).
+pub const BOUNDARY_LINE: u8 = 2;
 
 /// Twice the signed area of (a, b, c), in snapped units; positive when c is on the interior side
 /// of a → b for the orientation used here.
@@ -90,7 +98,7 @@ impl Frame {
             inv_depth: vec![0.0; n],
             triangle: vec![EMPTY; n],
             bary: vec![[0.0; 2]; n],
-            wire: vec![false; n],
+            wire: vec![NO_LINE; n],
         }
     }
 
@@ -165,14 +173,15 @@ impl Frame {
         }
     }
 
-    /// Marks the samples of a line `width` samples wide from a to b as wire where `visible`
-    /// (given the sample's triangle, its 1/depth and the line's) says the surface does not hide
-    /// it.
+    /// Marks the samples of a line `width` samples wide from a to b with `kind` where
+    /// `visible` (given the sample's triangle, its 1/depth and the line's) says the surface
+    /// does not hide it.
     pub fn line(
         &mut self,
         a: Vertex,
         b: Vertex,
         width: usize,
+        kind: u8,
         visible: impl Fn(u32, f32, f64) -> bool,
     ) {
         let x_major = (b.x - a.x).abs() >= (b.y - a.y).abs();
@@ -206,7 +215,7 @@ impl Frame {
                     i as usize * self.width + k as usize
                 };
                 if visible(self.triangle[s], self.inv_depth[s], inv) {
-                    self.wire[s] = true;
+                    self.wire[s] = self.wire[s].max(kind);
                 }
             }
         }

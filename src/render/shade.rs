@@ -2,11 +2,13 @@
 //! s × s samples).
 //!
 //! Every mode is two-sided: normals are turned towards the viewer per triangle, so meshes with
-//! inconsistent windings or no orientation at all shade like oriented ones.
+//! inconsistent windings or no orientation at all shade like oriented ones. On an orientable
+//! mesh the back of the surface (seen through an open boundary or a hole) has its own, warmer
+//! material; boundary edges are drawn in their own colour.
 
 use super::camera::Camera;
 use super::image::Image;
-use super::raster::{Frame, EMPTY};
+use super::raster::{Frame, BOUNDARY_LINE, EMPTY, WIRE_LINE};
 use super::surface::{cross, dot, normalize, quad_area_vector, scale, sub};
 use super::{curvature, Shading};
 use lsubdiv::runtime::mesh::QuadMesh;
@@ -15,6 +17,10 @@ use rayon::prelude::*;
 const BACKGROUND: [f64; 3] = [1.0, 1.0, 1.0];
 const WIRE: [f64; 3] = [0.08, 0.08, 0.1];
 const MATERIAL: [f64; 3] = [0.72, 0.76, 0.82];
+/// The back of an oriented surface.
+const BACK_MATERIAL: [f64; 3] = [0.86, 0.66, 0.5];
+/// Boundary edges.
+const BOUNDARY: [f64; 3] = [0.85, 0.25, 0.1];
 /// Light and dark stripe pairs of the reflection lines across the environment.
 const STRIPES: f64 = 12.0;
 
@@ -24,6 +30,9 @@ pub struct Shader<'a> {
     pub mesh: &'a QuadMesh,
     /// Unit vertex normals (any sign per vertex).
     pub normals: &'a [[f64; 3]],
+    /// Per face, whether its winding is reversed to orient the mesh; none when the mesh is not
+    /// orientable (no back side).
+    pub flip: Option<&'a [bool]>,
     /// Mean curvature per vertex and the span of the colour map (curvature mode).
     pub curvature: Option<(&'a [f64], f64)>,
     /// The camera that made the frame.
@@ -53,8 +62,10 @@ impl Shader<'_> {
 
     /// Colour of one sample.
     fn sample(&self, frame: &Frame, s: usize, lights: &[[f64; 3]; 2]) -> [f64; 3] {
-        if frame.wire[s] {
-            return WIRE;
+        match frame.wire[s] {
+            BOUNDARY_LINE => return BOUNDARY,
+            WIRE_LINE => return WIRE,
+            _ => {}
         }
         let t = frame.triangle[s];
         if t == EMPTY {
@@ -81,12 +92,18 @@ impl Shader<'_> {
             n => n,
         };
         let diffuse = 0.18 + 0.7 * dot(n, lights[0]).max(0.0) + 0.2 * dot(n, lights[1]).max(0.0);
+        // The oriented face normal points away from the viewer: the back is seen.
+        let back = self.flip.is_some_and(|flip| {
+            let outward = quad_area_vector(self.mesh, face);
+            (dot(outward, ray) > 0.0) != flip[face]
+        });
+        let material = if back { BACK_MATERIAL } else { MATERIAL };
         match self.shading {
-            Shading::Flat => MATERIAL.map(|c| (c * diffuse).min(1.0)),
+            Shading::Flat => material.map(|c| (c * diffuse).min(1.0)),
             Shading::Smooth => {
                 let half = normalize(sub(lights[0], ray));
                 let specular = 0.3 * dot(n, half).max(0.0).powi(48);
-                MATERIAL.map(|c| (c * diffuse + specular).min(1.0))
+                material.map(|c| (c * diffuse + specular).min(1.0))
             }
             Shading::Curvature => {
                 let value = self.curvature.map(|(h, span)| {
