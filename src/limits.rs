@@ -281,6 +281,7 @@ pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<Checked, Error> {
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
 /// on the mesh of topology `topo` with `features`, positions of `scalar` bytes; `text`: the output file is built in memory. The
 /// refiner's own memory is its [`footprint`]; the file text comes after refining.
+#[allow(clippy::too_many_arguments)]
 pub fn surface(
     t: &CurveTables<'_>,
     contained_from: usize,

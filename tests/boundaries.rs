@@ -233,10 +233,9 @@ fn boundaries_are_curves(name: &str, mesh: &QuadMesh, steps: usize) {
         let mut worst = 0.0f64;
         let mut compare = |want: &[[f64; 3]], got: &[u32]| {
             assert_eq!(want.len(), got.len(), "{name}: points along the boundary");
-
             for (w, &g) in want.iter().zip(got) {
-                for k in 0..3 {
-                    worst = worst.max((w[k] - point(g)[k]).abs());
+                for (a, b) in w.iter().zip(point(g)) {
+                    worst = worst.max((a - b).abs());
                 }
             }
         };
