@@ -5,6 +5,7 @@ use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
+use lsubdiv::runtime::features::Features;
 use lsubdiv::runtime::generators::{cube, polygon_prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
@@ -62,7 +63,7 @@ pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
                     ))
                 })?;
             // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
-            let split = catmull_clark(&polygon_prism(n))
+            let split = catmull_clark(&polygon_prism(n), &Features::default())
                 .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
             return checked(spec, split.mesh, true);
         }
@@ -79,6 +80,7 @@ fn checked(spec: &str, mesh: QuadMesh, split: bool) -> Result<Checked, Error> {
         mesh,
         split,
         topology,
+        features: Features::default(),
         warnings: Vec::new(),
     })
 }

@@ -6,6 +6,7 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr, write};
+use lsubdiv::runtime::features::Features;
 use lsubdiv::runtime::generators::{cube, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
@@ -81,7 +82,7 @@ fn the_split_is_the_reference_catmull_clark_step() {
         ("cube", quads(cube())),
         ("torus", quads(torus(5, 7))),
     ] {
-        let ours = catmull_clark(&poly(&p, &faces)).unwrap();
+        let ours = catmull_clark(&poly(&p, &faces), &Features::default()).unwrap();
         let reference = catmull_clark_polygons(&p, &faces);
         assert_eq!(ours.mesh.faces, reference.faces, "{name}");
         assert_eq!(bits(&ours.mesh), bits(&reference), "{name}");

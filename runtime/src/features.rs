@@ -127,3 +127,147 @@ impl Features {
         self.creases.is_empty() && self.corners.is_empty() && self.holes.is_empty()
     }
 }
+
+/// Which list of [`Features`] an entry is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeatureList {
+    /// [`Features::creases`].
+    Creases,
+    /// [`Features::corners`].
+    Corners,
+    /// [`Features::holes`].
+    Holes,
+}
+
+/// A sharp feature that does not fit its mesh ([`Features::validate`]), named by its index in
+/// its list, so that a reader can place it at the tag it read it from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeatureError {
+    /// Crease `crease` joins two vertices that no face joins by an edge.
+    NoSuchEdge {
+        /// Index in [`Features::creases`].
+        crease: usize,
+        /// Its endpoints, as listed.
+        edge: [u32; 2],
+    },
+    /// Corner `corner` names a vertex the mesh does not have.
+    NoSuchVertex {
+        /// Index in [`Features::corners`].
+        corner: usize,
+        /// The vertex.
+        vertex: u32,
+        /// Vertex count of the mesh.
+        vertices: usize,
+    },
+    /// Hole `hole` names a face the mesh does not have.
+    NoSuchFace {
+        /// Index in [`Features::holes`].
+        hole: usize,
+        /// The face.
+        face: u32,
+        /// Face count of the mesh.
+        faces: usize,
+    },
+    /// Two entries of one list name the same edge (either order), vertex or face.
+    Repeated {
+        /// The list.
+        list: FeatureList,
+        /// The earlier entry.
+        first: usize,
+        /// The later entry.
+        second: usize,
+    },
+}
+
+impl std::fmt::Display for FeatureError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            FeatureError::NoSuchEdge { crease, edge } => write!(
+                f,
+                "crease {crease}: no such edge ({}, {}) in the mesh",
+                edge[0], edge[1]
+            ),
+            FeatureError::NoSuchVertex {
+                corner,
+                vertex,
+                vertices,
+            } => write!(
+                f,
+                "corner {corner}: vertex {vertex} out of range (the mesh has {vertices} vertices)"
+            ),
+            FeatureError::NoSuchFace { hole, face, faces } => write!(
+                f,
+                "hole {hole}: face {face} out of range (the mesh has {faces} faces)"
+            ),
+            FeatureError::Repeated {
+                list,
+                first,
+                second,
+            } => {
+                let (what, thing) = match list {
+                    FeatureList::Creases => ("creases", "edge"),
+                    FeatureList::Corners => ("corners", "vertex"),
+                    FeatureList::Holes => ("holes", "face"),
+                };
+                write!(f, "{what} {first} and {second} name the same {thing}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for FeatureError {}
+
+impl Features {
+    /// Checks the features against a mesh of `vertices` vertices and `faces` faces whose
+    /// edges are those for which `is_edge([lo, hi])` (endpoints smaller first) holds: every
+    /// crease is an edge, every corner a vertex, every hole a face, none listed twice.
+    pub fn validate(
+        &self,
+        vertices: usize,
+        faces: usize,
+        is_edge: impl Fn([u32; 2]) -> bool,
+    ) -> Result<(), FeatureError> {
+        let key = |[a, b]: [u32; 2]| [a.min(b), a.max(b)];
+        if let Some(crease) = self.creases.iter().position(|&(e, _)| !is_edge(key(e))) {
+            let edge = self.creases[crease].0;
+            return Err(FeatureError::NoSuchEdge { crease, edge });
+        }
+        if let Some(corner) = self
+            .corners
+            .iter()
+            .position(|&(v, _)| v as usize >= vertices)
+        {
+            let vertex = self.corners[corner].0;
+            return Err(FeatureError::NoSuchVertex {
+                corner,
+                vertex,
+                vertices,
+            });
+        }
+        if let Some(hole) = self.holes.iter().position(|&f| f as usize >= faces) {
+            let face = self.holes[hole];
+            return Err(FeatureError::NoSuchFace { hole, face, faces });
+        }
+        let repeated = |list, keys: &mut dyn Iterator<Item = [u32; 2]>| {
+            let mut seen = std::collections::HashMap::new();
+            keys.enumerate()
+                .try_for_each(|(second, k)| match seen.insert(k, second) {
+                    Some(first) => Err(FeatureError::Repeated {
+                        list,
+                        first,
+                        second,
+                    }),
+                    None => Ok(()),
+                })
+        };
+        repeated(
+            FeatureList::Creases,
+            &mut self.creases.iter().map(|&(e, _)| key(e)),
+        )?;
+        repeated(
+            FeatureList::Corners,
+            &mut self.corners.iter().map(|&(v, _)| [v, 0]),
+        )?;
+        repeated(FeatureList::Holes, &mut self.holes.iter().map(|&f| [f, 0]))
+    }
+}

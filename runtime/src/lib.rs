@@ -52,8 +52,8 @@
 
 pub mod curve;
 pub mod ends;
-pub mod features;
 pub mod ev;
+pub mod features;
 pub mod gather;
 pub mod generators;
 mod grid;
