@@ -285,33 +285,29 @@ impl Parsed {
             features,
             warnings,
         } = self;
-        let (quads, features, face_of) = match mesh.into_quads() {
+        let topology_of =
+            |q: &QuadMesh| Topology::build(q).and_then(|t| t.check_valences().map(|()| t));
+        let (quads, features, topology, split) = match mesh.into_quads() {
             Ok(q) => {
                 let faces = q.faces.iter().map(|f| &f[..]);
                 check_features(q.positions.len(), faces, &features)
                     .map_err(|e| places.locate_feature(file, &e))?;
-                (q, features, None)
+                let topology = topology_of(&q).map_err(|e| places.locate(file, &e))?;
+                (q, features, topology, false)
             }
             Err(mesh) => {
                 let s = catmull_clark(&mesh, &features).map_err(|e| match e {
                     SplitError::Topology(e) => places.locate(file, &e),
                     SplitError::Feature(e) => places.locate_feature(file, &e),
                 })?;
-                (s.mesh, s.features, Some(s.face_of))
+                let topology =
+                    topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
+                (s.mesh, s.features, topology, true)
             }
         };
-        let topology = Topology::build(&quads)
-            .and_then(|t| t.check_valences().map(|()| t))
-            .map_err(|e| {
-                let e = match &face_of {
-                    Some(f) => e.in_faces(f),
-                    None => e,
-                };
-                places.locate(file, &e)
-            })?;
         Ok(Checked {
             mesh: quads,
-            split: face_of.is_some(),
+            split,
             topology,
             features,
             warnings,

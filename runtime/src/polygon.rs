@@ -97,6 +97,9 @@ pub struct Split {
     pub mesh: QuadMesh,
     /// The input face of each quad.
     pub face_of: Vec<u32>,
+    /// The input edge of each edge point: vertex `V + e` is the point of edge `edges[e]`
+    /// (endpoints smaller first).
+    pub edges: Vec<[u32; 2]>,
     /// The input's features one step on: a crease ab of sharpness s > 1 becomes the two edges
     /// (a, m) and (m, b), m its edge point, of sharpness s − 1; a corner of sharpness s > 1
     /// keeps its vertex with sharpness s − 1; what becomes smooth is dropped; the quads of a
@@ -394,15 +397,26 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     Ok(Split {
         mesh: QuadMesh { positions, faces },
         face_of,
+        edges: edges.ends,
         features,
     })
 }
 
 impl TopologyError {
-    /// The error with its face numbers mapped by `face_of` (a quad of a [`Split`] to the face
-    /// it lies in), so that an error found on the split mesh names the input's face.
-    pub fn in_faces(self, face_of: &[u32]) -> TopologyError {
-        let map = |f: u32| face_of.get(f as usize).copied().unwrap_or(f);
+    /// The error found on the mesh of `split` with its faces and edges mapped to the input's: a
+    /// quad to the face it lies in, half an edge (an input vertex and the edge's point) to the
+    /// edge.
+    pub fn in_input(self, split: &Split) -> TopologyError {
+        let map = |f: u32| split.face_of.get(f as usize).copied().unwrap_or(f);
+        let faces = split.face_of.last().map_or(0, |&f| f as usize + 1);
+        let first_point = split.mesh.positions.len() - split.edges.len() - faces;
+        let edge = |[v, m]: [u32; 2]| {
+            let whole = (m as usize).checked_sub(first_point);
+            match whole.and_then(|e| split.edges.get(e)) {
+                Some(&ends) if (v as usize) < first_point && ends.contains(&v) => ends,
+                _ => [v, m],
+            }
+        };
         match self {
             TopologyError::FaceIndexOutOfRange {
                 face,
@@ -421,17 +435,19 @@ impl TopologyError {
                 first: map(first),
                 second: map(second),
             },
-            TopologyError::BoundaryEdge { edge, face } => TopologyError::BoundaryEdge {
-                edge,
+            TopologyError::BoundaryEdge { edge: e, face } => TopologyError::BoundaryEdge {
+                edge: edge(e),
                 face: map(face),
             },
-            TopologyError::NonManifoldEdge { edge, faces, face } => {
-                TopologyError::NonManifoldEdge {
-                    edge,
-                    faces,
-                    face: map(face),
-                }
-            }
+            TopologyError::NonManifoldEdge {
+                edge: e,
+                faces,
+                face,
+            } => TopologyError::NonManifoldEdge {
+                edge: edge(e),
+                faces,
+                face: map(face),
+            },
             e => e,
         }
     }
@@ -521,6 +537,49 @@ mod tests {
         assert_eq!(s.mesh.positions[..4], corners);
         assert_eq!(s.mesh.positions[4..], want[4..]);
         assert_eq!(s.features, Features::with_boundary(Boundary::EdgeOnly));
+    }
+
+    #[test]
+    fn errors_on_the_split_name_the_input() {
+        let s = catmull_clark(&poly(&SQUARE, &[&[0, 1, 2, 3]]), &Features::default()).unwrap();
+        assert_eq!(s.edges, vec![[0, 1], [1, 2], [2, 3], [0, 3]]);
+        // Half of edge 2–3 (vertex 3 and point 6), and an edge inside the face.
+        for (edge, input) in [
+            ([3, 6], [2, 3]),
+            ([2, 6], [2, 3]),
+            ([1, 4], [0, 1]),
+            ([6, 8], [6, 8]),
+        ] {
+            let e = TopologyError::BoundaryEdge { edge, face: 3 };
+            assert_eq!(
+                e.in_input(&s),
+                TopologyError::BoundaryEdge {
+                    edge: input,
+                    face: 0
+                }
+            );
+        }
+        let e = TopologyError::NonManifoldEdge {
+            edge: [0, 7],
+            faces: 3,
+            face: 2,
+        };
+        let input = TopologyError::NonManifoldEdge {
+            edge: [0, 3],
+            faces: 3,
+            face: 0,
+        };
+        assert_eq!(e.in_input(&s), input);
+        // Not half of an edge: vertex 0 is not on edge 1–2.
+        let e = TopologyError::BoundaryEdge {
+            edge: [0, 5],
+            face: 1,
+        };
+        let same = TopologyError::BoundaryEdge {
+            edge: [0, 5],
+            face: 0,
+        };
+        assert_eq!(e.in_input(&s), same);
     }
 
     /// Three triangles around vertex 0, open: 0 is a boundary vertex with three faces.
