@@ -5,7 +5,9 @@
 //!
 //! - `t crease 2/1/0 a b s`: the edge ab (vertices counted from 0) has sharpness s; several
 //!   pairs `t crease 4/1/0 a b c d s` are the edges ab and cd (OpenSubdiv reads the integers
-//!   two by two, not as a chain), one sharpness for all or one per pair (`4/2/0`);
+//!   two by two, not as a chain), one sharpness for all or one per pair (`4/2/0`; OpenSubdiv's
+//!   loop indexes the floats by the pair's first integer, which no shape of its own exercises:
+//!   they all write `2/1/0`);
 //! - `t corner 1/1/0 v s`: vertex v has sharpness s; several vertices, one sharpness for all or
 //!   one per vertex;
 //! - `t hole 1/0/0 f`: face f (counted from 0) is a hole; several faces;
@@ -639,5 +641,56 @@ mod tests {
         };
         assert_eq!(c.features, want);
         assert_eq!(c.mesh.positions[3], [1.0, -1.0, -1.0]); // the corner, held
+    }
+
+    /// Tag lines made of plausible and implausible tokens never panic, parsed or checked.
+    #[test]
+    fn tag_garbage_never_panics() {
+        let words = [
+            "t",
+            "crease",
+            "corner",
+            "hole",
+            "interpolateboundary",
+            "2/1/0",
+            "1/1/0",
+            "4/2",
+            "1/0/0",
+            "2/1",
+            "0",
+            "1",
+            "2",
+            "3",
+            "-1",
+            "inf",
+            "nan",
+            "0.5",
+            "10",
+            "x",
+            "4294967296",
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |n: usize| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as usize
+        };
+        let mut read_ok = 0;
+        for _ in 0..3000 {
+            let mut text = String::from("t");
+            for _ in 0..1 + next(7) {
+                text.push(' ');
+                text.push_str(words[next(words.len())]);
+            }
+            for mesh in [SQUARE, TETRAHEDRON] {
+                let text = format!("{mesh}{text}\n");
+                if let Ok(p) = crate::obj::parse("t.obj", &text) {
+                    read_ok += 1;
+                    let _ = p.check("t.obj");
+                }
+            }
+        }
+        assert!(read_ok > 100, "only {read_ok} parsed");
     }
 }

@@ -409,7 +409,9 @@ impl TopologyError {
     pub fn in_input(self, split: &Split) -> TopologyError {
         let map = |f: u32| split.face_of.get(f as usize).copied().unwrap_or(f);
         let faces = split.face_of.last().map_or(0, |&f| f as usize + 1);
-        let first_point = split.mesh.positions.len() - split.edges.len() - faces;
+        let first_point = (split.mesh.positions.len())
+            .saturating_sub(split.edges.len())
+            .saturating_sub(faces);
         let edge = |[v, m]: [u32; 2]| {
             let whole = (m as usize).checked_sub(first_point);
             match whole.and_then(|e| split.edges.get(e)) {
