@@ -89,8 +89,8 @@ impl PolyMesh {
 
 /// One Catmull–Clark step of a polygon mesh: the quad mesh, for each of its quads the face it
 /// lies in, and its features. The first `V` vertices are the input's (so errors about them name
-/// the input's vertices), then one per edge, then one per face; face f's quads are
-/// `offsets[f]..offsets[f + 1]`, one per corner.
+/// the input's vertices), then one per edge, then one per face; the quads of input face f are
+/// numbered as its corners, `m.offsets[f]..m.offsets[f + 1]` of the input `m`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Split {
     /// The quads.
@@ -100,9 +100,10 @@ pub struct Split {
     /// The input edge of each edge point: vertex `V + e` is the point of edge `edges[e]`
     /// (endpoints smaller first).
     pub edges: Vec<[u32; 2]>,
-    /// The input's features one step on: a crease ab of sharpness s > 1 becomes the two edges
-    /// (a, m) and (m, b), m its edge point, of sharpness s − 1; a corner of sharpness s > 1
-    /// keeps its vertex with sharpness s − 1; what becomes smooth is dropped; the quads of a
+    /// The input's features one step on: a crease ab of sharpness s ≥ 2 becomes the two edges
+    /// (a, m) and (m, b), m its edge point, of sharpness s − 1 (infinite stays infinite); a
+    /// corner of sharpness s ≥ 2 keeps its vertex with sharpness s − 1; what becomes smooth is
+    /// dropped; the quads of a
     /// hole are holes; the boundary rule is the input's.
     pub features: Features,
 }
