@@ -5,7 +5,7 @@ use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
-use lsubdiv::runtime::features::Features;
+use lsubdiv::runtime::features::{Boundary, Features};
 use lsubdiv::runtime::generators::{
     creased_cube, cube, grid_with_hole, open_grid, polygon_prism, star, torus, tube,
 };
@@ -30,7 +30,16 @@ pub const MAX_PRISM_SIDES: usize = 10_000;
 /// 9 × 9 grid whose centre face is a hole); `creased-cube` (every edge sharp)) or an OBJ or
 /// PLY file read under `--max-memory max` ([`crate::limits::read_mesh`]), with its
 /// topology.
-pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
+pub fn mesh(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Error> {
+    let mut read = built(spec, max, boundary)?;
+    if let Some(b) = boundary {
+        read.features.boundary = b;
+    }
+    Ok(read)
+}
+
+/// [`mesh`] before its boundary rule is set (a file's is set while reading).
+fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Error> {
     let parts: Vec<&str> = spec.split(':').collect();
     let featured = |(mesh, features)| checked(spec, mesh, false, features);
     let built = match parts.as_slice() {
@@ -72,11 +81,11 @@ pub fn mesh(spec: &str, max: u64) -> Result<Checked, Error> {
                     ))
                 })?;
             // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
-            let split = catmull_clark(&polygon_prism(n))
+            let split = catmull_clark(&polygon_prism(n), &Features::default())
                 .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
             return checked(spec, split.mesh, true, Features::default());
         }
-        _ => return crate::limits::read_mesh(std::path::Path::new(spec), max),
+        _ => return crate::limits::read_mesh(std::path::Path::new(spec), max, boundary),
     };
     checked(spec, built, false, Features::default())
 }

@@ -244,13 +244,21 @@ pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path,
 /// [`lsubdiv::mesh_file::Format::of`]) by [`read_input`]; a PLY file, once read, is refused
 /// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
 /// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
-pub fn read_mesh(path: &std::path::Path, max: u64) -> Result<Checked, Error> {
+pub fn read_mesh(
+    path: &std::path::Path,
+    max: u64,
+    boundary: Option<lsubdiv::runtime::features::Boundary>,
+) -> Result<Checked, Error> {
     let (path, bytes) = read_input(path, max)?;
     let name = path.display().to_string();
     if lsubdiv::mesh_file::Format::of(&name, &bytes) == lsubdiv::mesh_file::Format::Ply {
         holding(path, bytes.len() as u64, PLY_HELD_PER_BYTE, max)?;
     }
-    let parsed = lsubdiv::mesh_file::read_faces(&name, bytes)?;
+    let mut parsed = lsubdiv::mesh_file::read_faces(&name, bytes)?;
+    // The rule holds from the first step on (a Catmull–Clark step of a polygon mesh too).
+    if let Some(b) = boundary {
+        parsed.features.boundary = b;
+    }
     if !parsed.mesh.all_quads() {
         // The Catmull–Clark split holds, per corner, a quad (16 bytes), its face (4) and half
         // an edge point (12), per face a face point (24), with its topology (the refiner's

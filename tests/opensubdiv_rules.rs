@@ -133,3 +133,38 @@ fn a_cube_with_every_edge_sharp() {
     let (mesh, features) = creased_cube();
     agrees("creased cube", &mesh, &features, 3);
 }
+
+/// The first step of a mesh with triangles and pentagons is one Catmull–Clark step with
+/// OpenSubdiv's boundary rules (`runtime::polygon`), in both boundary modes; later steps
+/// are the scheme's.
+#[test]
+fn the_first_step_of_triangles_and_pentagons() {
+    use lsubdiv::runtime::generators::{pentagon_star, pentagonal_pyramid};
+    use lsubdiv::runtime::polygon::catmull_clark;
+    for mode in [Boundary::EdgeAndCorner, Boundary::EdgeOnly] {
+        let features = Features::with_boundary(mode);
+        for (what, poly) in [("star", pentagon_star()), ("pyramid", pentagonal_pyramid())] {
+            let split = catmull_clark(&poly, &features).unwrap();
+            let polygons: Vec<Vec<u32>> = poly.faces().map(<[u32]>::to_vec).collect();
+            let (theirs, _) =
+                catmull_clark_features_steps(&poly.positions, &polygons, &features, 1);
+            let worst = matched_distance(&split.mesh.positions, &theirs.positions);
+            assert_eq!(
+                split.mesh.faces.len(),
+                theirs.faces.len(),
+                "{what} {mode:?}"
+            );
+            assert!(worst < 1e-12, "{what} {mode:?}: off by {worst:e}");
+            // The scheme takes the later steps on the split, its features carried.
+            let topo = Topology::build(&split.mesh).unwrap();
+            let s = uniform_binary();
+            let fine: QuadMesh =
+                subdivide_with(&s, &split.mesh, &topo, &split.features, 2, 1).unwrap();
+            assert_eq!(
+                fine.faces.len(),
+                16 * split.mesh.faces.len(),
+                "{what} {mode:?}"
+            );
+        }
+    }
+}

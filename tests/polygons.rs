@@ -6,6 +6,7 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr, write};
+use lsubdiv::runtime::features::Features;
 use lsubdiv::runtime::generators::{cube, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
@@ -81,7 +82,7 @@ fn the_split_is_the_reference_catmull_clark_step() {
         ("cube", quads(cube())),
         ("torus", quads(torus(5, 7))),
     ] {
-        let ours = catmull_clark(&poly(&p, &faces)).unwrap();
+        let ours = catmull_clark(&poly(&p, &faces), &Features::default()).unwrap();
         let reference = catmull_clark_polygons(&p, &faces);
         assert_eq!(ours.mesh.faces, reference.faces, "{name}");
         assert_eq!(bits(&ours.mesh), bits(&reference), "{name}");
@@ -219,7 +220,7 @@ fn the_built_in_prisms_have_polygon_caps_split_first() {
     for n in [3, 5, 7] {
         let m = lsubdiv::runtime::generators::polygon_prism(n);
         let faces: Vec<Vec<u32>> = m.faces().map(<[u32]>::to_vec).collect();
-        let input = lsubdiv_cli::bench::mesh(&format!("prism:{n}"), u64::MAX).unwrap();
+        let input = lsubdiv_cli::bench::mesh(&format!("prism:{n}"), u64::MAX, None).unwrap();
         assert!(input.split);
         let reference = catmull_clark_polygons(&m.positions, &faces);
         assert_eq!(input.mesh.faces, reference.faces, "prism:{n}");

@@ -54,6 +54,7 @@ pub use mesh_file::read as read_mesh;
 pub mod generic;
 pub mod mesh_file;
 pub mod obj;
+pub mod obj_tags;
 pub mod ply;
 pub mod points;
 

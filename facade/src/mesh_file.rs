@@ -1,12 +1,13 @@
 //! Mesh files as every command reads them: one entry point ([`read`], [`parse`]) that takes OBJ
 //! or PLY by content, the topology check shared by both formats, and the places (lines, or
-//! elements and byte offsets of a binary PLY) where each vertex and face was read, so that the
-//! topology's errors — face k, vertex v, edge a–b — are placed in the file.
+//! elements and byte offsets of a binary PLY) where each vertex, face and sharp-feature tag was
+//! read, so that the topology's errors — face k, vertex v, edge a–b — and the features' are
+//! placed in the file.
 
 use lsubdiv_compiler::{Error, Location};
-use lsubdiv_runtime::features::Features;
+use lsubdiv_runtime::features::{FeatureError, FeatureList, Features};
 use lsubdiv_runtime::mesh::QuadMesh;
-use lsubdiv_runtime::polygon::{catmull_clark, PolyMesh};
+use lsubdiv_runtime::polygon::{catmull_clark, check_features, PolyMesh, SplitError};
 use lsubdiv_runtime::topology::{Topology, TopologyError};
 use std::path::Path;
 
@@ -19,9 +20,10 @@ pub enum Unit {
     Byte,
 }
 
-/// Where each vertex and face of a file was read: vertex i at `vertices[i]`, face k at
-/// `faces[k]`, in lines or byte offsets ([`Unit`]); `first` is the number the file gives its
-/// first vertex (1 in OBJ, 0 in PLY), so that messages number vertices as the file does.
+/// Where each vertex, face and feature of a file was read: vertex i at `vertices[i]`, face k at
+/// `faces[k]`, in lines or byte offsets ([`Unit`]), the features at the lines of their tags;
+/// `first` is the number the file gives its first vertex (1 in OBJ, 0 in PLY), so that messages
+/// number vertices as the file does.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Places {
     /// Lines or byte offsets.
@@ -32,24 +34,46 @@ pub struct Places {
     pub vertices: Vec<usize>,
     /// Place of each face.
     pub faces: Vec<usize>,
+    /// Lines of the tags of the features.
+    pub features: FeatureLines,
 }
 
-/// What a reader parsed: the mesh (connectivity not checked), where each of its vertices and
-/// faces was read, and warnings about what it skipped.
+/// The line of the tag of each entry of a file's [`Features`]: crease k read at line
+/// `creases[k]`, and so on; `boundary` is the line of the tag that set the boundary rule, if
+/// the file has one (OBJ's `t interpolateboundary`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FeatureLines {
+    /// Line of each crease.
+    pub creases: Vec<usize>,
+    /// Line of each corner.
+    pub corners: Vec<usize>,
+    /// Line of each hole.
+    pub holes: Vec<usize>,
+    /// Line of the boundary rule.
+    pub boundary: Option<usize>,
+}
+
+/// What a reader parsed: the mesh and its sharp features (neither checked against the other),
+/// where each of its vertices, faces and features was read, and warnings about what it skipped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parsed {
     /// The mesh as written: triangles, quads, n-gons.
     pub mesh: PolyMesh,
-    /// Where each vertex and face was read.
+    /// Where each vertex, face and feature was read.
     pub places: Places,
+    /// Creases, corners and holes (OBJ tags; none in PLY) and the boundary rule (the file's,
+    /// or the default; a caller may set it before [`Parsed::check`], which applies it in the
+    /// first step of a mesh that is not all quads).
+    pub features: Features,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
 }
 
-/// A mesh ready to refine: read by [`read`] or [`parse`], a closed 2-manifold with valences
-/// ≥ 3, with its topology (build it once, pass it along) and the reader's warnings. A file with
-/// faces that are not quads is taken one Catmull–Clark step ([`lsubdiv_runtime::polygon`]), the
-/// first step of its refinement ([`Checked::split`]).
+/// A mesh ready to refine: read by [`read`] or [`parse`], a 2-manifold the topology accepts,
+/// with its topology (build it once, pass it along), its features and the reader's warnings. A
+/// file with faces that are not quads is taken one Catmull–Clark step
+/// ([`lsubdiv_runtime::polygon`], boundaries and features included), the first step of its
+/// refinement ([`Checked::split`]).
 #[derive(Clone, Debug)]
 pub struct Checked {
     /// The quad mesh: the file's, or its Catmull–Clark step when it has other faces.
@@ -59,7 +83,8 @@ pub struct Checked {
     pub split: bool,
     /// Its connectivity.
     pub topology: Topology,
-    /// Its sharp features and boundary rule.
+    /// Its features, named by the vertices and faces of `mesh`: the file's, or their image
+    /// after the first step ([`lsubdiv_runtime::polygon::Split::features`]).
     pub features: Features,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
@@ -97,6 +122,60 @@ impl Places {
             first,
             vertices: Vec::new(),
             faces: Vec::new(),
+            features: FeatureLines::default(),
+        }
+    }
+
+    /// The feature error `e` of the mesh read from `file` as a diagnostic at the line of the
+    /// tag of the feature it names (tags number vertices and faces from 0, as OpenSubdiv
+    /// writes them, and messages quote them so).
+    pub fn locate_feature(&self, file: &str, e: &FeatureError) -> Error {
+        let lines = |list| match list {
+            FeatureList::Creases => &self.features.creases,
+            FeatureList::Corners => &self.features.corners,
+            FeatureList::Holes => &self.features.holes,
+        };
+        let (list, k, message) = match *e {
+            FeatureError::NoSuchEdge { crease, edge } => (
+                FeatureList::Creases,
+                crease,
+                format!(
+                    "crease {}–{}: no such edge (the vertices are not joined by an edge of a face; tags count vertices from 0)",
+                    edge[0], edge[1]
+                ),
+            ),
+            FeatureError::NoSuchVertex {
+                corner,
+                vertex,
+                vertices,
+            } => (
+                FeatureList::Corners,
+                corner,
+                format!(
+                    "corner vertex {vertex} out of range (tags count vertices from 0; the file has {})",
+                    counted(vertices, "vertex", "vertices")
+                ),
+            ),
+            FeatureError::NoSuchFace { hole, face, faces } => (
+                FeatureList::Holes,
+                hole,
+                format!(
+                    "hole face {face} out of range (tags count faces from 0; the file has {})",
+                    counted(faces, "face", "faces")
+                ),
+            ),
+            FeatureError::Repeated { list, first, second } => (
+                list,
+                second,
+                match lines(list).get(first) {
+                    Some(l) => format!("tagged twice: also at line {l}"),
+                    None => e.to_string(),
+                },
+            ),
+        };
+        match lines(list).get(k) {
+            Some(&l) => Error::at(Location::line(file, l), message),
+            None => Error::at(Location::whole(file), e.to_string()),
         }
     }
 
@@ -195,36 +274,42 @@ impl Places {
 }
 
 impl Parsed {
-    /// Builds the topology of the parsed mesh and checks it (closed 2-manifold, valences ≥ 3),
-    /// its errors placed in `file`; a mesh with faces that are not quads is first taken one
-    /// Catmull–Clark step, and errors found after it name the file's faces.
+    /// Builds the topology of the parsed mesh and checks it and its features (every crease an
+    /// edge, every corner a vertex, every hole a face), its errors placed in `file`; a mesh with
+    /// faces that are not quads is first taken one Catmull–Clark step with its boundaries and
+    /// features ([`catmull_clark`]), and errors found after it name the file's faces.
     pub fn check(self, file: &str) -> Result<Checked, Error> {
         let Parsed {
             mesh,
             places,
+            features,
             warnings,
         } = self;
-        let (quads, face_of) = match mesh.into_quads() {
-            Ok(q) => (q, None),
+        let topology_of =
+            |q: &QuadMesh| Topology::build(q).and_then(|t| t.check_valences().map(|()| t));
+        let (quads, features, topology, split) = match mesh.into_quads() {
+            Ok(q) => {
+                let faces = q.faces.iter().map(|f| &f[..]);
+                check_features(q.positions.len(), faces, &features)
+                    .map_err(|e| places.locate_feature(file, &e))?;
+                let topology = topology_of(&q).map_err(|e| places.locate(file, &e))?;
+                (q, features, topology, false)
+            }
             Err(mesh) => {
-                let s = catmull_clark(&mesh).map_err(|e| places.locate(file, &e))?;
-                (s.mesh, Some(s.face_of))
+                let s = catmull_clark(&mesh, &features).map_err(|e| match e {
+                    SplitError::Topology(e) => places.locate(file, &e),
+                    SplitError::Feature(e) => places.locate_feature(file, &e),
+                })?;
+                let topology =
+                    topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
+                (s.mesh, s.features, topology, true)
             }
         };
-        let topology = Topology::build(&quads)
-            .and_then(|t| t.check_valences().map(|()| t))
-            .map_err(|e| {
-                let e = match &face_of {
-                    Some(f) => e.in_faces(f),
-                    None => e,
-                };
-                places.locate(file, &e)
-            })?;
         Ok(Checked {
             mesh: quads,
-            split: face_of.is_some(),
+            split,
             topology,
-            features: Features::default(),
+            features,
             warnings,
         })
     }

@@ -1,8 +1,11 @@
-//! OBJ files of closed quad meshes: reading with every problem placed at its line (the reader
-//! keeps the line of each `v` and `f` it parsed, so the topology's errors — face k, vertex v,
-//! edge a–b — are placed there too, vertices numbered as in the file), and writing.
+//! OBJ files of polygon meshes: reading with every problem placed at its line (the reader
+//! keeps the line of each `v`, `f` and sharp-feature tag `t` it parsed, so the topology's and
+//! the features' errors — face k, vertex v, edge a–b, crease a–b — are placed there too,
+//! vertices numbered as in the file), and writing quad meshes. The tags are OpenSubdiv's
+//! ([`crate::obj_tags`]).
 
 use crate::mesh_file::{counted, shorten, too_few_corners, Parsed, Places, Unit};
+use crate::obj_tags::Tags;
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::PolyMesh;
@@ -11,7 +14,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// A token of a logical line and the physical line it is on.
-type Token<'a> = (&'a str, usize);
+pub(crate) type Token<'a> = (&'a str, usize);
 
 /// Calls `f(line, tokens)` for each logical line of `text` that has tokens: `line` is its first
 /// physical line, `tokens` its tokens with the physical line of each, comments (`#` to the end
@@ -88,17 +91,18 @@ const KNOWN_SKIPPED: &[&str] = &[
     "csh",
 ];
 
-/// Distinct unknown directives reported one by one; further ones are pooled into one warning.
+/// Distinct unknown directives and tags reported one by one; further ones are pooled into one
+/// warning.
 const MAX_UNKNOWN_KINDS: usize = 16;
 
 #[derive(Clone, Debug, PartialEq, Eq)]
 enum SkipKind {
     Known(&'static str),
     Unknown(String),
+    /// A `t` line whose tag lsubdiv does not read.
+    UnknownTag(String),
     OtherUnknown,
     VertexColours,
-    /// OpenSubdiv's sharp-feature tags (`t crease`, `t corner`, `t hole`).
-    Tags,
 }
 
 /// Skipped lines, one entry per kind, in order of first appearance.
@@ -118,24 +122,20 @@ impl Skipped {
     }
 
     fn note_directive(&mut self, d: &str, line: usize) {
-        if d == "t" {
-            self.note_kind(SkipKind::Tags, line);
-            return;
+        match KNOWN_SKIPPED.iter().find(|&&k| k == d) {
+            Some(&known) => self.note_kind(SkipKind::Known(known), line),
+            None => self.note_unknown(SkipKind::Unknown(shorten(d)), line),
         }
-        if let Some(&known) = KNOWN_SKIPPED.iter().find(|&&k| k == d) {
-            self.note_kind(SkipKind::Known(known), line);
-            return;
-        }
-        let name = shorten(d);
-        let seen = self
-            .entries
-            .iter()
-            .any(|e| matches!(&e.0, SkipKind::Unknown(n) if *n == name));
+    }
+
+    /// Notes an unknown directive or tag, pooled once [`MAX_UNKNOWN_KINDS`] kinds are seen.
+    fn note_unknown(&mut self, kind: SkipKind, line: usize) {
+        let seen = self.entries.iter().any(|e| e.0 == kind);
         if seen || self.unknown_kinds < MAX_UNKNOWN_KINDS {
             if !seen {
                 self.unknown_kinds += 1;
             }
-            self.note_kind(SkipKind::Unknown(name), line);
+            self.note_kind(kind, line);
         } else {
             self.note_kind(SkipKind::OtherUnknown, line);
         }
@@ -156,15 +156,15 @@ impl Skipped {
                     SkipKind::Unknown(d) => {
                         format!("skipped {count} {noun} with unknown directive `{d}` {at}")
                     }
+                    SkipKind::UnknownTag(t) => {
+                        format!("skipped {count} {noun} with unknown tag `t {t}` {at}")
+                    }
                     SkipKind::OtherUnknown => {
-                        format!("skipped {count} {noun} with other unknown directives {at}")
+                        format!("skipped {count} {noun} with other unknown directives or tags {at}")
                     }
                     SkipKind::VertexColours => {
                         format!("ignored vertex colours on {count} `v` {noun} {at}")
                     }
-                    SkipKind::Tags => format!(
-                        "ignored {count} sharp-feature tag {noun} (`t crease`, `t corner`, `t hole`) {at}: creases, corners and holes are not refined yet, so the surface is smooth across them"
-                    ),
                 }
             })
             .collect()
@@ -203,7 +203,7 @@ fn parse_vertex(tokens: &[Token<'_>]) -> Result<([f64; 3], bool), (Option<usize>
 }
 
 /// `[+-]?[0-9]+`
-fn is_integer(s: &str) -> bool {
+pub(crate) fn is_integer(s: &str) -> bool {
     let digits = s.strip_prefix(['+', '-']).unwrap_or(s);
     !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
 }
@@ -255,7 +255,9 @@ fn parse_corner(tok: &str, before: usize, total: usize) -> Result<u32, String> {
 /// Parses OBJ text (`file` names it in errors): `v x y z [w]` (w ignored; `v x y z r g b`
 /// with vertex colours is accepted with a warning), `f a b c d` where each corner may be `i`,
 /// `i/t`, `i//n`, `i/t/n`, with negative (relative) indices supported; texture and normal
-/// indices are ignored. A line ending in `\` continues on the next.
+/// indices are ignored. A line ending in `\` continues on the next. OpenSubdiv's sharp-feature
+/// tags (`t crease`, `t corner`, `t hole`, `t interpolateboundary`) are read into
+/// [`Parsed::features`] ([`crate::obj_tags`]); other tags are skipped with a warning.
 ///
 /// Lines it does not need (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, other OBJ
 /// directives, unknown directives, comments, blank lines) are skipped with one warning per kind
@@ -271,6 +273,7 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
     let mut mesh = PolyMesh::new();
     let mut places = Places::new(Unit::Line, 1);
     let mut skipped = Skipped::default();
+    let mut tags = Tags::default();
     for_each_line(text, |line, tokens| {
         let at = |l: usize, message: String| Error::at(Location::line(file, l), message);
         let (d, values) = (tokens[0].0, &tokens[1..]);
@@ -297,6 +300,11 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
                 mesh.push_face(&face);
                 places.faces.push(line);
             }
+            "t" => match tags.read(line, values) {
+                Ok(Some(tag)) => skipped.note_unknown(SkipKind::UnknownTag(shorten(tag)), line),
+                Ok(None) => {}
+                Err((l, m)) => return Err(at(l, m)),
+            },
             _ => skipped.note_directive(d, line),
         }
         Ok(())
@@ -304,9 +312,11 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
     if mesh.face_count() == 0 {
         return Err(places.locate(file, &TopologyError::NoFaces));
     }
+    places.features = tags.lines;
     Ok(Parsed {
         mesh,
         places,
+        features: tags.features,
         warnings: skipped.warnings(),
     })
 }
@@ -504,14 +514,24 @@ mod tests {
                 "skipped 2 lines with unknown directive `foo` (first at line 15)",
             ]
         );
-        // OpenSubdiv's sharp-feature tags are named, and what ignoring them means said.
-        let (_, w) = parse_obj(&format!(
-            "{SQUARE_V}f 1 2 3 4\nt crease 2/1/0 0 1 10\nt corner 1/1/0 0 5\n"
-        ))
+        // OpenSubdiv's sharp-feature tags are read, without a warning; other tags are skipped
+        // with one warning per tag.
+        let p = parse(
+            "t.obj",
+            &format!(
+                "{SQUARE_V}f 1 2 3 4\nt crease 2/1/0 0 1 10\nt creasemethod 0/0/1 chaikin\n\
+                 t corner 1/1/0 0 5\nt smoothtriangles 0/0/1 smooth\nt creasemethod 0/0/1 normal\n"
+            ),
+        )
         .unwrap();
+        assert_eq!(p.features.creases.len(), 1);
+        assert_eq!(p.features.corners.len(), 1);
         assert_eq!(
-            w,
-            vec!["ignored 2 sharp-feature tag lines (`t crease`, `t corner`, `t hole`) (first at line 6): creases, corners and holes are not refined yet, so the surface is smooth across them"]
+            p.warnings,
+            vec![
+                "skipped 2 lines with unknown tag `t creasemethod` (first at line 7)",
+                "skipped 1 line with unknown tag `t smoothtriangles` (line 9)",
+            ]
         );
     }
 
@@ -526,7 +546,7 @@ mod tests {
         assert_eq!(w.len(), MAX_UNKNOWN_KINDS + 1);
         assert_eq!(
             w.last().unwrap(),
-            "skipped 24 lines with other unknown directives (first at line 21)"
+            "skipped 24 lines with other unknown directives or tags (first at line 21)"
         );
     }
 

@@ -10,6 +10,7 @@
 
 use crate::mesh_file::{shorten, too_few_corners, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
+use lsubdiv_runtime::features::Features;
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::PolyMesh;
 use lsubdiv_runtime::topology::TopologyError;
@@ -854,6 +855,7 @@ fn body(
     Ok(Parsed {
         mesh,
         places,
+        features: Features::default(),
         warnings,
     })
 }

@@ -128,44 +128,89 @@ impl Features {
     }
 }
 
-/// A feature that names something the mesh does not have.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// Which list of [`Features`] an entry is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeatureList {
+    /// [`Features::creases`].
+    Creases,
+    /// [`Features::corners`].
+    Corners,
+    /// [`Features::holes`].
+    Holes,
+}
+
+/// A sharp feature that does not fit its mesh ([`Features::validate`]), named by its index in
+/// its list, so that a reader can place it at the tag it read it from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FeatureError {
-    /// A crease between two vertices that share no edge.
+    /// Crease `crease` joins two vertices that no face joins by an edge.
     NoSuchEdge {
-        /// Index of the crease in [`Features::creases`].
+        /// Index in [`Features::creases`].
         crease: usize,
-        /// Its endpoints.
+        /// Its endpoints, as listed.
         edge: [u32; 2],
     },
-    /// A corner at a vertex that does not exist.
+    /// Corner `corner` names a vertex the mesh does not have.
     NoSuchVertex {
-        /// Index of the corner in [`Features::corners`].
+        /// Index in [`Features::corners`].
         corner: usize,
         /// The vertex.
         vertex: u32,
+        /// Vertex count of the mesh.
+        vertices: usize,
     },
-    /// A hole at a face that does not exist.
+    /// Hole `hole` names a face the mesh does not have.
     NoSuchFace {
-        /// Index of the hole in [`Features::holes`].
+        /// Index in [`Features::holes`].
         hole: usize,
         /// The face.
         face: u32,
+        /// Face count of the mesh.
+        faces: usize,
+    },
+    /// Two entries of one list name the same edge (either order), vertex or face.
+    Repeated {
+        /// The list.
+        list: FeatureList,
+        /// The earlier entry.
+        first: usize,
+        /// The later entry.
+        second: usize,
     },
 }
 
 impl std::fmt::Display for FeatureError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            FeatureError::NoSuchEdge { edge, .. } => write!(
+        match *self {
+            FeatureError::NoSuchEdge { crease, edge } => write!(
                 f,
-                "crease {}–{}: the mesh has no edge between these vertices",
+                "crease {crease}: no such edge ({}, {}) in the mesh",
                 edge[0], edge[1]
             ),
-            FeatureError::NoSuchVertex { vertex, .. } => {
-                write!(f, "corner at vertex {vertex}: no such vertex")
+            FeatureError::NoSuchVertex {
+                corner,
+                vertex,
+                vertices,
+            } => write!(
+                f,
+                "corner {corner}: vertex {vertex} out of range (the mesh has {vertices} vertices)"
+            ),
+            FeatureError::NoSuchFace { hole, face, faces } => write!(
+                f,
+                "hole {hole}: face {face} out of range (the mesh has {faces} faces)"
+            ),
+            FeatureError::Repeated {
+                list,
+                first,
+                second,
+            } => {
+                let (what, thing) = match list {
+                    FeatureList::Creases => ("creases", "edge"),
+                    FeatureList::Corners => ("corners", "vertex"),
+                    FeatureList::Holes => ("holes", "face"),
+                };
+                write!(f, "{what} {first} and {second} name the same {thing}")
             }
-            FeatureError::NoSuchFace { face, .. } => write!(f, "hole at face {face}: no such face"),
         }
     }
 }
@@ -211,12 +256,16 @@ pub struct Resolved {
 }
 
 impl Resolved {
-    /// Resolves `features` against `topo`: errors name the crease, corner or hole that has no
-    /// edge, vertex or face in the mesh. A crease listed twice keeps its last sharpness.
+    /// Resolves `features` against `topo` ([`Features::validate`] first: errors name the
+    /// crease, corner or hole that has no edge, vertex or face in the mesh, or is listed
+    /// twice).
     pub fn new(
         topo: &crate::topology::Topology,
         features: &Features,
     ) -> Result<Resolved, FeatureError> {
+        features.validate(topo.vertex_count(), topo.face_count(), |[a, b]| {
+            topo.edge_between(a, b).is_some()
+        })?;
         let mut edge = vec![Sharpness::SMOOTH; topo.edge_count()];
         let mut vertex = vec![Sharpness::SMOOTH; topo.vertex_count()];
         let mut hole = vec![false; topo.face_count()];
@@ -227,27 +276,18 @@ impl Resolved {
                 }
             }
         }
-        for (i, &([a, b], s)) in features.creases.iter().enumerate() {
-            let e = topo.edge_between(a, b).ok_or(FeatureError::NoSuchEdge {
-                crease: i,
-                edge: [a, b],
-            })?;
-            if !edge[e as usize].is_infinite() {
-                edge[e as usize] = s;
+        for &([a, b], s) in &features.creases {
+            if let Some(e) = topo.edge_between(a, b) {
+                if !edge[e as usize].is_infinite() {
+                    edge[e as usize] = s;
+                }
             }
         }
-        for (i, &(v, s)) in features.corners.iter().enumerate() {
-            *vertex
-                .get_mut(v as usize)
-                .ok_or(FeatureError::NoSuchVertex {
-                    corner: i,
-                    vertex: v,
-                })? = s;
+        for &(v, s) in &features.corners {
+            vertex[v as usize] = s;
         }
-        for (i, &f) in features.holes.iter().enumerate() {
-            *hole
-                .get_mut(f as usize)
-                .ok_or(FeatureError::NoSuchFace { hole: i, face: f })? = true;
+        for &f in &features.holes {
+            hole[f as usize] = true;
         }
         let plain = topo.is_closed()
             && edge.iter().all(|s| !s.is_sharp())
@@ -399,4 +439,58 @@ pub(crate) fn spokes(topo: &crate::topology::Topology, v: u32) -> impl Iterator<
     rot.iter()
         .map(move |w| topo.edge_of(w.face, w.prev_local()))
         .chain(closing)
+}
+impl Features {
+    /// Checks the features against a mesh of `vertices` vertices and `faces` faces whose
+    /// edges are those for which `is_edge([lo, hi])` (endpoints smaller first) holds: every
+    /// crease is an edge, every corner a vertex, every hole a face, none listed twice.
+    pub fn validate(
+        &self,
+        vertices: usize,
+        faces: usize,
+        is_edge: impl Fn([u32; 2]) -> bool,
+    ) -> Result<(), FeatureError> {
+        let key = |[a, b]: [u32; 2]| [a.min(b), a.max(b)];
+        if let Some(crease) = self.creases.iter().position(|&(e, _)| !is_edge(key(e))) {
+            let edge = self.creases[crease].0;
+            return Err(FeatureError::NoSuchEdge { crease, edge });
+        }
+        if let Some(corner) = self
+            .corners
+            .iter()
+            .position(|&(v, _)| v as usize >= vertices)
+        {
+            let vertex = self.corners[corner].0;
+            return Err(FeatureError::NoSuchVertex {
+                corner,
+                vertex,
+                vertices,
+            });
+        }
+        if let Some(hole) = self.holes.iter().position(|&f| f as usize >= faces) {
+            let face = self.holes[hole];
+            return Err(FeatureError::NoSuchFace { hole, face, faces });
+        }
+        let repeated = |list, keys: &mut dyn Iterator<Item = [u32; 2]>| {
+            let mut seen = std::collections::HashMap::new();
+            keys.enumerate()
+                .try_for_each(|(second, k)| match seen.insert(k, second) {
+                    Some(first) => Err(FeatureError::Repeated {
+                        list,
+                        first,
+                        second,
+                    }),
+                    None => Ok(()),
+                })
+        };
+        repeated(
+            FeatureList::Creases,
+            &mut self.creases.iter().map(|&(e, _)| key(e)),
+        )?;
+        repeated(
+            FeatureList::Corners,
+            &mut self.corners.iter().map(|&(v, _)| [v, 0]),
+        )?;
+        repeated(FeatureList::Holes, &mut self.holes.iter().map(|&f| [f, 0]))
+    }
 }

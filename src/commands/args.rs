@@ -49,6 +49,23 @@ pub enum BoundaryArg {
     EdgeOnly,
 }
 
+/// `--boundary`, for the commands that read meshes.
+#[derive(clap::Args)]
+pub struct BoundaryArgs {
+    /// Boundary rule: boundary vertices with one face are interpolated corners
+    /// (`edge-and-corner`) or smooth (`edge-only`). Default: the file's `t
+    /// interpolateboundary` tag, else edge-and-corner.
+    #[arg(long, value_enum)]
+    pub boundary: Option<BoundaryArg>,
+}
+
+impl BoundaryArgs {
+    /// The rule asked for, if any.
+    pub fn rule(&self) -> Option<lsubdiv::runtime::features::Boundary> {
+        self.boundary.map(BoundaryArg::rule)
+    }
+}
+
 impl BoundaryArg {
     /// The runtime's boundary rule.
     pub fn rule(self) -> lsubdiv::runtime::features::Boundary {

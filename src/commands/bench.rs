@@ -1,6 +1,6 @@
 //! `lsubdiv bench`: times surface refinement ([`lsubdiv_cli::bench`]).
 
-use crate::commands::args::MemoryLimit;
+use crate::commands::args::{BoundaryArgs, MemoryLimit};
 use crate::commands::{build, load};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
@@ -32,6 +32,8 @@ pub struct BenchArgs {
     runs: usize,
     #[command(flatten)]
     limit: MemoryLimit,
+    #[command(flatten)]
+    boundary: BoundaryArgs,
 }
 
 /// One JSON line per configuration.
@@ -45,8 +47,9 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         f32,
         runs,
         limit,
+        boundary,
     } = a;
-    let input = bench::mesh(&mesh, limit.bytes())?;
+    let input = bench::mesh(&mesh, limit.bytes(), boundary.rule())?;
     let (topology, features) = (&input.topology, &input.features);
     let r = load(&scheme, None)?;
     let surface = GenericSurface::new(build(&r)?)?;

@@ -49,6 +49,8 @@ pub struct RenderArgs {
     #[arg(long, value_parser = crate::commands::args::thread_count)]
     threads: Option<usize>,
     #[command(flatten)]
+    boundary: crate::commands::args::BoundaryArgs,
+    #[command(flatten)]
     limit: MemoryLimit,
 }
 
@@ -103,7 +105,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     image_limit(0, 0)?;
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
-    let input = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes())?;
+    let input = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes(), a.boundary.rule())?;
     let (mesh, topology) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));

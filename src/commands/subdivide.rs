@@ -1,7 +1,7 @@
 //! `lsubdiv subdivide`: refines a polygon mesh (closed or open, creases, corners and holes from
 //! OBJ `t` tags) read from an OBJ or PLY file; the refining that `render` shares.
 
-use crate::commands::args::{BoundaryArg, RefineArgs};
+use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::Checked;
@@ -25,11 +25,8 @@ pub struct SubdivideArgs {
     /// Worker threads (the result does not depend on it); default: all cores.
     #[arg(long, value_parser = crate::commands::args::thread_count)]
     threads: Option<usize>,
-    /// Boundary rule: boundary vertices with one face are interpolated corners
-    /// (`edge-and-corner`) or smooth (`edge-only`). Default: the file's `t
-    /// interpolateboundary` tag, else edge-and-corner.
-    #[arg(long, value_enum)]
-    boundary: Option<BoundaryArg>,
+    #[command(flatten)]
+    boundary: BoundaryArgs,
 }
 
 /// The output formats of `subdivide`, by extension.
@@ -62,10 +59,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let mut mesh = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes())?;
-    if let Some(b) = boundary {
-        mesh.features.boundary = b.rule();
-    }
+    let mesh = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
