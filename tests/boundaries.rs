@@ -4,6 +4,8 @@
 //! (`runtime::ends`), and a tube's boundary loops are the closed-curve refinement of the
 //! boundary polygons.
 
+mod common;
+
 use lsubdiv::compiler::exact::symmetry::rule_mirror;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
@@ -332,6 +334,236 @@ fn boundary_loops_are_the_schemes_curves() {
                 boundaries_are_curves(name, &open_box(), steps);
                 boundaries_are_curves(name, &l_shape(), steps);
             }
+        }
+    }
+}
+
+mod cli {
+    //! The command line on open, creased and holed meshes: OBJ `t` tags and `--boundary`
+    //! reach the refiner, and what it cannot refine is refused with the reason.
+
+    use super::common::cli::{lsubdiv, stderr, write};
+    use lsubdiv::runtime::features::{Boundary, Features, Sharpness};
+    use lsubdiv::runtime::generators::open_grid;
+    use lsubdiv::runtime::patch::subdivide_with;
+    use lsubdiv::runtime::topology::Topology;
+
+    /// A 3 × 3 open grid as OBJ, with `tags` appended.
+    fn grid_obj(tags: &str) -> String {
+        let m = open_grid(3, 3);
+        let mut s = String::new();
+        for p in &m.positions {
+            s += &format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]);
+        }
+        for f in &m.faces {
+            s += &format!("f {} {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1, f[3] + 1);
+        }
+        s + tags
+    }
+
+    #[test]
+    fn tags_and_boundary_rule_reach_the_refiner() {
+        let dir = tempfile::tempdir().unwrap();
+        // A crease across the grid (vertices 4..7 on row 1), sharpness 2, and a hole.
+        let tags =
+            "t crease 2/1/0 4 5 2\nt crease 2/1/0 5 6 2\nt crease 2/1/0 6 7 2\nt hole 1/0/0 4\n";
+        let input = write(dir.path(), "grid.obj", &grid_obj(tags));
+        let out = dir.path().join("fine.obj");
+        let o = lsubdiv(&[
+            "subdivide",
+            "fibonacci",
+            "--steps",
+            "3",
+            "--boundary",
+            "edge-only",
+            &input,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let got = lsubdiv::read_mesh(&out, u64::MAX).unwrap().mesh;
+        let r = lsubdiv_cli::resolve("fibonacci").unwrap();
+        let s = lsubdiv::generic::GenericSurface::new(
+            lsubdiv::compiler::exact::Scheme::build(r.ls).unwrap(),
+        )
+        .unwrap();
+        let mesh = open_grid(3, 3);
+        let mut features = Features::with_boundary(Boundary::EdgeOnly);
+        for e in [[4, 5], [5, 6], [6, 7]] {
+            features.creases.push((e, Sharpness::steps(2)));
+        }
+        features.holes.push(4);
+        let topo = Topology::build(&mesh).unwrap();
+        let want: lsubdiv::runtime::mesh::QuadMesh =
+            subdivide_with(&s, &mesh, &topo, &features, 3, 1).unwrap();
+        assert_eq!(got.faces, want.faces);
+        let worst = got
+            .positions
+            .iter()
+            .flatten()
+            .zip(want.positions.iter().flatten())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        // The OBJ writer prints shortest round-trip decimals: the same numbers.
+        assert_eq!(worst, 0.0);
+        // Without the tags the result differs: they were not ignored.
+        let plain = write(dir.path(), "plain.obj", &grid_obj(""));
+        let out2 = dir.path().join("plain-fine.obj");
+        let o = lsubdiv(&[
+            "subdivide",
+            "fibonacci",
+            "--steps",
+            "3",
+            &plain,
+            "-o",
+            out2.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_ne!(lsubdiv::read_mesh(&out2, u64::MAX).unwrap().mesh, got);
+    }
+
+    #[test]
+    fn what_cannot_be_refined_is_refused_with_the_reason() {
+        let dir = tempfile::tempdir().unwrap();
+        // Binary-Ternary's first step is not contained near EVs ([G] Prop. 4.8): a boundary
+        // vertex with three faces needs the reference driver, which refines closed meshes.
+        let l = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\n\
+                 f 1 2 5 4\nf 2 3 6 5\nf 4 5 8 7\n";
+        let input = write(dir.path(), "l.obj", l);
+        let out = dir.path().join("out.obj");
+        let o = lsubdiv(&[
+            "subdivide",
+            "binary-ternary",
+            "--steps",
+            "2",
+            &input,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("need the reference driver"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!out.exists());
+        // A crease between vertices that share no edge names its line.
+        let input = write(dir.path(), "bad.obj", &grid_obj("t crease 2/1/0 0 5 inf\n"));
+        let o = lsubdiv(&[
+            "subdivide",
+            "fibonacci",
+            "--steps",
+            "1",
+            &input,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(stderr(&o).contains("bad.obj:26:"), "{}", stderr(&o));
+    }
+}
+
+/// Meshes with every kind of feature and their features: an open grid in both modes, an L
+/// with a boundary EV, a grid with a hole and a crease, a creased cube.
+fn featured() -> Vec<(&'static str, QuadMesh, Features)> {
+    use lsubdiv::runtime::generators::{creased_cube, grid_with_hole};
+    let (hole, mut crease) = grid_with_hole(3);
+    crease.creases.push(([4, 5], Sharpness::INFINITE));
+    crease.creases.push(([5, 6], Sharpness::steps(1)));
+    vec![
+        ("grid", grid(3, 3), Features::default()),
+        (
+            "grid edge-only",
+            grid(3, 3),
+            Features::with_boundary(Boundary::EdgeOnly),
+        ),
+        ("L", l_shape(), Features::default()),
+        ("hole and crease", hole, crease),
+        ("creased cube", creased_cube().0, creased_cube().1),
+    ]
+}
+
+use lsubdiv::runtime::features::{Boundary, Features, Sharpness};
+
+fn refine_with(s: &GenericSurface, mesh: &QuadMesh, f: &Features, steps: usize) -> QuadMesh {
+    let topo = Topology::build(mesh).unwrap();
+    lsubdiv::runtime::patch::subdivide_with(s, mesh, &topo, f, steps, 2).unwrap()
+}
+
+/// Every new point is an affine combination of the old ones (refining is affine invariant),
+/// with non-negative weights for these schemes, whose masks are non-negative: refined
+/// impulses (one old vertex at 1, the others at 0, three at a time in x, y, z) give each new
+/// point's weights, which sum to 1. Corners (boundary vertices with one face in
+/// edge-and-corner mode, vertices with three sharp edges) stay where they are, and a planar
+/// mesh stays planar.
+#[test]
+fn new_points_are_convex_combinations_and_corners_stay() {
+    for name in SCHEMES.into_iter().filter(|&n| n != "binary-ternary") {
+        let s = surface(name);
+        for (what, mesh, features) in featured() {
+            let steps = 2;
+            let nv = mesh.positions.len();
+            let fine = refine_with(&s, &mesh, &features, steps);
+            let mut sum = vec![0.0f64; fine.positions.len()];
+            for first in (0..nv).step_by(3) {
+                let mut impulse = mesh.clone();
+                for (v, p) in impulse.positions.iter_mut().enumerate() {
+                    *p = std::array::from_fn(|k| f64::from(u8::from(v == first + k)));
+                }
+                let w = refine_with(&s, &impulse, &features, steps);
+                for (i, p) in w.positions.iter().enumerate() {
+                    for (k, &x) in p.iter().enumerate() {
+                        if first + k < nv {
+                            assert!(
+                                x >= -1e-12,
+                                "{name} {what}: weight {x:e} of vertex {}",
+                                first + k
+                            );
+                            sum[i] += x;
+                        }
+                    }
+                }
+            }
+            for s in &sum {
+                assert!((s - 1.0).abs() < 1e-12, "{name} {what}: weights sum to {s}");
+            }
+            // Affine invariance: an affine map commutes with refining.
+            let map = |p: &[f64; 3]| {
+                [
+                    2.0 * p[0] - p[1] + 3.0,
+                    0.5 * p[1] + p[2] - 1.0,
+                    p[0] + 0.25 * p[2],
+                ]
+            };
+            let mut moved = mesh.clone();
+            moved.positions.iter_mut().for_each(|p| *p = map(p));
+            let fine_moved = refine_with(&s, &moved, &features, steps);
+            for (a, b) in fine_moved.positions.iter().zip(&fine.positions) {
+                let b = map(b);
+                assert!(
+                    (0..3).all(|k| (a[k] - b[k]).abs() < 1e-12),
+                    "{name} {what}: affine"
+                );
+            }
+            // Corners stay (base vertices keep their index; no holes drop one here).
+            let topo = Topology::build(&mesh).unwrap();
+            let r = lsubdiv::runtime::features::Resolved::new(&topo, &features).unwrap();
+            for v in 0..nv as u32 {
+                if r.vertex_rule(&topo, v, 0) == lsubdiv::runtime::features::VertexRule::Corner {
+                    assert_eq!(
+                        fine.positions[v as usize], mesh.positions[v as usize],
+                        "{name} {what}: corner {v}"
+                    );
+                }
+            }
+            // Planar input stays planar.
+            let mut flat = mesh.clone();
+            flat.positions.iter_mut().for_each(|p| p[2] = 0.0);
+            let fine_flat = refine_with(&s, &flat, &features, steps);
+            assert!(
+                fine_flat.positions.iter().all(|p| p[2].abs() < 1e-12),
+                "{name} {what}: planar"
+            );
         }
     }
 }

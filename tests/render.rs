@@ -224,7 +224,7 @@ fn ppm_output_and_bad_arguments() {
     let out = dir.path().join("x.png");
     let out = out.to_str().unwrap();
     let bad_obj = dir.path().join("bad.obj");
-    std::fs::write(&bad_obj, "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(&bad_obj, "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 2\n").unwrap();
     let bad_obj = bad_obj.to_str().unwrap();
     let jpg = dir.path().join("x.jpg");
     for (args, expected) in [
@@ -237,7 +237,7 @@ fn ppm_output_and_bad_arguments() {
         (vec!["missing.obj", "-o", out], "missing.obj: error:"),
         (
             vec![bad_obj, "-o", out],
-            "bad.obj:4: error: edge 1–2 of this face has no other face",
+            "bad.obj:4: error: the face lists vertex 2 twice",
         ),
         (vec!["cube", "-o", out, "--camera", "30"], "--camera `30`"),
         (

@@ -372,9 +372,10 @@ impl Resolved {
     }
 
     /// Whether v's child needs its vertex rule applied after a step k (its patches alone do
-    /// not give it): every configuration but a smooth interior vertex of valence 4 without
-    /// sharp edges, a crease whose two sectors have two faces each, and a corner whose
-    /// sectors have one face each.
+    /// not give it, or not exactly): every configuration but a smooth interior vertex of
+    /// valence 4 without sharp edges and a crease whose two sectors have two faces each. A
+    /// corner is always set, so that it stays exactly where it is (its patches would give it
+    /// up to rounding when its sectors have one face each).
     pub fn needs_rule(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> bool {
         let sharp = self.sharp_spokes(topo, v, k);
         let n = topo.valence(v);
@@ -382,7 +383,7 @@ impl Resolved {
         match self.vertex_rule(topo, v, k) {
             VertexRule::Smooth => sharp.contains(&true) || n != 4 || topo.is_boundary(v),
             VertexRule::Crease => !sectors_of(2),
-            VertexRule::Corner => !sectors_of(1),
+            VertexRule::Corner => true,
         }
     }
 

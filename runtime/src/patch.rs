@@ -310,6 +310,9 @@ struct Base<'t> {
     special: Vec<u32>,
     /// Per vertex: its faces are refined in lock-step (special, or its sharpness changes).
     lockstep: Vec<bool>,
+    /// Some face corner has no diagonal ring point at some step ([`CornerKind::Ev`]): the
+    /// depth-first steps need masks contained there (\[G\] Prop. 4.8).
+    needs_containment: bool,
 }
 
 impl<'t> Base<'t> {
@@ -347,12 +350,18 @@ impl<'t> Base<'t> {
                 lockstep[v as usize] = true;
             }
         }
+        let needs_containment = (0..topo.face_count() as u32).any(|f| {
+            (0..4).any(|c| {
+                (0..decided).any(|k| features.corner_kind(topo, f, c, k) == CornerKind::Ev)
+            })
+        });
         Ok(Base {
             topo,
             features,
             diagonal,
             special,
             lockstep,
+            needs_containment,
         })
     }
 
@@ -899,7 +908,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         // Depth-first steps start after the last step that cannot run that way: masks not yet
         // contained (with EVs), a ring that does not sustain itself, or N' = 1 with EVs.
         let special = !base.special.is_empty();
-        let mut first = if special {
+        let mut first = if base.needs_containment {
             st.contained_from.min(steps)
         } else {
             0
@@ -1429,7 +1438,7 @@ pub fn footprint(
             .count() as u128,
         None => f0,
     };
-    let first = if base.as_ref().is_some_and(|b| b.special.is_empty()) {
+    let first = if base.as_ref().is_some_and(|b| !b.needs_containment) {
         0
     } else {
         contained_from.min(steps)
