@@ -567,3 +567,29 @@ fn new_points_are_convex_combinations_and_corners_stay() {
         }
     }
 }
+
+/// The generated kernels and the generic path refine open, creased and holed meshes to the
+/// same bits.
+#[test]
+fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
+    use lsubdiv::runtime::patch::Subdivide;
+    use lsubdiv::runtime::surface::SurfaceVisitor;
+    for name in ["uniform-binary", "fibonacci", "found-cubic"] {
+        let s = surface(name);
+        for (what, mesh, features) in featured() {
+            let topo = Topology::build(&mesh).unwrap();
+            let job = Subdivide {
+                mesh: &mesh,
+                topology: &topo,
+                features: &features,
+                steps: 3,
+                threads: 2,
+            };
+            let generated = lsubdiv::generated::visit_surface(name, job)
+                .expect("a generated surface scheme")
+                .unwrap();
+            let generic = job.visit(&s).unwrap();
+            assert_eq!(generated, generic, "{name} {what}");
+        }
+    }
+}
