@@ -1,4 +1,4 @@
-//! The mesh type of the runtime: a closed quad mesh, what the refiners read and write.
+//! The mesh type of the runtime: a quad mesh, closed or open, what the refiners read and write.
 //!
 //! Its connectivity is checked and indexed by [`crate::topology::Topology`]; files (OBJ, PLY)
 //! are read and written by the facade (`lsubdiv::obj`, `lsubdiv::ply`).

@@ -25,6 +25,18 @@
 //! masks are not yet contained (e.g. Binary-Ternary's first) or whose ring is not
 //! self-sustaining, run by the reference driver (`surface`) on the coarse mesh, lifted into the
 //! start numbering: one semantics for every path.
+//!
+//! **Boundaries and sharp features** ([`crate::features`], docs/real-meshes.md). Across an
+//! edge that is sharp at a step (every boundary edge) a face's ring is the face's own odd
+//! reflection, phantoms 2P − Q, and each corner's diagonal is set by its
+//! [`CornerKind`]; refining keeps phantoms phantoms, so faces whose corners are all regular
+//! run depth first with their phantoms set once. Faces at a vertex whose rule the patches do
+//! not give (interior EVs, darts, creases and corners in other sectors, every corner) or
+//! whose sharpness changes (semi-sharp creases) run in lock-step: after each step the vertex
+//! children are set by their rule and the rings refreshed from the neighbours' new patches and
+//! from the next step's phantoms. The reference driver refines closed meshes only: a mesh with
+//! features whose scheme needs it (masks not contained where a corner has no diagonal) is
+//! refused with that reason.
 
 use crate::curve::{rewrite, CurveTables};
 use crate::features::{CornerKind, Features, Resolved, VertexRule};
@@ -805,7 +817,7 @@ impl<T: Copy> SharedOut<T> {
     }
 }
 
-/// Refines one closed quad mesh topology again and again (new positions, same connectivity),
+/// Refines one quad mesh topology (closed or open, with its features) again and again (new positions, same connectivity),
 /// reusing every buffer: the analogue of OpenSubdiv's topology refiner + primvar refiner.
 pub struct Refiner<'s, S, T> {
     scheme: &'s S,
