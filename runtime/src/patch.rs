@@ -817,8 +817,9 @@ impl<T: Copy> SharedOut<T> {
     }
 }
 
-/// Refines one quad mesh topology (closed or open, with its features) again and again (new positions, same connectivity),
-/// reusing every buffer: the analogue of OpenSubdiv's topology refiner + primvar refiner.
+/// Refines one quad mesh topology (closed or open, with its features) again and again (new
+/// positions, same connectivity), reusing every buffer: the analogue of OpenSubdiv's topology
+/// refiner + primvar refiner.
 pub struct Refiner<'s, S, T> {
     scheme: &'s S,
     /// The base mesh's connectivity (positions come with each `refine`).
