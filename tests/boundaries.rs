@@ -568,8 +568,8 @@ fn new_points_are_convex_combinations_and_corners_stay() {
     }
 }
 
-/// The generated kernels and the generic path refine open, creased and holed meshes to the
-/// same bits.
+/// The generated kernels and the generic path, and any number of threads, refine open,
+/// creased and holed meshes to the same bits.
 #[test]
 fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
     use lsubdiv::runtime::patch::Subdivide;
@@ -590,6 +590,11 @@ fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
                 .unwrap();
             let generic = job.visit(&s).unwrap();
             assert_eq!(generated, generic, "{name} {what}");
+            // Threads never change a bit.
+            for threads in [1, 3] {
+                let other = Subdivide { threads, ..job }.visit(&s).unwrap();
+                assert_eq!(other, generic, "{name} {what}: {threads} threads");
+            }
         }
     }
 }
