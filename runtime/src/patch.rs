@@ -44,7 +44,7 @@ use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::real::{axpy_slab, Real};
 use crate::surface::{
-    refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme, SurfaceVisitor,
+    refine_ghosted, refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme, SurfaceVisitor,
 };
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
@@ -936,12 +936,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 first = s + 1;
             }
         }
-        // Those steps run by the reference driver, which refines closed meshes only.
-        if first > 0 && !plain {
+        // Those steps run by the reference driver, which refines closed meshes, and one step
+        // of an open mesh whose boundary is regular, extended by ghost faces ([`ghosted`]).
+        if first > 0 && !plain && !(first == 1 && ghostable(topo, features)) {
             return Err(SurfaceError::Unsupported(format!(
                 "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \
                  yet contained near its extraordinary, boundary or crease vertices, [G] \
-                 Prop. 4.8), which refines closed meshes without sharp features only",
+                 Prop. 4.8), which refines closed meshes, and for one step open meshes whose \
+                 boundary vertices have two faces each, without creases or corners",
                 first,
                 if first == 1 { "" } else { "s" },
                 t.name
@@ -1048,12 +1050,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &mut self.start,
             );
         } else {
-            let mesh = QuadMesh {
-                positions: positions.to_vec(),
-                faces: self.base.topo.faces().to_vec(),
+            let coarse = if self.base.topo.is_closed() {
+                let mesh = QuadMesh {
+                    positions: positions.to_vec(),
+                    faces: self.base.topo.faces().to_vec(),
+                };
+                let lm = LabelledMesh::with_axiom(&t, mesh)?;
+                refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?.0
+            } else {
+                // One step (checked in `with_features`) on the mesh with its ghost layers.
+                let lm = LabelledMesh::with_axiom(&t, ghosted(self.base.topo, positions))?;
+                refine_ghosted(self.scheme, &lm)?
             };
-            let lm = LabelledMesh::with_axiom(&t, mesh)?;
-            let (coarse, _) = refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?;
             lift(
                 &t,
                 &coarse.mesh.faces,
@@ -1626,6 +1634,49 @@ fn lift<T: Real>(
             let i = num.index(f as usize, x + dx, y + dy).0;
             data[i] = positions[v as usize].map(T::from_f64);
         }
+    }
+}
+
+/// Whether the reference driver can take a step of this open mesh with ghost faces
+/// ([`ghosted`]): nothing sharp but the boundary, every boundary vertex with two faces.
+fn ghostable(topo: &Topology, features: &Features) -> bool {
+    features.creases.iter().all(|&(_, s)| !s.is_sharp())
+        && features.corners.iter().all(|&(_, s)| !s.is_sharp())
+        && (0..topo.vertex_count() as u32).all(|v| !topo.is_boundary(v) || topo.valence(v) == 2)
+}
+
+/// The mesh extended past its boundary by two layers of ghost faces, for a step of the
+/// reference driver on an open mesh whose boundary vertices have two faces each: across each
+/// boundary edge a → b the quads (b, a, a₁, b₁) and (b₁, a₁, a₂, b₂), with a₁ = 2a − p (p the
+/// other end of a's interior edge: the odd reflection the patches use) and a₂ = 3a − 2p. The
+/// outer layer only makes the first one's vertices interior and ordinary: in a complete step
+/// (every patch's new ring has its parents in the old ring) its points reach no real new
+/// point, and the driver does not scatter them. Real vertices and faces keep their indices;
+/// the ghosts follow.
+fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> QuadMesh {
+    let mut out = positions.to_vec();
+    let mut ghost = vec![u32::MAX; topo.vertex_count()];
+    for a in (0..topo.vertex_count() as u32).filter(|&a| topo.is_boundary(a)) {
+        let w = topo.rotation(a)[0];
+        let [x, y] = topo.edge_vertices(topo.edge_of(w.face, w.next_local()));
+        let p = positions[if x == a { y } else { x } as usize];
+        let q = positions[a as usize];
+        ghost[a as usize] = out.len() as u32;
+        out.push(std::array::from_fn(|i| 2.0 * q[i] - p[i]));
+        out.push(std::array::from_fn(|i| 3.0 * q[i] - 2.0 * p[i]));
+    }
+    let mut faces = topo.faces().to_vec();
+    for f in 0..topo.face_count() as u32 {
+        for l in (0..4).filter(|&l| topo.is_boundary_edge(f, l)) {
+            let (a, b) = (topo.vertex(f, l), topo.vertex(f, (l + 1) % 4));
+            let (a1, b1) = (ghost[a as usize], ghost[b as usize]);
+            faces.push([b, a, a1, b1]);
+            faces.push([b1, a1, a1 + 1, b1 + 1]);
+        }
+    }
+    QuadMesh {
+        positions: out,
+        faces,
     }
 }
 

@@ -155,6 +155,28 @@ pub fn refine_surface_with<S: SurfaceScheme>(
     refine_from(scheme, mesh, Some(topo), steps)
 }
 
+/// One step of a mesh extended past its boundary by two layers of ghost faces (the patch
+/// driver's start level on an open mesh, `patch::ghosted`): the boundary vertices of the
+/// extended mesh (the outer ghosts) are not scattered, and only the new points of the real
+/// faces are meaningful.
+pub(crate) fn refine_ghosted<S: SurfaceScheme>(
+    scheme: &S,
+    mesh: &LabelledMesh,
+) -> Result<LabelledMesh, SurfaceError> {
+    let topo = Topology::build(&mesh.mesh)?;
+    let t = scheme.tables();
+    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+    let cx = Step {
+        t,
+        s: scheme.surface(),
+        lookup: &lookup,
+        lm: mesh,
+        topo: &topo,
+        ghosted: true,
+    };
+    Ok(cx.run()?.0)
+}
+
 fn refine_from<S: SurfaceScheme>(
     scheme: &S,
     mesh: &LabelledMesh,
@@ -181,6 +203,7 @@ fn refine_from<S: SurfaceScheme>(
             lookup: &lookup,
             lm: &cur,
             topo,
+            ghosted: false,
         };
         let (next, st) = cx.run()?;
         cur = next;
@@ -196,6 +219,8 @@ struct Step<'a> {
     lookup: &'a HashMap<&'a [u8], u32>,
     lm: &'a LabelledMesh,
     topo: &'a Topology,
+    /// The mesh is extended by ghost faces: its boundary vertices are not scattered.
+    ghosted: bool,
 }
 
 impl Step<'_> {
@@ -405,6 +430,9 @@ impl Step<'_> {
         let mut stats = StepStats::default();
         let mut ev_norm: Vec<(u32, f64)> = Vec::new();
         for v in 0..nv as u32 {
+            if self.ghosted && topo.is_boundary(v) {
+                continue;
+            }
             let n = topo.valence(v);
             let p = self.lm.mesh.positions[v as usize];
             let words = (0..n)
@@ -449,7 +477,7 @@ impl Step<'_> {
             stats.ev_children += 1;
         }
         for i in 0..total {
-            if !is_ev_child[i] && (sum[i] - 1.0).abs() > 1e-9 {
+            if !is_ev_child[i] && (sum[i] - 1.0).abs() > 1e-9 && sum[i] != 0.0 {
                 for c in &mut pos[i] {
                     *c /= sum[i];
                 }
