@@ -308,6 +308,18 @@ fn boundaries_are_curves(name: &str, mesh: &QuadMesh, steps: usize) {
     }
 }
 
+/// One pentagon split into five quads (a topological Catmull–Clark split): an interior EV of
+/// valence 5, five corners with one face and five boundary vertices with two.
+fn pentagon() -> QuadMesh {
+    let p: Vec<[f64; 3]> = (0..5)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 5.0;
+            [t.cos(), t.sin(), 0.2 * (2.0 * t).sin()]
+        })
+        .collect();
+    lsubdiv::runtime::generators::quad_split(&p, &[vec![0, 1, 2, 3, 4]])
+}
+
 /// The cube without its top face: a square rim of boundary vertices with two faces each
 /// (a closed boundary loop) and four interior EVs of valence 3.
 fn open_box() -> QuadMesh {
@@ -331,6 +343,7 @@ fn boundary_loops_are_the_schemes_curves() {
         for steps in 1..=3 {
             boundaries_are_curves(name, &grid(2, 3), steps);
             boundaries_are_curves(name, &open_box(), steps);
+            boundaries_are_curves(name, &pentagon(), steps);
             // Binary-Ternary's first step is not contained ([G] Prop. 4.8): the reference
             // driver takes it, on open meshes only where boundary vertices have two faces.
             if name != "binary-ternary" {
@@ -483,6 +496,7 @@ fn featured() -> Vec<(&'static str, QuadMesh, Features)> {
         ("hole and crease", hole, crease),
         ("creased cube", creased_cube().0, creased_cube().1),
         ("open box", open_box(), Features::default()),
+        ("pentagon", pentagon(), Features::default()),
     ]
 }
 

@@ -1062,6 +1062,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 let lm = LabelledMesh::with_axiom(&t, ghosted(self.base.topo, positions))?;
                 refine_ghosted(self.scheme, &lm)?
             };
+            let corner =
+                |v: u32| self.base.features.vertex_rule(self.base.topo, v, 0) == VertexRule::Corner;
             lift(
                 &t,
                 &coarse.mesh.faces,
@@ -1070,6 +1072,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &self.start_num,
                 &mut self.start,
             );
+            // Corners stay exactly (the ghosts' double reflection gives them up to rounding).
+            for v in (0..self.base.topo.vertex_count() as u32).filter(|&v| corner(v)) {
+                self.start[v as usize] = positions[v as usize].map(T::from_f64);
+            }
         }
         self.phase_seconds = Phases {
             start: clock.elapsed().as_secs_f64(),
@@ -1472,8 +1478,23 @@ pub fn footprint(
     };
     let input = v0 * 24 + f0 * 16 + f0 * 160;
     // The start level, and every face's start patch as u32 indices.
+    // An open mesh's reference step runs on it with its ghost layers ([`ghosted`]): two
+    // vertices and two faces per boundary vertex and edge, six and four more per corner.
+    let ghosts = if first > 0 && !topo.is_closed() {
+        let boundary = (0..topo.vertex_count() as u32)
+            .filter(|&v| topo.is_boundary(v))
+            .count() as u128;
+        let corners = (0..topo.vertex_count() as u32)
+            .filter(|&v| topo.is_boundary(v) && topo.valence(v) == 1)
+            .count() as u128;
+        let (gv, gf) = (2 * boundary + 6 * corners, 2 * boundary + 4 * corners);
+        output_counts(gv, 4 * gf, gf, n(first)).0
+    } else {
+        0
+    };
     let start = output_counts(v0, e0, f0, n(first))
         .0
+        .saturating_add(ghosts)
         .saturating_mul(point)
         .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
     // The fans' two levels (the last step writes straight to the output), and each worker's
@@ -1638,46 +1659,105 @@ fn lift<T: Real>(
 }
 
 /// Whether the reference driver can take a step of this open mesh with ghost faces
-/// ([`ghosted`]): nothing sharp but the boundary, every boundary vertex with two faces.
+/// ([`ghosted`]): nothing sharp but the boundary, every boundary vertex with two faces or an
+/// edge-and-corner corner (one face).
 fn ghostable(topo: &Topology, features: &Features) -> bool {
+    let corners = features.boundary == crate::features::Boundary::EdgeAndCorner;
     features.creases.iter().all(|&(_, s)| !s.is_sharp())
         && features.corners.iter().all(|&(_, s)| !s.is_sharp())
-        && (0..topo.vertex_count() as u32).all(|v| !topo.is_boundary(v) || topo.valence(v) == 2)
+        && (0..topo.vertex_count() as u32).all(|v| {
+            !topo.is_boundary(v) || topo.valence(v) == 2 || (corners && topo.valence(v) == 1)
+        })
 }
 
 /// The mesh extended past its boundary by two layers of ghost faces, for a step of the
-/// reference driver on an open mesh whose boundary vertices have two faces each: across each
-/// boundary edge a → b the quads (b, a, a₁, b₁) and (b₁, a₁, a₂, b₂), with a₁ = 2a − p (p the
-/// other end of a's interior edge: the odd reflection the patches use) and a₂ = 3a − 2p. The
-/// outer layer only makes the first one's vertices interior and ordinary: in a complete step
-/// (every patch's new ring has its parents in the old ring) its points reach no real new
-/// point, and the driver does not scatter them. Real vertices and faces keep their indices;
-/// the ghosts follow.
+/// reference driver on an open mesh whose boundary vertices have two faces, or one (a corner):
+/// across each boundary edge a → b of face (a, b, c, d) the quads (b, a, a₁, b₁) and
+/// (b₁, a₁, a₂, b₂), with a₁ = 2a − d, b₁ = 2b − c (the odd reflection the patches use; a
+/// vertex with two faces shares its ghosts between its two boundary edges) and a₂ = 3a − 2d;
+/// at a corner, the four quads of the diagonal quadrant, the first at the double reflection
+/// 4a − 2b − 2d + c. The outer layer only makes the first one's vertices interior and
+/// ordinary: in a complete step (every patch's new ring has its parents in the old ring) its
+/// points reach no real new point, and the driver does not scatter them. Real vertices and
+/// faces keep their indices; the ghosts follow.
 fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> QuadMesh {
     let mut out = positions.to_vec();
-    let mut ghost = vec![u32::MAX; topo.vertex_count()];
-    for a in (0..topo.vertex_count() as u32).filter(|&a| topo.is_boundary(a)) {
-        let w = topo.rotation(a)[0];
-        let [x, y] = topo.edge_vertices(topo.edge_of(w.face, w.next_local()));
-        let p = positions[if x == a { y } else { x } as usize];
-        let q = positions[a as usize];
-        ghost[a as usize] = out.len() as u32;
-        out.push(std::array::from_fn(|i| 2.0 * q[i] - p[i]));
-        out.push(std::array::from_fn(|i| 3.0 * q[i] - 2.0 * p[i]));
-    }
     let mut faces = topo.faces().to_vec();
+    let mut shared: HashMap<u32, u32> = HashMap::new();
+    // Per corner: its ghost across its outgoing boundary edge and across its incoming one.
+    let mut corners: HashMap<u32, [u32; 2]> = HashMap::new();
     for f in 0..topo.face_count() as u32 {
-        for l in (0..4).filter(|&l| topo.is_boundary_edge(f, l)) {
-            let (a, b) = (topo.vertex(f, l), topo.vertex(f, (l + 1) % 4));
-            let (a1, b1) = (ghost[a as usize], ghost[b as usize]);
+        for l in (0..4u8).filter(|&l| topo.is_boundary_edge(f, l)) {
+            let v = |k: u8| topo.vertex(f, (l + k) % 4);
+            let (a, b, c, d) = (v(0), v(1), v(2), v(3));
+            let a1 = ghost_pair(&mut out, &mut shared, topo, a, d);
+            let b1 = ghost_pair(&mut out, &mut shared, topo, b, c);
             faces.push([b, a, a1, b1]);
             faces.push([b1, a1, a1 + 1, b1 + 1]);
+            if topo.valence(a) == 1 {
+                corners.entry(a).or_insert([u32::MAX; 2])[0] = a1;
+            }
+            if topo.valence(b) == 1 {
+                corners.entry(b).or_insert([u32::MAX; 2])[1] = b1;
+            }
         }
+    }
+    let mut corners: Vec<(u32, [u32; 2])> = corners.into_iter().collect();
+    corners.sort_unstable();
+    for (a, [g_out, g_in]) in corners {
+        // The corner's face (a, b, c, d): g_out = 2a − d (across a → b), g_in = 2a − b.
+        let w = topo.rotation(a)[0];
+        let k = |i: u8| out[topo.vertex(w.face, (w.corner + i) % 4) as usize];
+        let (pa, pb, pc, pd) = (k(0), k(1), k(2), k(3));
+        let g = |i: u32| out[i as usize];
+        let d11: [f64; 3] =
+            std::array::from_fn(|i| 4.0 * pa[i] - 2.0 * pb[i] - 2.0 * pd[i] + pc[i]);
+        let (along_out, along_in) = (sub3(g(g_out + 1), g(g_out)), sub3(g(g_in + 1), g(g_in)));
+        let first = out.len() as u32;
+        let d21 = add3(d11, along_out);
+        out.extend([d11, d21, add3(d11, along_in), add3(d21, along_in)]);
+        let (d11, d21, d12, d22) = (first, first + 1, first + 2, first + 3);
+        faces.push([g_out, a, g_in, d11]);
+        faces.push([g_out + 1, g_out, d11, d21]);
+        faces.push([d11, g_in, g_in + 1, d12]);
+        faces.push([d21, d11, d12, d22]);
     }
     QuadMesh {
         positions: out,
         faces,
     }
+}
+
+/// The ghosts (a₁ = 2a − p, a₂ = 3a − 2p) of boundary vertex a across one of its boundary
+/// edges, p the other end of the face's other edge at a: appended to `out`, once per vertex
+/// with two faces (both its boundary edges reflect across the same line), once per edge at a
+/// corner. Returns a₁'s index (a₂ follows).
+fn ghost_pair(
+    out: &mut Vec<[f64; 3]>,
+    shared: &mut HashMap<u32, u32>,
+    topo: &Topology,
+    a: u32,
+    p: u32,
+) -> u32 {
+    if let Some(&g) = shared.get(&a) {
+        return g;
+    }
+    let (pa, pp) = (out[a as usize], out[p as usize]);
+    let g = out.len() as u32;
+    out.push(std::array::from_fn(|i| 2.0 * pa[i] - pp[i]));
+    out.push(std::array::from_fn(|i| 3.0 * pa[i] - 2.0 * pp[i]));
+    if topo.valence(a) != 1 {
+        shared.insert(a, g);
+    }
+    g
+}
+
+fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| a[i] + b[i])
+}
+
+fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| a[i] - b[i])
 }
 
 /// Copies a start patch (`table`: its indices into `start`, x-major with side m, `u32::MAX`
