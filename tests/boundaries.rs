@@ -497,6 +497,10 @@ fn featured() -> Vec<(&'static str, QuadMesh, Features)> {
         ("creased cube", creased_cube().0, creased_cube().1),
         ("open box", open_box(), Features::default()),
         ("pentagon", pentagon(), Features::default()),
+        {
+            let (m, f, _) = creased_hexagon_grid();
+            ("creased hexagon grid", m, f)
+        },
     ]
 }
 
@@ -623,6 +627,90 @@ fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
                 let other = Subdivide { threads, ..job }.visit(&s).unwrap();
                 assert_eq!(other, generic, "{name} {what}: {threads} threads");
             }
+        }
+    }
+}
+
+/// A 4 × 4 open grid whose faces (1, 1) and (1, 2) are one hexagon, with an infinitely sharp
+/// crease along grid row 3, taken one Catmull–Clark step: the split has EVs of valence 3 and 6
+/// (the hexagon) and a crease from boundary to boundary, ending in corners; returned with the
+/// crease's vertices in order along it.
+fn creased_hexagon_grid() -> (QuadMesh, Features, Vec<u32>) {
+    use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
+    let g = grid(4, 4);
+    let id = |i: u32, j: u32| i * 5 + j;
+    let mut poly = PolyMesh::new();
+    poly.positions = g.positions.clone();
+    for i in 0..4 {
+        for j in 0..4 {
+            match (i, j) {
+                (1, 1) => {
+                    poly.push_face(&[id(1, 1), id(1, 2), id(1, 3), id(2, 3), id(2, 2), id(2, 1)])
+                }
+                (1, 2) => {}
+                _ => poly.push_face(&[id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]),
+            }
+        }
+    }
+    let mut f = Features::default();
+    for j in 0..4 {
+        f.creases
+            .push(([id(3, j), id(3, j + 1)], Sharpness::INFINITE));
+    }
+    let split = catmull_clark(&poly, &f).unwrap();
+    // Along the crease: each input edge's point sits between its ends.
+    let mut line = vec![id(3, 0)];
+    for j in 0..4 {
+        let key = [id(3, j), id(3, j + 1)];
+        let e = split.edges.iter().position(|&k| k == key).unwrap() as u32;
+        line.extend([poly.positions.len() as u32 + e, id(3, j + 1)]);
+    }
+    (split.mesh, split.features, line)
+}
+
+/// A crease is refined as the scheme's curve between its corners (interpolated ends), on a
+/// mesh with EVs: for Binary-Ternary the reference driver takes the first step on the mesh cut
+/// open along the crease, with ghost layers on both sides.
+#[test]
+fn creases_are_the_schemes_curves_between_their_corners() {
+    let (mesh, features, line) = creased_hexagon_grid();
+    let topo = Topology::build(&mesh).unwrap();
+    let nv = mesh.positions.len();
+    for name in SCHEMES {
+        let s = surface(name);
+        let (mut c, sigma) = curve(name);
+        for steps in 1..=3 {
+            let fine = refine_with(&s, &mesh, &features, steps);
+            let n = s.tables().image_len(s.tables().axiom, steps) as usize;
+            // The refined points along each crease edge (numbered from its smaller vertex).
+            let mut walk = vec![line[0]];
+            for w in line.windows(2) {
+                let e = topo.edge_between(w[0], w[1]).unwrap() as usize;
+                let inner: Vec<u32> = (0..n - 1).map(|t| (nv + e * (n - 1) + t) as u32).collect();
+                if w[0] < w[1] {
+                    walk.extend(&inner);
+                } else {
+                    walk.extend(inner.iter().rev());
+                }
+                walk.push(w[1]);
+            }
+            let pts: Vec<[f64; 3]> = line.iter().map(|&v| mesh.positions[v as usize]).collect();
+            let piece = EndCurve::with_axiom(&c.tables(), pts);
+            let extended = piece.extended(&c.tables(), &sigma).unwrap();
+            c.prepare(&extended).unwrap();
+            let want = refine_ends(&c, &sigma, &piece, steps).unwrap();
+            assert_eq!(want.points.len(), walk.len());
+            let got = &fine.positions;
+            let worst = want
+                .points
+                .iter()
+                .zip(&walk)
+                .flat_map(|(w, &g)| (0..3).map(move |k| (w[k] - got[g as usize][k]).abs()))
+                .fold(0.0, f64::max);
+            assert!(
+                worst < 1e-12,
+                "{name} steps={steps}: crease off by {worst:e}"
+            );
         }
     }
 }

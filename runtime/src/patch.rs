@@ -835,6 +835,8 @@ pub struct Refiner<'s, S, T> {
     /// Per face, its start patch (ring included) as indices into the start level, in the
     /// gathered layout ([`load`]).
     start_gather: Vec<u32>,
+    /// The mesh cut along its sharp edges, when a reference step runs on a mesh with features.
+    cut: Option<Cut>,
 
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
@@ -937,13 +939,20 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             }
         }
         // Those steps run by the reference driver, which refines closed meshes, and one step
-        // of an open mesh whose boundary is regular, extended by ghost faces ([`ghosted`]).
-        if first > 0 && !plain && !(first == 1 && ghostable(topo, features)) {
+        // of a mesh with features cut open along its sharp edges and extended by ghost faces
+        // ([`Cut`], [`ghosted`]).
+        let cut = if first == 1 && !plain {
+            Cut::new(topo, &base.features)
+        } else {
+            None
+        };
+        if first > 0 && !plain && cut.is_none() {
             return Err(SurfaceError::Unsupported(format!(
                 "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \
                  yet contained near its extraordinary, boundary or crease vertices, [G] \
-                 Prop. 4.8), which refines closed meshes, and for one step open meshes whose \
-                 boundary vertices have two faces each, without creases or corners",
+                 Prop. 4.8), which refines closed meshes, and for one step meshes whose \
+                 boundary and crease vertices have sectors of two faces, or one at a corner \
+                 (not boundary EVs, darts or creases with other sectors)",
                 first,
                 if first == 1 { "" } else { "s" },
                 t.name
@@ -983,6 +992,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             start_num,
             out_num,
             start_gather,
+            cut,
             ordinary,
             fan_faces,
             fan_slot,
@@ -1050,17 +1060,23 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &mut self.start,
             );
         } else {
-            let coarse = if self.base.topo.is_closed() {
-                let mesh = QuadMesh {
-                    positions: positions.to_vec(),
-                    faces: self.base.topo.faces().to_vec(),
-                };
-                let lm = LabelledMesh::with_axiom(&t, mesh)?;
-                refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?.0
-            } else {
-                // One step (checked in `with_features`) on the mesh with its ghost layers.
-                let lm = LabelledMesh::with_axiom(&t, ghosted(self.base.topo, positions))?;
-                refine_ghosted(self.scheme, &lm)?
+            let coarse = match &self.cut {
+                None => {
+                    let mesh = QuadMesh {
+                        positions: positions.to_vec(),
+                        faces: self.base.topo.faces().to_vec(),
+                    };
+                    let lm = LabelledMesh::with_axiom(&t, mesh)?;
+                    refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?.0
+                }
+                // One step (checked in `with_features`) on the cut mesh with its ghost layers;
+                // the copies of a vertex come together again in the start numbering.
+                Some(cut) => {
+                    let at: Vec<[f64; 3]> =
+                        cut.source.iter().map(|&v| positions[v as usize]).collect();
+                    let lm = LabelledMesh::with_axiom(&t, ghosted(&cut.topo, &at))?;
+                    refine_ghosted(self.scheme, &lm)?
+                }
             };
             let corner =
                 |v: u32| self.base.features.vertex_rule(self.base.topo, v, 0) == VertexRule::Corner;
@@ -1480,17 +1496,23 @@ pub fn footprint(
     // The start level, and every face's start patch as u32 indices.
     // An open mesh's reference step runs on it with its ghost layers ([`ghosted`]): two
     // vertices and two faces per boundary vertex and edge, six and four more per corner.
-    let ghosts = if first > 0 && !topo.is_closed() {
-        let boundary = (0..topo.vertex_count() as u32)
-            .filter(|&v| topo.is_boundary(v))
-            .count() as u128;
-        let corners = (0..topo.vertex_count() as u32)
-            .filter(|&v| topo.is_boundary(v) && topo.valence(v) == 1)
-            .count() as u128;
-        let (gv, gf) = (2 * boundary + 6 * corners, 2 * boundary + 4 * corners);
-        output_counts(gv, 4 * gf, gf, n(first)).0
-    } else {
-        0
+    // A reference step on a mesh with features runs on it cut along its sharp edges, with its
+    // ghost layers ([`Cut`], [`ghosted`]): at most two ghost vertices and faces per side of
+    // each sharp edge, six and four more per corner sector.
+    let ghosts = match &base {
+        Some(b) if first > 0 && !b.features.is_plain() => {
+            let sharp = (0..topo.edge_count() as u32)
+                .filter(|&e| b.features.edge_sharp(e, 0))
+                .count() as u128;
+            let corners = (0..topo.vertex_count() as u32)
+                .filter(|&v| b.features.vertex_rule(topo, v, 0) == VertexRule::Corner)
+                .count() as u128;
+            // A corner has a quadrant of ghosts per sector: at most one per face.
+            let per_corner = corners.saturating_mul(4);
+            let (gv, gf) = (4 * sharp + 6 * per_corner, 4 * sharp + 4 * per_corner);
+            output_counts(gv, 4 * gf, gf, n(first)).0
+        }
+        _ => 0,
     };
     let start = output_counts(v0, e0, f0, n(first))
         .0
@@ -1658,16 +1680,62 @@ fn lift<T: Real>(
     }
 }
 
-/// Whether the reference driver can take a step of this open mesh with ghost faces
-/// ([`ghosted`]): nothing sharp but the boundary, every boundary vertex with two faces or an
-/// edge-and-corner corner (one face).
-fn ghostable(topo: &Topology, features: &Features) -> bool {
-    let corners = features.boundary == crate::features::Boundary::EdgeAndCorner;
-    features.creases.iter().all(|&(_, s)| !s.is_sharp())
-        && features.corners.iter().all(|&(_, s)| !s.is_sharp())
-        && (0..topo.vertex_count() as u32).all(|v| {
-            !topo.is_boundary(v) || topo.valence(v) == 2 || (corners && topo.valence(v) == 1)
-        })
+/// A mesh cut open along the edges sharp at its first step, for the reference driver's step
+/// with ghost faces ([`ghosted`]): each vertex gets one copy per sector (faces between sharp
+/// edges), so a crease is a boundary for both sides. `source[i]` is the vertex copy i came
+/// from; the faces are the mesh's, in order.
+struct Cut {
+    topo: Topology,
+    source: Vec<u32>,
+}
+
+impl Cut {
+    /// The cut of `topo`, if the reference step can run on it with ghosts: every boundary
+    /// vertex of the cut has two faces, or one and is a corner at step 0 (no dart, no boundary
+    /// EV, no crease whose sectors are not two faces; a corner in a sector of two faces is set
+    /// back to itself after the step).
+    fn new(topo: &Topology, features: &Resolved) -> Option<Cut> {
+        let mut faces = topo.faces().to_vec();
+        let mut source: Vec<u32> = (0..topo.vertex_count() as u32).collect();
+        for v in 0..topo.vertex_count() as u32 {
+            let sharp = features.sharp_spokes(topo, v, 0);
+            let interior = !topo.is_boundary(v);
+            if interior && sharp.iter().filter(|&&s| s).count() == 1 {
+                return None; // a dart: the cut would be a slit
+            }
+            // Wedge w lies between spokes w and w + 1; its sector is the number of sharp
+            // spokes up to it, less one (at a boundary vertex spoke 0 is the boundary; at an
+            // interior one the wedges before the first sharp spoke close the last sector).
+            let count = sharp.iter().filter(|&&s| s).count();
+            if count == 0 {
+                continue;
+            }
+            let first_copy = source.len() as u32;
+            let sectors = if interior { count } else { count - 1 };
+            source.extend(std::iter::repeat_n(v, sectors.saturating_sub(1)));
+            let mut seen = 0;
+            for (w, wedge) in topo.rotation(v).iter().enumerate() {
+                seen += usize::from(sharp[w]);
+                let sector = (seen + count - 1) % count;
+                if sector > 0 {
+                    faces[wedge.face as usize][wedge.corner as usize] =
+                        first_copy + sector as u32 - 1;
+                }
+            }
+        }
+        let mesh = QuadMesh {
+            positions: vec![[0.0f64; 3]; source.len()],
+            faces,
+        };
+        let cut = Topology::build(&mesh).ok()?;
+        let ok = (0..cut.vertex_count() as u32).all(|c| {
+            let v = source[c as usize];
+            !cut.is_boundary(c)
+                || cut.valence(c) == 2
+                || (cut.valence(c) == 1 && features.vertex_rule(topo, v, 0) == VertexRule::Corner)
+        });
+        ok.then_some(Cut { topo: cut, source })
+    }
 }
 
 /// The mesh extended past its boundary by two layers of ghost faces, for a step of the
