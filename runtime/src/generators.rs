@@ -287,18 +287,23 @@ pub fn grid_with_hole(n: usize) -> (QuadMesh, Features) {
 /// apex has valence 5, the base vertices 3.
 pub fn pentagonal_pyramid() -> PolyMesh {
     let mut m = PolyMesh::new();
-    m.positions = (0..5)
-        .map(|i| {
-            let a = TAU * i as f64 / 5.0;
-            [a.cos(), a.sin(), 0.0]
-        })
-        .collect();
+    m.positions = unit_pentagon();
     m.positions.push([0.0, 0.0, 1.2]);
     m.push_face(&[4, 3, 2, 1, 0]);
     for i in 0..5 {
         m.push_face(&[i, (i + 1) % 5, 5]);
     }
     m
+}
+
+/// The regular pentagon on the unit circle at z = 0, vertex i at angle 2πi/5.
+fn unit_pentagon() -> Vec<[f64; 3]> {
+    (0..5)
+        .map(|i| {
+            let a = TAU * i as f64 / 5.0;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect()
 }
 
 /// An open mesh of a pentagon and five triangles, one on each of its edges (a five-pointed
@@ -309,12 +314,7 @@ pub fn pentagonal_pyramid() -> PolyMesh {
 /// mode), the pentagon's vertices three faces and two boundary edges.
 pub fn pentagon_star() -> PolyMesh {
     let mut m = PolyMesh::new();
-    m.positions = (0..5)
-        .map(|i| {
-            let a = TAU * i as f64 / 5.0;
-            [a.cos(), a.sin(), 0.0]
-        })
-        .collect();
+    m.positions = unit_pentagon();
     for i in 0..5 {
         let a = TAU * (i as f64 + 0.5) / 5.0;
         m.positions.push([1.6 * a.cos(), 1.6 * a.sin(), 0.3]);
