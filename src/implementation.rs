@@ -43,7 +43,7 @@ impl Implementation {
 pub enum Geometry {
     /// A control polygon.
     Curve,
-    /// A closed quad mesh.
+    /// A quad mesh.
     Surface,
 }
 

@@ -3,8 +3,8 @@
 //! large is refused with the prediction instead of dying half-way.
 //!
 //! Counts are exact: after N steps a curve has |π^N(w)| points (w: its labels, the interior
-//! ones for an open curve) and a closed quad mesh V + 2F(n − 1) + F(n − 1)² vertices and F n²
-//! quads, n = |π^N(ω)| (`CurveTables::image_len`, `patch::output_counts`), in u128 and
+//! ones for an open curve) and a quad mesh V + E(n − 1) + F(n − 1)² vertices and F n² quads
+//! (without what only holes use), n = |π^N(ω)| (`CurveTables::image_len`, `patch::output_counts`), in u128 and
 //! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input and
 //! the driver's buffers (the fast driver's own model, `patch::footprint`), then the output and
 //! the output file text (built in memory, then written).
@@ -240,7 +240,7 @@ pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path,
     Ok((path, bytes))
 }
 
-/// Reads a closed mesh and its topology from an OBJ or PLY file (by content:
+/// Reads a mesh (closed or open), its topology and its features from an OBJ or PLY file (by content:
 /// [`lsubdiv::mesh_file::Format::of`]) by [`read_input`]; a PLY file, once read, is refused
 /// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
 /// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.

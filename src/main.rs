@@ -36,11 +36,11 @@ enum Command {
     Plot(plot::PlotArgs),
     /// α and the spectrum at extraordinary vertices (\[G\] §4.2.3), per valence.
     Ev(ev::EvArgs),
-    /// Refines a closed quad mesh (OBJ) of any topology.
+    /// Refines a polygon mesh (OBJ or PLY) of any topology: open or closed, creases, corners, holes.
     Subdivide(subdivide::SubdivideArgs),
     /// Times surface refinement: one JSON object per line with output vertices/s and peak RSS.
     Bench(bench::BenchArgs),
-    /// Draws a closed quad mesh to a PNG or PPM image (software, no GPU): flat, smooth,
+    /// Draws a mesh, open or closed, to a PNG or PPM image (software, no GPU): flat, smooth,
     /// mean-curvature or reflection-line shading ([G] Fig. 6), optionally with its quad edges.
     Render(render::RenderArgs),
     /// Lists the shipped schemes.

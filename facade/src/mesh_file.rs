@@ -342,7 +342,7 @@ impl Format {
 }
 
 /// Parses and checks a mesh file's bytes (`file` names it in errors): PLY or OBJ by
-/// [`Format::of`], then the topology (closed 2-manifold, valences ≥ 3; faces other than quads taken one
+/// [`Format::of`], then the topology (2-manifold, closed or open, interior valences ≥ 3; faces other than quads taken one
 /// Catmull–Clark step), every error
 /// placed at its line, or element and byte offset in a binary PLY.
 pub fn parse(file: &str, bytes: Vec<u8>) -> Result<Checked, Error> {
@@ -358,7 +358,7 @@ pub fn read_faces(file: &str, bytes: Vec<u8>) -> Result<Parsed, Error> {
     }
 }
 
-/// Reads a closed quad mesh from an OBJ or PLY file ([`parse`]) of at most `max` bytes
+/// Reads a quad mesh (closed or open, with its OBJ tags) from an OBJ or PLY file ([`parse`]) of at most `max` bytes
 /// ([`lsubdiv_compiler::read_bytes`]: a pipe or device is read only to the bound).
 pub fn read(path: &Path, max: u64) -> Result<Checked, Error> {
     let bytes = lsubdiv_compiler::read_bytes(path, max)?;

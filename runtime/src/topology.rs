@@ -12,7 +12,7 @@
 use crate::mesh::QuadMesh;
 use std::fmt;
 
-/// Why a mesh is not a closed 2-manifold quad mesh lsubdiv can refine; faces and vertices are
+/// Why a mesh is not a 2-manifold quad mesh lsubdiv can refine; faces and vertices are
 /// 0-based indices into the [`QuadMesh`] (a file reader places them at their lines).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum TopologyError {

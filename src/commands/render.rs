@@ -1,4 +1,4 @@
-//! `lsubdiv render`: draws a closed quad mesh with the software renderer ([G] Fig. 6).
+//! `lsubdiv render`: draws a quad mesh, closed or open, with the software renderer ([G] Fig. 6).
 
 use crate::commands::args::MemoryLimit;
 use crate::commands::subdivide::{refine_mesh, MeshJob};

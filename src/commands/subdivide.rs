@@ -93,7 +93,7 @@ pub struct MeshJob<'a> {
     pub max_memory: u64,
 }
 
-/// Refines a closed mesh (read and checked) by the picked implementation, after the size guard
+/// Refines a mesh (read and checked, with its features) by the picked implementation, after the size guard
 /// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
 /// read as its first step (one Catmull–Clark step, `lsubdiv::runtime::polygon`): the scheme
 /// takes the other steps, and it needs at least one.

@@ -1,4 +1,4 @@
-//! Software rendering of closed quad meshes for `lsubdiv render`: no GPU, no system library.
+//! Software rendering of quad meshes (closed or open) for `lsubdiv render`: no GPU, no system library.
 //!
 //! A perspective camera ([`camera`]), a z-buffered rasteriser with exact edge functions and
 //! supersampling ([`raster`]), deferred per-sample shading ([`shade`]) in four modes — flat,
@@ -105,7 +105,7 @@ pub fn supersampling(width: usize, height: usize) -> usize {
 }
 
 impl<'m> Scene<'m> {
-    /// Orients the mesh (a closed 2-manifold quad mesh of topology `topology`, as for
+    /// Orients the mesh (a 2-manifold quad mesh of topology `topology`, as for
     /// `subdivide`) and measures it.
     pub fn new(mesh: &QuadMesh, topology: &'m Topology) -> Result<Scene<'m>, String> {
         let framing = Framing::of(&mesh.positions)?;

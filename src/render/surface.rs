@@ -1,4 +1,4 @@
-//! What shading needs from a closed quad mesh beyond its positions: a consistent orientation of
+//! What shading needs from a quad mesh (closed or open) beyond its positions: a consistent orientation of
 //! the faces (outward where the mesh is orientable) and area-weighted vertex normals.
 //!
 //! Nothing assumes the file's windings agree: they are made consistent by a walk over the faces,
