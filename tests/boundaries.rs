@@ -344,11 +344,7 @@ fn boundary_loops_are_the_schemes_curves() {
             boundaries_are_curves(name, &grid(2, 3), steps);
             boundaries_are_curves(name, &open_box(), steps);
             boundaries_are_curves(name, &pentagon(), steps);
-            // Binary-Ternary's first step is not contained ([G] Prop. 4.8): the reference
-            // driver takes it, on open meshes only where boundary vertices have two faces.
-            if name != "binary-ternary" {
-                boundaries_are_curves(name, &l_shape(), steps);
-            }
+            boundaries_are_curves(name, &l_shape(), steps);
         }
     }
 }
@@ -440,11 +436,14 @@ mod cli {
     #[test]
     fn what_cannot_be_refined_is_refused_with_the_reason() {
         let dir = tempfile::tempdir().unwrap();
-        // Binary-Ternary's first step is not contained near EVs ([G] Prop. 4.8): a boundary
-        // vertex with three faces needs the reference driver, which refines closed meshes.
-        let l = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\n\
-                 f 1 2 5 4\nf 2 3 6 5\nf 4 5 8 7\n";
-        let input = write(dir.path(), "l.obj", l);
+        // Binary-Ternary's first step is not contained near EVs ([G] Prop. 4.8): the
+        // reference driver takes it, on the mesh cut open along its sharp edges, which a dart
+        // (here both ends of one sharp interior edge) would only slit.
+        let input = write(
+            dir.path(),
+            "dart.obj",
+            &grid_obj("t crease 2/1/0 5 6 inf\n"),
+        );
         let out = dir.path().join("out.obj");
         let o = lsubdiv(&[
             "subdivide",

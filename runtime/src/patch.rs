@@ -942,7 +942,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         // of a mesh with features cut open along its sharp edges and extended by ghost faces
         // ([`Cut`], [`ghosted`]).
         let cut = if first == 1 && !plain {
-            Cut::new(topo, &base.features)
+            Cut::new(topo, &base.features, Plan::new(&t, &lookup, &[*omega], 0)?)
         } else {
             None
         };
@@ -1074,8 +1074,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 Some(cut) => {
                     let at: Vec<[f64; 3]> =
                         cut.source.iter().map(|&v| positions[v as usize]).collect();
-                    let lm = LabelledMesh::with_axiom(&t, ghosted(&cut.topo, &at))?;
-                    refine_ghosted(self.scheme, &lm)?
+                    let (extended, outer) = ghosted(&cut.topo, &at);
+                    let lm = LabelledMesh::with_axiom(&t, extended)?;
+                    refine_ghosted(self.scheme, &lm, &outer)?
                 }
             };
             let corner =
@@ -1088,6 +1089,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &self.start_num,
                 &mut self.start,
             );
+            if let Some(cut) = &self.cut {
+                cut.curves(&self.base, positions, &self.start_num, &mut self.start);
+            }
             // Corners stay exactly (the ghosts' double reflection gives them up to rounding).
             for v in (0..self.base.topo.vertex_count() as u32).filter(|&v| corner(v)) {
                 self.start[v as usize] = positions[v as usize].map(T::from_f64);
@@ -1687,14 +1691,15 @@ fn lift<T: Real>(
 struct Cut {
     topo: Topology,
     source: Vec<u32>,
+    /// The 1D plan of the step (no ring): new points 0..=N' of an old interval from the
+    /// points −1..=2 around it.
+    line: Plan,
 }
 
 impl Cut {
-    /// The cut of `topo`, if the reference step can run on it with ghosts: every boundary
-    /// vertex of the cut has two faces, or one and is a corner at step 0 (no dart, no boundary
-    /// EV, no crease whose sectors are not two faces; a corner in a sector of two faces is set
-    /// back to itself after the step).
-    fn new(topo: &Topology, features: &Resolved) -> Option<Cut> {
+    /// The cut of `topo`, if the reference step can run on it with ghosts: not at a dart (one
+    /// sharp edge at an interior vertex: the cut would be a slit).
+    fn new(topo: &Topology, features: &Resolved, line: Plan) -> Option<Cut> {
         let mut faces = topo.faces().to_vec();
         let mut source: Vec<u32> = (0..topo.vertex_count() as u32).collect();
         for v in 0..topo.vertex_count() as u32 {
@@ -1728,13 +1733,61 @@ impl Cut {
             faces,
         };
         let cut = Topology::build(&mesh).ok()?;
-        let ok = (0..cut.vertex_count() as u32).all(|c| {
-            let v = source[c as usize];
-            !cut.is_boundary(c)
-                || cut.valence(c) == 2
-                || (cut.valence(c) == 1 && features.vertex_rule(topo, v, 0) == VertexRule::Corner)
-        });
-        ok.then_some(Cut { topo: cut, source })
+        Some(Cut {
+            topo: cut,
+            source,
+            line,
+        })
+    }
+
+    /// After the step: every point on a line sharp at step 0 set to the scheme's curve
+    /// refinement of that line (a boundary is the scheme's curve, docs/real-meshes.md), the
+    /// 1D plan on the points along it, odd-reflected at corners. The scatter near a boundary
+    /// EV drops the entries that pass through it; on the line, the principle decides.
+    fn curves<T: Real>(
+        &self,
+        base: &Base<'_>,
+        positions: &[[f64; 3]],
+        num: &Numbering,
+        start: &mut [[T; 3]],
+    ) {
+        let (topo, features) = (base.topo, &base.features);
+        let at = |v: u32| positions[v as usize];
+        // The point beyond a, away from b, along the sharp line through a.
+        let beyond = |a: u32, e: u32, b: u32| -> [f64; 3] {
+            let other = (features.vertex_rule(topo, a, 0) == VertexRule::Crease)
+                .then(|| {
+                    crate::features::spokes(topo, a).find(|&s| s != e && features.edge_sharp(s, 0))
+                })
+                .flatten();
+            match other {
+                Some(s) => {
+                    let [x, y] = topo.edge_vertices(s);
+                    at(if x == a { y } else { x })
+                }
+                None => std::array::from_fn(|i| 2.0 * at(a)[i] - at(b)[i]),
+            }
+        };
+        let n = self.line.n_new;
+        let k = (n - 1) as usize;
+        for e in (0..topo.edge_count() as u32).filter(|&e| features.edge_sharp(e, 0)) {
+            let [a, b] = topo.edge_vertices(e);
+            let old = [beyond(a, e, b), at(a), at(b), beyond(b, e, a)];
+            for (xn, row) in self.line.rows.iter().enumerate() {
+                let mut p = [0.0f64; 3];
+                for &(x, w) in &self.line.parents[row.clone()] {
+                    for (o, q) in p.iter_mut().zip(old[x]) {
+                        *o += w * q;
+                    }
+                }
+                let i = match xn as i64 {
+                    0 => a as usize,
+                    x if x == n => b as usize,
+                    x => num.nv + e as usize * k + x as usize - 1,
+                };
+                start[i] = p.map(T::from_f64);
+            }
+        }
     }
 }
 
@@ -1748,10 +1801,13 @@ impl Cut {
 /// ordinary: in a complete step (every patch's new ring has its parents in the old ring) its
 /// points reach no real new point, and the driver does not scatter them. Real vertices and
 /// faces keep their indices; the ghosts follow.
-fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> QuadMesh {
+fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> (QuadMesh, Vec<bool>) {
     let mut out = positions.to_vec();
     let mut faces = topo.faces().to_vec();
     let mut shared: HashMap<u32, u32> = HashMap::new();
+    // The ghost pairs made once per edge (not shared), and each corner's first diagonal ghost.
+    let mut pairs: Vec<u32> = Vec::new();
+    let mut diagonals: Vec<u32> = Vec::new();
     // Per corner: its ghost across its outgoing boundary edge and across its incoming one.
     let mut corners: HashMap<u32, [u32; 2]> = HashMap::new();
     for f in 0..topo.face_count() as u32 {
@@ -1760,6 +1816,11 @@ fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> QuadMesh {
             let (a, b, c, d) = (v(0), v(1), v(2), v(3));
             let a1 = ghost_pair(&mut out, &mut shared, topo, a, d);
             let b1 = ghost_pair(&mut out, &mut shared, topo, b, c);
+            for (v, g) in [(a, a1), (b, b1)] {
+                if topo.valence(v) != 2 {
+                    pairs.push(g);
+                }
+            }
             faces.push([b, a, a1, b1]);
             faces.push([b1, a1, a1 + 1, b1 + 1]);
             if topo.valence(a) == 1 {
@@ -1785,21 +1846,33 @@ fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> QuadMesh {
         let d21 = add3(d11, along_out);
         out.extend([d11, d21, add3(d11, along_in), add3(d21, along_in)]);
         let (d11, d21, d12, d22) = (first, first + 1, first + 2, first + 3);
+        diagonals.push(d11);
         faces.push([g_out, a, g_in, d11]);
         faces.push([g_out + 1, g_out, d11, d21]);
         faces.push([d11, g_in, g_in + 1, d12]);
         faces.push([d21, d11, d12, d22]);
     }
-    QuadMesh {
-        positions: out,
-        faces,
+    // The outer layer: every a₂ (a ghost pair's second) and each corner's outer three.
+    let mut outer = vec![false; out.len()];
+    for &g in shared.values().chain(&pairs) {
+        outer[g as usize + 1] = true;
     }
+    for &d11 in &diagonals {
+        outer[d11 as usize + 1..d11 as usize + 4].fill(true);
+    }
+    (
+        QuadMesh {
+            positions: out,
+            faces,
+        },
+        outer,
+    )
 }
 
 /// The ghosts (a₁ = 2a − p, a₂ = 3a − 2p) of boundary vertex a across one of its boundary
 /// edges, p the other end of the face's other edge at a: appended to `out`, once per vertex
-/// with two faces (both its boundary edges reflect across the same line), once per edge at a
-/// corner. Returns a₁'s index (a₂ follows).
+/// with two faces (both its boundary edges reflect across the same line), once per edge
+/// otherwise. Returns a₁'s index (a₂ follows).
 fn ghost_pair(
     out: &mut Vec<[f64; 3]>,
     shared: &mut HashMap<u32, u32>,
@@ -1814,7 +1887,7 @@ fn ghost_pair(
     let g = out.len() as u32;
     out.push(std::array::from_fn(|i| 2.0 * pa[i] - pp[i]));
     out.push(std::array::from_fn(|i| 3.0 * pa[i] - 2.0 * pp[i]));
-    if topo.valence(a) != 1 {
+    if topo.valence(a) == 2 {
         shared.insert(a, g);
     }
     g

@@ -156,12 +156,13 @@ pub fn refine_surface_with<S: SurfaceScheme>(
 }
 
 /// One step of a mesh extended past its boundary by two layers of ghost faces (the patch
-/// driver's start level on an open mesh, `patch::ghosted`): the boundary vertices of the
-/// extended mesh (the outer ghosts) are not scattered, and only the new points of the real
-/// faces are meaningful.
+/// driver's start level on a mesh with features, `patch::ghosted`): the vertices `outer`
+/// marks (the outer ghosts) are not scattered, the extended mesh's boundary vertices are
+/// scattered over the faces they have, and only the new points of the real faces are kept.
 pub(crate) fn refine_ghosted<S: SurfaceScheme>(
     scheme: &S,
     mesh: &LabelledMesh,
+    outer: &[bool],
 ) -> Result<LabelledMesh, SurfaceError> {
     let topo = Topology::build(&mesh.mesh)?;
     let t = scheme.tables();
@@ -172,7 +173,7 @@ pub(crate) fn refine_ghosted<S: SurfaceScheme>(
         lookup: &lookup,
         lm: mesh,
         topo: &topo,
-        ghosted: true,
+        ghosted: Some(outer),
     };
     Ok(cx.run()?.0)
 }
@@ -203,7 +204,7 @@ fn refine_from<S: SurfaceScheme>(
             lookup: &lookup,
             lm: &cur,
             topo,
-            ghosted: false,
+            ghosted: None,
         };
         let (next, st) = cx.run()?;
         cur = next;
@@ -219,8 +220,9 @@ struct Step<'a> {
     lookup: &'a HashMap<&'a [u8], u32>,
     lm: &'a LabelledMesh,
     topo: &'a Topology,
-    /// The mesh is extended by ghost faces: its boundary vertices are not scattered.
-    ghosted: bool,
+    /// The mesh is extended by ghost faces: the vertices marked (the outer ghosts) are not
+    /// scattered.
+    ghosted: Option<&'a [bool]>,
 }
 
 impl Step<'_> {
@@ -256,16 +258,27 @@ impl Step<'_> {
     }
 
     /// The edges around v in rotation order E_0..E_{n−1}, E_k shared by wedges k−1 and k,
-    /// as (edge id, label read from v).
+    /// as (edge id, label read from v); at a boundary vertex (of a ghosted mesh) the last
+    /// wedge's other edge E_n follows.
     fn spokes(&self, v: u32) -> Vec<(u32, u8)> {
-        self.topo
-            .rotation(v)
-            .iter()
+        let rot = self.topo.rotation(v);
+        let closing = self.topo.is_boundary(v).then(|| {
+            let w = rot[rot.len() - 1];
+            let (e, _, l) = self.edge_from(w.face, w.corner, w.next_is_plus);
+            (e, l)
+        });
+        rot.iter()
             .map(|w| {
                 let (e, _, l) = self.edge_from(w.face, w.corner, !w.next_is_plus);
                 (e, l)
             })
+            .chain(closing)
             .collect()
+    }
+
+    /// Whether v is an interior vertex of valence 4, through which lines continue straight.
+    fn ordinary(&self, v: u32) -> bool {
+        self.topo.valence(v) == 4 && !self.topo.is_boundary(v)
     }
 
     /// `len` labels along the straight line leaving v by spoke k, read outward. At an ordinary
@@ -280,7 +293,7 @@ impl Step<'_> {
             let [x, y] = self.topo.edge_vertices(e);
             let q = if x == at { y } else { x };
             let qs = self.spokes(q);
-            if qs.len() == 4 {
+            if self.ordinary(q) {
                 let i = qs
                     .iter()
                     .position(|s| s.0 == e)
@@ -296,10 +309,10 @@ impl Step<'_> {
     }
 
     /// The (d+1)-word of v along spoke k, read outward, and its mask index.
-    fn word(&self, v: u32, k: usize, valence: usize) -> Result<u32, SurfaceError> {
+    fn word(&self, v: u32, k: usize) -> Result<u32, SurfaceError> {
         let half = self.t.degree.div_ceil(2);
         let ahead = self.ray(v, k, half);
-        let behind = if valence == 4 {
+        let behind = if self.ordinary(v) {
             self.ray(v, (k + 2) % 4, half)
         } else {
             ahead.clone()
@@ -430,15 +443,18 @@ impl Step<'_> {
         let mut stats = StepStats::default();
         let mut ev_norm: Vec<(u32, f64)> = Vec::new();
         for v in 0..nv as u32 {
-            if self.ghosted && topo.is_boundary(v) {
+            if self.ghosted.is_some_and(|skip| skip[v as usize]) {
                 continue;
             }
             let n = topo.valence(v);
             let p = self.lm.mesh.positions[v as usize];
-            let words = (0..n)
-                .map(|k| self.word(v, k, n))
+            // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
+            let words = (0..self.spokes(v).len())
+                .map(|k| self.word(v, k))
                 .collect::<Result<Vec<u32>, _>>()?;
-            let centre = if n == 4 {
+            let centre = if n == 4 || topo.is_boundary(v) {
+                // A boundary vertex of a ghosted mesh: its child is not kept (a ghost), or set
+                // by its rule afterwards (a boundary vertex of the input).
                 self.half_mask(words[0])[0] * self.half_mask(words[1])[0]
             } else {
                 let alpha = self.alpha(n)?;
@@ -449,7 +465,7 @@ impl Step<'_> {
             add(&mut pos[v as usize], &mut sum[v as usize], centre, &p);
             for (k, w) in topo.rotation(v).iter().enumerate() {
                 let mx = self.half_mask(words[k]);
-                let my = self.half_mask(words[(k + 1) % n]);
+                let my = self.half_mask(words[(k + 1) % words.len()]);
                 for (x, wx) in mx.iter().enumerate().skip(1) {
                     for (y, wy) in my.iter().enumerate() {
                         match self.locate(w.face, w.corner, !w.next_is_plus, x as i64, y as i64) {
