@@ -34,9 +34,10 @@
 //! not give (interior EVs, darts, creases and corners in other sectors, every corner) or
 //! whose sharpness changes (semi-sharp creases) run in lock-step: after each step the vertex
 //! children are set by their rule and the rings refreshed from the neighbours' new patches and
-//! from the next step's phantoms. The reference driver refines closed meshes only: a mesh with
-//! features whose scheme needs it (masks not contained where a corner has no diagonal) is
-//! refused with that reason.
+//! from the next step's phantoms. A step the reference driver must take (masks not contained
+//! where a corner has no diagonal) runs, on a mesh with features, on the mesh cut open along
+//! its sharp edges and extended by ghost faces ([`Cut`], [`ghosted`]); a scheme that needs
+//! more than one such step is refused there with that reason.
 
 use crate::curve::{rewrite, CurveTables};
 use crate::features::{CornerKind, Features, Resolved, VertexRule};
@@ -457,14 +458,20 @@ impl<'t> Base<'t> {
 }
 
 impl Base<'_> {
-    /// Sets the phantom points of face f's start patch (side N, step 0), the fi-th in `buf`;
-    /// nothing on a plain mesh.
-    fn load_phantoms<T: Real>(&self, f: u32, n: i64, layout: Layout, fi: usize, buf: &mut [T]) {
+    /// Sets the phantom points of face f's start patch (side N, for step k, the first the
+    /// patches take), the fi-th in `buf`; nothing on a plain mesh.
+    fn load_phantoms<T: Real>(
+        &self,
+        (f, n, k): (u32, i64, usize),
+        layout: Layout,
+        fi: usize,
+        buf: &mut [T],
+    ) {
         if self.features.is_plain() {
             return;
         }
         let mut phantoms = Vec::new();
-        self.phantoms(f, n, 0, &mut phantoms);
+        self.phantoms(f, n, k, &mut phantoms);
         for p in &phantoms {
             p.apply(layout, fi, buf);
         }
@@ -950,9 +957,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             return Err(SurfaceError::Unsupported(format!(
                 "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \
                  yet contained near its extraordinary, boundary or crease vertices, [G] \
-                 Prop. 4.8), which refines closed meshes, and for one step meshes whose \
-                 boundary and crease vertices have sectors of two faces, or one at a corner \
-                 (not boundary EVs, darts or creases with other sectors)",
+                 Prop. 4.8); on a mesh with boundaries or sharp features it takes one such \
+                 step (on the mesh cut open along its sharp edges, with ghost faces), not more",
                 first,
                 if first == 1 { "" } else { "s" },
                 t.name
@@ -1090,7 +1096,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &mut self.start,
             );
             if let Some(cut) = &self.cut {
-                cut.curves(&self.base, positions, &self.start_num, &mut self.start);
+                let ring = self.scheme.surface().rings[0];
+                let alpha = |v: u32| {
+                    let i = self.base.special.binary_search(&v);
+                    i.map_or(0.0, |i| self.alphas[i])
+                };
+                cut.curves(
+                    &self.base,
+                    (&alpha, ring),
+                    positions,
+                    &self.start_num,
+                    &mut self.start,
+                );
             }
             // Corners stay exactly (the ghosts' double reflection gives them up to rounding).
             for v in (0..self.base.topo.vertex_count() as u32).filter(|&v| corner(v)) {
@@ -1125,7 +1142,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let (out, plans, start) = (&out, &self.plans, &self.start);
         let out_num = &self.out_num;
         let bs = block_size(out_num.n);
-        let n0 = self.start_num.n;
+        let (n0, first) = (self.start_num.n, self.first);
         let m = (n0 + 3) as usize;
         let table = &self.start_gather;
         let base = &self.base;
@@ -1143,7 +1160,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     let t = &table[f as usize * m * m..][..m * m];
                     let layout = ring_layout(n0, k, true);
                     load(t, start, layout, fi, &mut scratch.ext);
-                    base.load_phantoms(f, n0, layout, fi, &mut scratch.ext);
+                    base.load_phantoms((f, n0, first), layout, fi, &mut scratch.ext);
                 }
                 for (plan, time) in plans.iter().zip(&mut times) {
                     let (ext, next) = (&scratch.ext, &mut scratch.next);
@@ -1206,7 +1223,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let layout = ring_layout(self.start_num.n, 1, a_is_x);
             load(t, &self.start, layout, 0, patch);
             self.base
-                .load_phantoms(f, self.start_num.n, layout, 0, patch);
+                .load_phantoms((f, self.start_num.n, self.first), layout, 0, patch);
         }
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
@@ -1258,19 +1275,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .map(|(&v, &alpha)| {
                     let rule = self.base.features.vertex_rule(self.base.topo, v, k);
                     let needs = self.base.features.needs_rule(self.base.topo, v, k);
-                    let next = Fans {
-                        slot: &self.fan_slot,
-                        patches: new,
-                        n: plan.n_new,
-                        a_is_x: !a_is_x,
-                    };
                     needs.then(|| match rule {
                         VertexRule::Corner => *fans.point_of(&self.base, v, 0),
                         VertexRule::Crease => crease_child(&self.base, &fans, plan, v, k),
                         VertexRule::Smooth if self.base.topo.valence(v) == 4 => {
-                            smooth_child(&self.base, &next, v, k)
+                            ev_child(&self.base, &fans, v, vertex_rule_weights(plan))
                         }
-                        VertexRule::Smooth => ev_child(&self.base, &fans, v, alpha, ring),
+                        VertexRule::Smooth => ev_child(&self.base, &fans, v, (alpha, ring)),
                     })
                 })
                 .collect();
@@ -1697,17 +1708,15 @@ struct Cut {
 }
 
 impl Cut {
-    /// The cut of `topo`, if the reference step can run on it with ghosts: not at a dart (one
-    /// sharp edge at an interior vertex: the cut would be a slit).
+    /// The cut of `topo` (none if it is not a manifold). At a dart (one sharp edge at an
+    /// interior vertex) the cut is at most a slit: the dart keeps one copy, whose child
+    /// [`Cut::curves`] sets by the smooth rule.
     fn new(topo: &Topology, features: &Resolved, line: Plan) -> Option<Cut> {
         let mut faces = topo.faces().to_vec();
         let mut source: Vec<u32> = (0..topo.vertex_count() as u32).collect();
         for v in 0..topo.vertex_count() as u32 {
             let sharp = features.sharp_spokes(topo, v, 0);
             let interior = !topo.is_boundary(v);
-            if interior && sharp.iter().filter(|&&s| s).count() == 1 {
-                return None; // a dart: the cut would be a slit
-            }
             // Wedge w lies between spokes w and w + 1; its sector is the number of sharp
             // spokes up to it, less one (at a boundary vertex spoke 0 is the boundary; at an
             // interior one the wedges before the first sharp spoke close the last sector).
@@ -1742,29 +1751,46 @@ impl Cut {
 
     /// After the step: every point on a line sharp at step 0 set to the scheme's curve
     /// refinement of that line (a boundary is the scheme's curve, docs/real-meshes.md), the
-    /// 1D plan on the points along it, odd-reflected at corners. The scatter near a boundary
-    /// EV drops the entries that pass through it; on the line, the principle decides.
+    /// 1D plan on the points along it: beyond a crease vertex the line continues along its
+    /// other sharp edge, beyond a dart of valence 4 straight on (the line is sharp, the vertex
+    /// smooth, as in OpenSubdiv), elsewhere it is odd-reflected. A dart's child is its smooth
+    /// rule on its 1-ring ([`dart_child`]). The scatter near a boundary EV drops the entries
+    /// that pass through it; on the lines, the principle decides.
     fn curves<T: Real>(
         &self,
         base: &Base<'_>,
+        (alpha, ring): (&dyn Fn(u32) -> f64, [f64; 2]),
         positions: &[[f64; 3]],
         num: &Numbering,
         start: &mut [[T; 3]],
     ) {
         let (topo, features) = (base.topo, &base.features);
         let at = |v: u32| positions[v as usize];
+        let far = |s: u32, a: u32| {
+            let [x, y] = topo.edge_vertices(s);
+            if x == a {
+                y
+            } else {
+                x
+            }
+        };
         // The point beyond a, away from b, along the sharp line through a.
         let beyond = |a: u32, e: u32, b: u32| -> [f64; 3] {
-            let other = (features.vertex_rule(topo, a, 0) == VertexRule::Crease)
-                .then(|| {
+            let next = match features.vertex_rule(topo, a, 0) {
+                VertexRule::Crease => {
                     crate::features::spokes(topo, a).find(|&s| s != e && features.edge_sharp(s, 0))
-                })
-                .flatten();
-            match other {
-                Some(s) => {
-                    let [x, y] = topo.edge_vertices(s);
-                    at(if x == a { y } else { x })
                 }
+                VertexRule::Smooth if topo.valence(a) == 4 && !topo.is_boundary(a) => {
+                    let spokes: Vec<u32> = crate::features::spokes(topo, a).collect();
+                    spokes
+                        .iter()
+                        .position(|&s| s == e)
+                        .map(|i| spokes[(i + 2) % 4])
+                }
+                _ => None,
+            };
+            match next {
+                Some(s) => at(far(s, a)),
                 None => std::array::from_fn(|i| 2.0 * at(a)[i] - at(b)[i]),
             }
         };
@@ -1788,7 +1814,42 @@ impl Cut {
                 start[i] = p.map(T::from_f64);
             }
         }
+        for v in 0..topo.vertex_count() as u32 {
+            if features.vertex_rule(topo, v, 0) == VertexRule::Smooth
+                && features.sharp_spokes(topo, v, 0).contains(&true)
+            {
+                let rule = (alpha(v), ring);
+                start[v as usize] =
+                    dart_child(topo, &self.line, rule, positions, v).map(T::from_f64);
+            }
+        }
     }
+}
+
+/// The child of a dart v (a smooth interior vertex with one sharp edge) by the smooth rule on
+/// its 1-ring of base positions ([`one_ring`]): the tensor product of the vertex mask at
+/// valence 4, the EV rule with `rule` = (α, [E1, E2]) at other valences.
+fn dart_child(
+    topo: &Topology,
+    line: &Plan,
+    rule: (f64, [f64; 2]),
+    positions: &[[f64; 3]],
+    v: u32,
+) -> [f64; 3] {
+    let rule = if topo.valence(v) == 4 {
+        vertex_rule_weights(line)
+    } else {
+        rule
+    };
+    one_ring(topo, v, rule, |w, spot| {
+        let c = match spot {
+            Spot::Centre => w.corner,
+            Spot::Spoke if w.next_is_plus => (w.corner + 3) % 4,
+            Spot::Spoke => (w.corner + 1) % 4,
+            Spot::Diagonal => (w.corner + 2) % 4,
+        };
+        positions[topo.vertex(w.face, c) as usize]
+    })
 }
 
 /// The mesh extended past its boundary by two layers of ghost faces, for a step of the
@@ -1958,50 +2019,75 @@ fn crease_child<T: Real>(
     acc.map(T::from_f64)
 }
 
-/// The child of a smooth vertex of valence 4 with a sharp edge (a dart): the surface rule, as
-/// a face whose ring at the vertex is all real computed it in the new level.
-fn smooth_child<T: Real>(base: &Base<'_>, next: &Fans<'_, T>, v: u32, k: usize) -> [T; 3] {
-    let w = base
-        .topo
-        .rotation(v)
-        .iter()
-        .find(|w| base.features.corner_kind(base.topo, w.face, w.corner, k) == CornerKind::Real)
-        .copied()
-        .unwrap_or(base.topo.rotation(v)[0]);
-    let (cx, cy) = corner_at(w.corner, next.n, next.n);
-    *next.point(w.face, cx, cy)
+/// Where a point of a vertex's 1-ring lies, seen from one wedge of its rotation.
+#[derive(Clone, Copy)]
+enum Spot {
+    /// The vertex.
+    Centre,
+    /// The far end of the wedge's edge shared with the previous wedge.
+    Spoke,
+    /// The wedge face's corner opposite the vertex.
+    Diagonal,
 }
 
-/// The EV child from the old 1-ring: (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)).
+/// The rule (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)) on v's 1-ring, `point(w, spot)`
+/// reading it: the EV child (\[G\] §3) with `(α, [E1, E2])` from the tables, and the
+/// tensor-product vertex rule at valence 4 with [`vertex_rule_weights`].
+fn one_ring(
+    topo: &Topology,
+    v: u32,
+    (alpha, ring): (f64, [f64; 2]),
+    point: impl Fn(crate::topology::Wedge, Spot) -> [f64; 3],
+) -> [f64; 3] {
+    let rot = topo.rotation(v);
+    let mut acc = point(rot[0], Spot::Centre).map(|x| alpha * x);
+    for &w in rot {
+        for (spot, weight) in [(Spot::Spoke, ring[0]), (Spot::Diagonal, ring[1])] {
+            for (a, x) in acc.iter_mut().zip(point(w, spot)) {
+                *a += weight * x;
+            }
+        }
+    }
+    let norm = alpha + rot.len() as f64 * (ring[0] + ring[1]);
+    acc.map(|a| a / norm)
+}
+
+/// The tensor product of the vertex mask (the plan's new point 0 from old points 0 and ±1, a
+/// palindrome) as [`one_ring`] weights: (w0², [w0·w1, w1²]).
+fn vertex_rule_weights(plan: &Plan) -> (f64, [f64; 2]) {
+    let h = (plan.rows.len() - plan.n_new as usize - 1) / 2;
+    let weight = |x: usize| {
+        plan.parents[plan.rows[h].clone()]
+            .iter()
+            .find(|&&(i, _)| i == x)
+            .map_or(0.0, |&(_, w)| w)
+    };
+    let (w0, w1) = (weight(1), weight(2));
+    (w0 * w0, [w0 * w1, w1 * w1])
+}
+
+/// The child of v from its 1-ring in the old level's patches ([`one_ring`]).
 fn ev_child<T: Real>(
     base: &Base<'_>,
     level: &Fans<'_, T>,
     v: u32,
-    alpha: f64,
-    ring: [f64; 2],
+    rule: (f64, [f64; 2]),
 ) -> [T; 3] {
     let n = level.n;
-    let rot = base.topo.rotation(v);
-    let mut acc = [0.0f64; 3];
-    let mut add = |p: &[T; 3], w: f64| {
-        for (a, x) in acc.iter_mut().zip(p) {
-            *a += w * x.to_f64();
-        }
-    };
-    let w0 = rot[0];
-    let (cx, cy) = corner_at(w0.corner, n, n);
-    add(level.point(w0.face, cx, cy), alpha);
-    for w in rot {
+    let child = one_ring(base.topo, v, rule, |w, spot| {
         let (cx, cy) = corner_at(w.corner, n, n);
         let (nx, ny) = TOWARD_NEXT[w.corner as usize];
         let (px, py) = TOWARD_PREV[w.corner as usize];
         // E_k is the edge shared with the previous wedge: the one not toward `next`.
         let (ex, ey) = if w.next_is_plus { (px, py) } else { (nx, ny) };
-        add(level.point(w.face, cx + ex, cy + ey), ring[0]);
-        add(level.point(w.face, cx + nx + px, cy + ny + py), ring[1]);
-    }
-    let norm = alpha + rot.len() as f64 * (ring[0] + ring[1]);
-    acc.map(|a| T::from_f64(a / norm))
+        let (x, y) = match spot {
+            Spot::Centre => (cx, cy),
+            Spot::Spoke => (cx + ex, cy + ey),
+            Spot::Diagonal => (cx + nx + px, cy + ny + py),
+        };
+        level.point(w.face, x, y).map(|c| c.to_f64())
+    });
+    child.map(T::from_f64)
 }
 
 /// Patches per block: enough to make slabs long, few enough that the last level of the block
