@@ -7,11 +7,12 @@ use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::features::{Boundary, Features};
 use lsubdiv::runtime::generators::{
-    creased_cube, cube, grid_with_hole, open_grid, polygon_prism, star, torus, tube,
+    creased_cube, cube, grid_with_hole, open_grid, pentagon_star, polygon_prism, star, torus, tube,
 };
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
 use lsubdiv::runtime::polygon::catmull_clark;
+use lsubdiv::runtime::polygon::PolyMesh;
 use lsubdiv::runtime::real::Real;
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
 use lsubdiv::runtime::topology::Topology;
@@ -27,9 +28,9 @@ pub const MAX_PRISM_SIDES: usize = 10_000;
 
 /// A built-in mesh (`torus:R:C`, `cube`, `star`, `prism:N`: n-gon caps, split by a
 /// Catmull–Clark step; open: `grid` (8 × 8 quads), `tube` (8 along, 16 around), `hole` (a
-/// 9 × 9 grid whose centre face is a hole); `creased-cube` (every edge sharp)) or an OBJ or
-/// PLY file read under `--max-memory max` ([`crate::limits::read_mesh`]), with its
-/// topology.
+/// 9 × 9 grid whose centre face is a hole), `pentagon-star` (a pentagon with a triangle on
+/// each edge, split first); `creased-cube` (every edge sharp)) or an OBJ or PLY file read
+/// under `--max-memory max` ([`crate::limits::read_mesh`]), with its topology.
 pub fn mesh(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Error> {
     let mut read = built(spec, max, boundary)?;
     if let Some(b) = boundary {
@@ -81,13 +82,21 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
                     ))
                 })?;
             // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
-            let split = catmull_clark(&polygon_prism(n), &Features::default())
-                .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
-            return checked(spec, split.mesh, true, Features::default());
+            return split(spec, &polygon_prism(n), boundary);
         }
+        ["pentagon-star"] => return split(spec, &pentagon_star(), boundary),
         _ => return crate::limits::read_mesh(std::path::Path::new(spec), max, boundary),
     };
     checked(spec, built, false, Features::default())
+}
+
+/// A built-in polygon mesh after its first step, a Catmull–Clark step (`runtime::polygon`),
+/// with the boundary rule (the default's if none).
+fn split(spec: &str, mesh: &PolyMesh, boundary: Option<Boundary>) -> Result<Checked, Error> {
+    let features = Features::with_boundary(boundary.unwrap_or_default());
+    let split = catmull_clark(mesh, &features)
+        .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
+    checked(spec, split.mesh, true, split.features)
 }
 
 /// A built-in mesh with its topology (`split`: after its first, Catmull–Clark, step).

@@ -576,6 +576,20 @@ fn new_points_are_convex_combinations_and_corners_stay() {
                     );
                 }
             }
+            // Closed stays closed, and an open mesh keeps its number of boundary loops (holes
+            // aside: their faces are not written, so each is a loop more).
+            if features.holes.is_empty() {
+                let (a, b) = (
+                    Topology::build(&mesh).unwrap(),
+                    Topology::build(&fine).unwrap(),
+                );
+                assert_eq!(a.is_closed(), b.is_closed(), "{name} {what}");
+                assert_eq!(
+                    boundary_loops(&mesh).len(),
+                    boundary_loops(&fine).len(),
+                    "{name} {what}: boundary loops"
+                );
+            }
             // Planar input stays planar.
             let mut flat = mesh.clone();
             flat.positions.iter_mut().for_each(|p| p[2] = 0.0);

@@ -268,3 +268,44 @@ fn ppm_output_and_bad_arguments() {
         );
     }
 }
+
+/// An open mesh: its boundary is drawn in its own colour (red), and the back of the surface,
+/// seen from below, in the warm back material, the front, seen from above, in the cool one.
+#[test]
+fn open_meshes_draw_their_boundary_and_their_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let red = |p: &[u8; 3]| p[0] > 180 && p[1] < 110 && p[2] < 80;
+    let warm = |p: &[u8; 3]| u16::from(p[0]) > u16::from(p[2]) + 20;
+    for (name, camera, back) in [("above.png", "30,40", false), ("below.png", "30,-40", true)] {
+        let pic = render(
+            dir.path(),
+            name,
+            &[
+                "grid",
+                "--scheme",
+                "fibonacci",
+                "--steps",
+                "2",
+                "--camera",
+                camera,
+            ],
+        );
+        let object = pic.object();
+        let boundary = object.iter().filter(|&&(x, y)| red(&pic.at(x, y))).count();
+        assert!(boundary > 100, "{name}: {boundary} boundary pixels");
+        let inside = pic.interior();
+        let warm_share = inside.iter().filter(|&&(x, y)| warm(&pic.at(x, y))).count() as f64
+            / inside.len() as f64;
+        if back {
+            assert!(
+                warm_share > 0.9,
+                "{name}: {warm_share} of the surface in the back material"
+            );
+        } else {
+            assert!(
+                warm_share < 0.1,
+                "{name}: {warm_share} of the surface in the back material"
+            );
+        }
+    }
+}

@@ -11,7 +11,8 @@ use lsubdiv_cli::implementation::{Geometry, PathChoice};
 /// Arguments of `lsubdiv bench`.
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// `torus:R:C`, `cube`, `star`, `prism:N` (n-gon caps) or an OBJ or PLY file.
+    /// `torus:R:C`, `cube`, `star`, `prism:N` (n-gon caps), open `grid`, `tube`, `hole`,
+    /// `pentagon-star`, `creased-cube`, or an OBJ or PLY file.
     #[arg(long, default_value = "torus:256:256")]
     mesh: String,
     #[arg(long, default_value = "uniform-binary")]

@@ -63,7 +63,9 @@ fn cone_volume6(p: [[f64; 3]; 4]) -> f64 {
 }
 
 /// Orients the faces of each connected component consistently (breadth-first over shared
-/// edges) and outward (positive enclosed volume), then averages the vertex normals.
+/// edges): a closed component outward (positive enclosed volume), an open one as most of its
+/// faces are wound in the file (an open surface encloses nothing); then averages the vertex
+/// normals.
 pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
     let nf = mesh.faces.len();
     let mut flip = vec![false; nf];
@@ -78,10 +80,12 @@ pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
         seen[start] = true;
         queue.push_back(start);
         component.clear();
+        let mut open = false;
         while let Some(f) = queue.pop_front() {
             component.push(f);
             for l in 0..4u8 {
                 let Some((g, m)) = topo.across(f as u32, l) else {
+                    open = true;
                     continue;
                 };
                 let g = g as usize;
@@ -97,18 +101,23 @@ pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
                 }
             }
         }
-        let volume: f64 = component
-            .iter()
-            .map(|&f| {
-                let v = cone_volume6(mesh.faces[f].map(|v| mesh.positions[v as usize]));
-                if flip[f] {
-                    -v
-                } else {
-                    v
-                }
-            })
-            .sum();
-        if volume < 0.0 {
+        let inward = if open {
+            2 * component.iter().filter(|&&f| flip[f]).count() > component.len()
+        } else {
+            let volume: f64 = component
+                .iter()
+                .map(|&f| {
+                    let v = cone_volume6(mesh.faces[f].map(|v| mesh.positions[v as usize]));
+                    if flip[f] {
+                        -v
+                    } else {
+                        v
+                    }
+                })
+                .sum();
+            volume < 0.0
+        };
+        if inward {
             for &f in &component {
                 flip[f] = !flip[f];
             }
