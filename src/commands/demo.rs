@@ -141,8 +141,8 @@ pub fn run() -> Result<(), Error> {
         ("lsubdiv inspect fibonacci", "every mask, exactly"),
         ("lsubdiv schemes", "the shipped schemes"),
         (
-            "lsubdiv subdivide binary-ternary --steps 3 cube.obj -o out.obj",
-            "your closed mesh",
+            "lsubdiv subdivide binary-ternary --steps 3 mesh.obj -o out.obj",
+            "your mesh: open or closed, any polygons, OBJ creases and holes",
         ),
         (
             "lsubdiv render cube --scheme binary-ternary --steps 3 -o cube.png",
