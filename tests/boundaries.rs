@@ -716,3 +716,92 @@ fn creases_are_the_schemes_curves_between_their_corners() {
         }
     }
 }
+
+/// Random open meshes with random features — a 5 × 5 grid with some faces removed (what stays
+/// a 2-manifold), random creases of random sharpness, corner tags and holes, both boundary
+/// modes — refine without panicking, for every scheme, to finite points that reproduce
+/// constants (a constant mesh stays constant: every new point an affine combination).
+#[test]
+fn random_featured_meshes_refine_to_affine_combinations() {
+    let mut rng = common::Lcg(0x15);
+    let mut pick = |n: usize| ((rng.next() + 1.0) * 0.5 * n as f64) as usize % n;
+    let schemes: Vec<_> = SCHEMES.iter().map(|&n| (n, surface(n))).collect();
+    let mut refined = 0;
+    for round in 0..80 {
+        let full = grid(5, 5);
+        let mut mesh = full.clone();
+        for _ in 0..pick(6) {
+            let f = pick(mesh.faces.len());
+            mesh.faces.remove(f);
+        }
+        // Drop vertices no face uses, renumbering.
+        let mut map = vec![u32::MAX; mesh.positions.len()];
+        let mut positions = Vec::new();
+        for f in &mut mesh.faces {
+            for v in f.iter_mut() {
+                if map[*v as usize] == u32::MAX {
+                    map[*v as usize] = positions.len() as u32;
+                    positions.push(mesh.positions[*v as usize]);
+                }
+                *v = map[*v as usize];
+            }
+        }
+        mesh.positions = positions;
+        let Ok(topo) = Topology::build(&mesh) else {
+            continue; // removing faces can leave a non-manifold vertex
+        };
+        let mode = if round % 2 == 0 {
+            Boundary::EdgeAndCorner
+        } else {
+            Boundary::EdgeOnly
+        };
+        let mut features = Features::with_boundary(mode);
+        let edges: Vec<[u32; 2]> = (0..topo.edge_count() as u32)
+            .map(|e| topo.edge_vertices(e))
+            .collect();
+        for _ in 0..pick(8) {
+            let e = edges[pick(edges.len())];
+            if !features.creases.iter().any(|&(c, _)| c == e) {
+                features
+                    .creases
+                    .push((e, Sharpness::steps(pick(12) as u32)));
+            }
+        }
+        if pick(3) == 0 {
+            features
+                .corners
+                .push((pick(mesh.positions.len()) as u32, Sharpness::INFINITE));
+        }
+        if pick(3) == 0 {
+            features.holes.push(pick(mesh.faces.len()) as u32);
+        }
+        for (name, s) in &schemes {
+            let steps = 1 + pick(3);
+            let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+                s, &mesh, &topo, &features, steps, 2,
+            )
+            .unwrap_or_else(|e| panic!("{name} round {round}: {e}"));
+            assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
+            let mut constant = mesh.clone();
+            constant
+                .positions
+                .iter_mut()
+                .for_each(|p| *p = [0.25, -3.0, 7.5]);
+            let c = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+                s, &constant, &topo, &features, steps, 1,
+            )
+            .unwrap();
+            let worst = c
+                .positions
+                .iter()
+                .flat_map(|p| [p[0] - 0.25, p[1] + 3.0, p[2] - 7.5])
+                .fold(0.0f64, |m, d| m.max(d.abs()));
+            assert!(
+                worst < 1e-12,
+                "{name} round {round}: constants off by {worst:e}"
+            );
+            refined += 1;
+        }
+    }
+    assert!(refined > 200, "only {refined} refinements");
+}
