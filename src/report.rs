@@ -72,7 +72,8 @@ pub fn json(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> Value {
             .words
             .iter()
             .zip(&s.masks)
-            .map(|(w, m)| {
+            .enumerate()
+            .map(|(k, (w, m))| {
                 let contributions: Vec<Value> = m
                     .contributions
                     .iter()
@@ -92,6 +93,10 @@ pub fn json(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> Value {
                     "first_step": w.first_step,
                     "steps": if w.transitional { json!(w.steps) } else { Value::Null },
                     "contributions": contributions,
+                    "limit": s.limits.get(k).map_or(Value::Null, |l| json!({
+                        "position": l.position.iter().map(exact).collect::<Vec<_>>(),
+                        "tangent": l.tangent.iter().map(exact).collect::<Vec<_>>(),
+                    })),
                 })
             })
             .collect()
@@ -194,7 +199,7 @@ pub fn text(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> String {
     if let Some(sc) = scheme {
         let tr = sc.graph.words.iter().filter(|w| w.transitional).count();
         let _ = writeln!(w, "{} masks ({} transitional):", sc.masks.len(), tr);
-        for (info, m) in sc.graph.words.iter().zip(&sc.masks) {
+        for (k, (info, m)) in sc.graph.words.iter().zip(&sc.masks).enumerate() {
             let tag = if info.transitional {
                 format!("  (transitional, steps {:?})", info.steps)
             } else {
@@ -210,6 +215,12 @@ pub fn text(ls: &LSystem, a: &Analysis, scheme: Option<&Scheme>) -> String {
                     format!("{:.17}", c.weight.to_f64()),
                     c.weight
                 );
+            }
+            if let Some(l) = sc.limits.get(k) {
+                let list =
+                    |v: &[Elem]| v.iter().map(Elem::to_string).collect::<Vec<_>>().join(", ");
+                let _ = writeln!(w, "    limit point: {}", list(&l.position));
+                let _ = writeln!(w, "    limit tangent: {}", list(&l.tangent));
             }
         }
         match lsubdiv::compiler::exact::ev::analyse(sc) {

@@ -10,6 +10,7 @@ pub mod codegen;
 pub mod ev;
 pub mod field;
 pub mod graph;
+pub mod limit;
 pub mod linalg;
 pub mod lsystem;
 pub mod masks;

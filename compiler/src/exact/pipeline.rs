@@ -4,6 +4,7 @@
 use crate::error::Error;
 use crate::exact::field::Elem;
 use crate::exact::graph::{reach, Reach};
+use crate::exact::limit::{self, limit_mask, LimitMask};
 use crate::exact::lsystem::{LSystem, Part, Sym, Word};
 use crate::exact::masks::{mask, Mask};
 use crate::exact::symmetry::check_symmetry;
@@ -24,6 +25,9 @@ pub struct Scheme {
     pub graph: Reach,
     /// One mask per word of `graph.words`, same order.
     pub masks: Vec<Mask>,
+    /// One limit mask per word of `graph.words` (issue 16, [`crate::exact::limit`]), same
+    /// order; empty for the degrees without one.
+    pub limits: Vec<LimitMask>,
 }
 
 impl Scheme {
@@ -48,15 +52,24 @@ impl Scheme {
             .iter()
             .map(|w| mask(&ls, &lengths, &w.word))
             .collect();
+        let limits = graph
+            .words
+            .iter()
+            .map_while(|w| limit_mask(&ls, &lengths, &w.word))
+            .collect();
         let scheme = Scheme {
             ls,
             analysis,
             lengths,
             graph,
             masks,
+            limits,
         };
         scheme.certify_partition_of_unity()?;
         scheme.certify_mirror()?;
+        for m in &scheme.limits {
+            limit::certify(&scheme.ls, &scheme.lengths, m).map_err(|e| scheme.internal(e))?;
+        }
         Ok(scheme)
     }
 
