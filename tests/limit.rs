@@ -3,6 +3,8 @@
 //! non-uniform B-spline (de Boor, `lsubdiv_testkit::spline`) at the point's middle knot, and
 //! the tangent weights with its derivative there.
 
+mod common;
+
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv_testkit::spline::de_boor;
 
@@ -77,4 +79,127 @@ fn uniform_binary_has_the_cubic_b_spline_limit_masks() {
         assert_eq!(p, vec![1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0]);
         assert_eq!(t, vec![-0.5, 0.0, 0.5]);
     }
+}
+
+/// The limit points of a refined closed curve lie on the coarse spline: each equals de Boor's
+/// evaluation of the coarse curve at the refined point's middle knot, and its tangent the
+/// derivative there (the mask's parameter has the refined level's lengths: × ρ^s).
+#[test]
+fn limit_points_of_refined_curves_are_on_the_coarse_spline() {
+    use lsubdiv::generic::GenericScheme;
+    use lsubdiv::{curve_limit, refine, Curve, CurveScheme};
+    use lsubdiv_testkit::spline::knots_and_points;
+    for name in CUBIC {
+        let mut g =
+            GenericScheme::new(Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap())
+                .unwrap();
+        let pts: Vec<[f64; 2]> = (0..9)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / 9.0;
+                [a.cos() * (1.0 + 0.3 * (3.0 * a).sin()), a.sin()]
+            })
+            .collect();
+        let coarse = Curve::with_axiom(&g.tables(), pts, true);
+        let steps = 3;
+        g.prepare(&coarse).unwrap();
+        let fine = refine(&g, &coarse, steps).unwrap();
+        g.prepare(&fine).unwrap();
+        let lim = curve_limit(&g, &fine).unwrap();
+        let lengths: Vec<f64> = g.scheme().lengths.iter().map(|l| l.to_f64()).collect();
+        let rho = g.scheme().analysis.rho.to_f64();
+        let (t0, p0) = knots_and_points(&coarse, &lengths, 1.0, 0.0, 3);
+        let (t1, _) = knots_and_points(&fine, &lengths, rho.powi(-(steps as i32)), 0.0, 3);
+        let period = t0[coarse.points.len()];
+        let on = |x: f64| {
+            // Into the coarse domain [t0[3], t0[3] + period).
+            let x = t0[3] + (x - t0[3]).rem_euclid(period);
+            de_boor(&t0, &p0, 3, x)
+        };
+        let mut worst = (0.0f64, 0.0f64);
+        for (k, (p, tan)) in lim.positions.iter().zip(&lim.tangents).enumerate() {
+            let x = t1[k + 2];
+            let want = on(x);
+            let h = 1e-6;
+            let (a, b) = (on(x - h), on(x + h));
+            for c in 0..2 {
+                worst.0 = worst.0.max((p[c] - want[c]).abs());
+                let slope = (b[c] - a[c]) / (2.0 * h);
+                worst.1 = worst.1.max((tan[c] * rho.powi(steps as i32) - slope).abs());
+            }
+        }
+        assert!(
+            worst.0 < 1e-12,
+            "{name}: limit points off the spline by {:e}",
+            worst.0
+        );
+        assert!(worst.1 < 1e-5, "{name}: tangents off by {:e}", worst.1);
+    }
+}
+
+/// `lsubdiv curve --limit [--tangents]`: the limit points (and derivatives as extra columns)
+/// of the refined polygon; with interpolated ends the end points are their own limit points;
+/// degrees without limit masks are refused.
+#[test]
+fn the_command_line_writes_limit_points_and_tangents() {
+    use common::cli::{lsubdiv, stderr, write};
+    let dir = tempfile::tempdir().unwrap();
+    let square = write(dir.path(), "sq.txt", "0 0\n1 0\n1 1\n0 1\n");
+    let run = |args: &[&str]| {
+        let o = lsubdiv(args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        let rows: Vec<Vec<f64>> = String::from_utf8(o.stdout)
+            .unwrap()
+            .lines()
+            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+            .collect();
+        rows
+    };
+    // Uniform binary, no step: (1, 4, 1)/6 and (−1, 0, 1)/2 around each corner.
+    let rows = run(&[
+        "curve",
+        "uniform-binary",
+        "--steps",
+        "0",
+        "--closed",
+        &square,
+        "-o",
+        "-",
+        "--limit",
+        "--tangents",
+    ]);
+    assert_eq!(rows[0], vec![1.0 / 6.0, 1.0 / 6.0, 0.5, -0.5]);
+    assert_eq!(rows.len(), 4);
+    // Interpolated ends: the end points are on the limit curve.
+    let rows = run(&[
+        "curve",
+        "fibonacci",
+        "--steps",
+        "2",
+        "--ends",
+        "interpolate",
+        &square,
+        "-o",
+        "-",
+        "--limit",
+    ]);
+    assert_eq!(rows.first().unwrap(), &vec![0.0, 0.0]);
+    assert_eq!(rows.last().unwrap(), &vec![0.0, 1.0]);
+    // Degree 2 has no limit masks.
+    let o = lsubdiv(&[
+        "curve",
+        "fibonacci-curve",
+        "--steps",
+        "1",
+        "--closed",
+        &square,
+        "-o",
+        "-",
+        "--limit",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("no limit masks for degree 2"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -45,7 +45,8 @@ pub use lsubdiv_compiler as compiler;
 pub use lsubdiv_generated as generated;
 pub use lsubdiv_runtime as runtime;
 pub use lsubdiv_runtime::{
-    refine, refine_ends, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables, EndCurve,
+    curve_limit, end_limit, refine, refine_ends, Curve, CurveError, CurveLimit, CurveRefiner,
+    CurveScheme, CurveTables, EndCurve,
 };
 
 pub use lsubdiv_compiler::{write_atomic, Error, Location};

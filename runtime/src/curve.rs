@@ -38,6 +38,11 @@ pub struct CurveTables<'a> {
     /// Entry index (within its mask) of the child of each word, for odd degrees; [`NO_CHILD`]
     /// for even degrees.
     pub mask_children: &'a [u32],
+    /// Per word, its limit mask: the weights of the points −(d−1)/2..=(d−1)/2 around a point
+    /// with that word for the point of the limit curve it converges to, then for the curve's
+    /// derivative there (2d values a word, nearest f64 of the exact ones); empty for degrees
+    /// without one (`lsubdiv_compiler::exact::limit`: degrees 1 and 3 have them).
+    pub limit_weights: &'a [f64],
 }
 
 impl<'a> CurveTables<'a> {
@@ -66,6 +71,14 @@ impl<'a> CurveTables<'a> {
     /// Entries of the mask of word i.
     pub fn mask_range(&self, i: usize) -> std::ops::Range<usize> {
         self.mask_offsets[i] as usize..self.mask_offsets[i + 1] as usize
+    }
+
+    /// The limit mask of word i ([`CurveTables::limit_weights`]): the position weights and
+    /// the tangent weights, if the tables have them.
+    pub fn limit_mask(&self, i: usize) -> Option<(&'a [f64], &'a [f64])> {
+        let d = self.degree;
+        let all = self.limit_weights.get(2 * d * i..2 * d * (i + 1))?;
+        Some(all.split_at(d))
     }
 
     /// Number of symbols.
@@ -183,6 +196,8 @@ pub enum CurveError {
     UnknownWord(String),
     /// Interpolated ends need an odd degree ([`crate::ends`]).
     EvenDegree(usize),
+    /// The tables have no limit masks for this degree ([`crate::limit`]).
+    NoLimit(usize),
 }
 
 impl fmt::Display for CurveError {
@@ -202,6 +217,10 @@ impl fmt::Display for CurveError {
             CurveError::EvenDegree(d) => write!(
                 f,
                 "interpolated ends need an odd degree (the end point on a knot); this scheme has degree {d}"
+            ),
+            CurveError::NoLimit(d) => write!(
+                f,
+                "no limit masks for degree {d}: they are derived for degrees 1 and 3 (a point of the limit curve of another degree depends on more intervals than its word)"
             ),
         }
     }
@@ -535,6 +554,7 @@ mod tests {
             mask_words: &[],
             mask_weights: &[],
             mask_children: &[],
+            limit_weights: &[],
         }
     }
 

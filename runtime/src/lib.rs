@@ -37,6 +37,7 @@
 //!             mask_words: &[0, 0, 0, 0],
 //!             mask_weights: &[0.25, 0.75, 0.75, 0.25],
 //!             mask_children: &[NO_CHILD],
+//!             limit_weights: &[], // no limit mask for even degrees
 //!         }
 //!     }
 //! }
@@ -57,6 +58,7 @@ pub mod features;
 pub mod gather;
 pub mod generators;
 mod grid;
+pub mod limit;
 pub mod mesh;
 pub mod patch;
 pub mod polygon;
@@ -67,6 +69,7 @@ pub mod topology;
 pub use curve::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 pub use ends::{refine_ends, EndCurve};
 pub use gather::CurveContexts;
+pub use limit::{curve_limit, end_limit, CurveLimit};
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`,
 /// with this crate in scope as `lsubdiv_runtime` (the path generated code names it by, see

@@ -28,6 +28,15 @@ pub struct CurveArgs {
     /// extension; m − 1 labels, one per edge; odd degrees, a symmetric scheme).
     #[arg(long, value_enum, default_value_t = Ends::Shrink)]
     ends: Ends,
+    /// Write the refined points' limit points instead (on the limit curve, by the exact limit
+    /// masks: degrees 1 and 3); an open polygon's two end points have none with `--ends
+    /// shrink`.
+    #[arg(long)]
+    limit: bool,
+    /// With `--limit`: the limit curve's derivative at each point as extra columns (with
+    /// respect to the refined level's parameter, in which intervals have the scheme's lengths).
+    #[arg(long, requires = "limit")]
+    tangents: bool,
 }
 
 /// How an open polygon's ends are refined (`--ends`).
@@ -48,6 +57,8 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         output,
         polygon,
         ends,
+        limit,
+        tangents,
     } = a;
     check_output(&output)?;
     let r = load(&refine.scheme, polygon.degree)?;
@@ -68,9 +79,17 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         implementation,
         max_memory: refine.limit.bytes(),
     };
-    let out = match pts {
-        Points::D2(p) => points::format(&refine_cli(&r, p, &job)?)?,
-        Points::D3(p) => points::format(&refine_cli(&r, p, &job)?)?,
+    let out = match (pts, limit, tangents) {
+        (Points::D2(p), false, _) => points::format(&refine_cli(&r, p, &job)?.0)?,
+        (Points::D3(p), false, _) => points::format(&refine_cli(&r, p, &job)?.0)?,
+        (Points::D2(p), true, false) => points::format(&limit_cli(&r, p, &job)?.positions)?,
+        (Points::D3(p), true, false) => points::format(&limit_cli(&r, p, &job)?.positions)?,
+        (Points::D2(p), true, true) => {
+            points::format(&with_tangents::<2, 4>(limit_cli(&r, p, &job)?))?
+        }
+        (Points::D3(p), true, true) => {
+            points::format(&with_tangents::<3, 6>(limit_cli(&r, p, &job)?))?
+        }
     };
     stages.next(format!("writing {}", output.display()));
     write_atomic(&output, out.as_bytes())
@@ -97,14 +116,52 @@ impl CurveJob<'_> {
     }
 }
 
+/// `--limit`: the refined curve's limit points and derivatives (`lsubdiv::runtime::limit`), by
+/// the generic path's tables (the same exact masks the generated tables hold).
+fn limit_cli<const D: usize>(
+    r: &Resolved,
+    points: Vec<[f64; D]>,
+    job: &CurveJob<'_>,
+) -> Result<lsubdiv::CurveLimit<D>, Error> {
+    let (points, labels) = refine_cli(r, points, job)?;
+    let mut generic = GenericScheme::new(build(r)?)?;
+    let input_error = |e| job.input_error(e);
+    if job.ends == Ends::Interpolate {
+        let sigma = lsubdiv::compiler::exact::symmetry::rule_mirror(&r.ls)
+            .ok_or_else(|| Error::internal(None, "interpolated ends without a mirror"))?;
+        let curve = EndCurve { points, labels };
+        let extended = curve
+            .extended(&lsubdiv::CurveScheme::tables(&generic), &sigma)
+            .map_err(input_error)?;
+        generic.prepare(&extended)?;
+        return lsubdiv::end_limit(&generic, &sigma, &curve).map_err(input_error);
+    }
+    let curve = lsubdiv::Curve {
+        points,
+        labels,
+        closed: job.polygon.closed,
+    };
+    generic.prepare(&curve)?;
+    lsubdiv::curve_limit(&generic, &curve).map_err(input_error)
+}
+
+/// Positions with their tangents as extra columns.
+fn with_tangents<const D: usize, const E: usize>(l: lsubdiv::CurveLimit<D>) -> Vec<[f64; E]> {
+    l.positions
+        .iter()
+        .zip(&l.tangents)
+        .map(|(p, t)| std::array::from_fn(|i| if i < D { p[i] } else { t[i - D] }))
+        .collect()
+}
+
 /// Refines by the picked implementation; under `auto`, labels that make words the generated
 /// tables lack go to the generic path. Refuses, before refining, a result predicted to need
-/// more than `--max-memory`.
+/// more than `--max-memory`. Returns the refined points and their labels.
 fn refine_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
-) -> Result<Vec<[f64; D]>, Error> {
+) -> Result<(Vec<[f64; D]>, Vec<u8>), Error> {
     if job.ends == Ends::Interpolate {
         return refine_ends_cli(r, points, job);
     }
@@ -122,7 +179,7 @@ fn refine_cli<const D: usize>(
         ))
         .check(&job.what, job.max_memory)?;
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
-    let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
+    let (labels, points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| lsubdiv::Curve {
             points,
             labels: curve.labels.clone(),
@@ -139,9 +196,9 @@ fn refine_cli<const D: usize>(
                 lsubdiv::refine(&generic, curve, steps).map_err(input_error)?
             }
         };
-        Ok(((), refined.points))
+        Ok((refined.labels, refined.points))
     })?;
-    Ok(points)
+    Ok((points, labels))
 }
 
 /// `--ends interpolate`: the odd-symmetric extension across each end (`lsubdiv::runtime::ends`)
@@ -151,7 +208,7 @@ fn refine_ends_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
-) -> Result<Vec<[f64; D]>, Error> {
+) -> Result<(Vec<[f64; D]>, Vec<u8>), Error> {
     let input_error = |e| job.input_error(e);
     if job.polygon.closed {
         return Err(Error::input(
@@ -183,7 +240,7 @@ fn refine_ends_cli<const D: usize>(
             curve.labels.len() as u128,
         ))
         .check(&job.what, job.max_memory)?;
-    let ((), points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
+    let (labels, points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| EndCurve {
             points,
             labels: curve.labels.clone(),
@@ -199,9 +256,9 @@ fn refine_ends_cli<const D: usize>(
                 lsubdiv::refine_ends(&generic, &sigma, curve, job.steps).map_err(input_error)?
             }
         };
-        Ok(((), fine.points))
+        Ok((fine.labels, fine.points))
     })?;
-    Ok(points)
+    Ok((points, labels))
 }
 
 /// The generated kernels' result by `run` (a registry call) when the picked implementation is

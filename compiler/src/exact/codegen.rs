@@ -180,6 +180,7 @@ impl Codegen {
         let mask_offsets = u32s(c.mask_offsets);
         let mask_words = u32s(c.mask_words);
         let weights: Vec<Literal> = c.mask_weights.iter().map(|&w| f64_lit(w)).collect();
+        let limit_weights: Vec<Literal> = c.limit_weights.iter().map(|&w| f64_lit(w)).collect();
         let children = with_sentinel(c.mask_children, NO_CHILD, "NO_CHILD");
         let no_child = c.mask_children.contains(&NO_CHILD).then(|| {
             quote! {
@@ -230,6 +231,7 @@ impl Codegen {
                 mask_words: &[#(#mask_words),*],
                 mask_weights: &[#(#weights),*],
                 mask_children: &[#(#children),*],
+                limit_weights: &[#(#limit_weights),*],
             };
 
             #contexts

@@ -37,6 +37,8 @@ pub struct Tables {
     mask_weights: Vec<f64>,
     exact_weights: Vec<Elem>,
     mask_children: Vec<u32>,
+    /// Per word, its limit mask's 2d weights (none for degrees without one).
+    limit_weights: Vec<f64>,
     surface: Result<Surface, Error>,
 }
 
@@ -103,6 +105,7 @@ impl Tables {
             mask_weights: Vec::new(),
             exact_weights: Vec::new(),
             mask_children: Vec::new(),
+            limit_weights: Vec::new(),
             surface,
             scheme,
         };
@@ -129,6 +132,7 @@ impl Tables {
             mask_words: &self.mask_words,
             mask_weights: &self.mask_weights,
             mask_children: &self.mask_children,
+            limit_weights: &self.limit_weights,
         }
     }
 
@@ -206,7 +210,12 @@ impl Tables {
         }
         let (mut mask_words, mut mask_weights, mut exact_weights) = (vec![], vec![], vec![]);
         let (mut mask_offsets, mut mask_children, mut ring_weights) = (vec![], vec![], vec![]);
+        let mut limit_weights = Vec::new();
         for w in &new {
+            let (ls, lengths) = (&self.scheme.ls, &self.scheme.lengths);
+            if let Some(l) = crate::exact::limit::limit_mask(ls, lengths, w) {
+                limit_weights.extend(l.position.iter().chain(&l.tangent).map(Elem::to_f64));
+            }
             let m = self.scheme.mask_of(w);
             for c in &m.contributions {
                 let at = self.index.get(&c.word).or_else(|| index.get(&c.word));
@@ -229,6 +238,7 @@ impl Tables {
         self.exact_weights.extend(exact_weights);
         self.mask_offsets.extend(mask_offsets);
         self.mask_children.extend(mask_children);
+        self.limit_weights.extend(limit_weights);
         if let Ok(s) = &mut self.surface {
             s.ring_weights.extend(ring_weights);
         }
@@ -250,6 +260,7 @@ mod tests {
         let n = c.word_count();
         assert_eq!(c.words.len(), n * (c.degree + 1));
         assert_eq!(c.mask_children.len(), n);
+        assert!(c.limit_weights.is_empty() || c.limit_weights.len() == 2 * c.degree * n);
         assert_eq!(
             *c.mask_offsets.last().unwrap() as usize,
             c.mask_weights.len()
