@@ -25,46 +25,7 @@ fn limit_masks_are_the_b_spline_at_the_middle_knot() {
     for name in CUBIC {
         let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();
         assert_eq!(s.ls.degree, 3, "{name}");
-        assert_eq!(
-            s.limits.len(),
-            s.graph.words.len(),
-            "{name}: one limit mask per word"
-        );
-        let len = |sym: u8| s.lengths[sym as usize].to_f64();
-        for m in &s.limits {
-            // Knots x_0..x_8: two unit intervals, the word's four, two unit intervals; five
-            // cubic B-splines, the middle one (x_2..x_6) the point's, its middle knot x_4.
-            let mut x = vec![0.0];
-            let intervals = [1.0, 1.0]
-                .into_iter()
-                .chain(m.word.iter().map(|&sym| len(sym)))
-                .chain([1.0, 1.0]);
-            for h in intervals {
-                x.push(x.last().unwrap() + h);
-            }
-            let impulses: Vec<[f64; 3]> = (0..5)
-                .map(|j| std::array::from_fn(|k| f64::from(u8::from(j == k + 1))))
-                .collect();
-            let at = |t: f64| de_boor(&x, &impulses, 3, t);
-            let (knot, h) = (x[4], 1e-5);
-            let value = at(knot);
-            let (before, after) = (at(knot - h), at(knot + h));
-            let word = s.ls.word_str(&m.word);
-            for k in 0..3 {
-                let exact = m.position[k].to_f64();
-                assert!(
-                    (exact - value[k]).abs() < 1e-12,
-                    "{name} {word}: N{k} {exact} vs {}",
-                    value[k]
-                );
-                let slope = (after[k] - before[k]) / (2.0 * h);
-                let exact = m.tangent[k].to_f64();
-                assert!(
-                    (exact - slope).abs() < 1e-6,
-                    "{name} {word}: N'{k} {exact} vs {slope}"
-                );
-            }
-        }
+        lsubdiv_testkit::spline::check_limit_masks(&s).unwrap_or_else(|e| panic!("{name}: {e}"));
     }
 }
 

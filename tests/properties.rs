@@ -196,6 +196,11 @@ fn mirror_symmetry(c: &Case) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// The exact limit masks (cubic schemes) are the B-spline at each point's middle knot.
+fn limit_masks(c: &Case) -> Result<(), TestCaseError> {
+    lsubdiv_testkit::spline::check_limit_masks(c.generic.scheme()).map_err(TestCaseError::fail)
+}
+
 /// The refined polygon is the control polygon of the same spline on the refined knots.
 fn same_spline(c: &Case) -> Result<(), TestCaseError> {
     let fine = lsubdiv::refine(&c.generic, &c.curve, c.steps).expect("refines");
@@ -238,6 +243,7 @@ proptest! {
         partition_of_unity(&c)?;
         same_spline(&c)?;
         affine_invariance(&c)?;
+        limit_masks(&c)?;
     }
 }
 

@@ -86,3 +86,51 @@ pub fn spline_distance<const D: usize>(
         })
         .fold((0.0, lo), |a, b| if b.0 > a.0 { b } else { a })
 }
+
+/// Checks every limit mask of a cubic scheme (`Scheme::limits`) against de Boor: for each
+/// reachable word, the position weights against the B-splines' values at the point's middle
+/// knot (to 1e-12) and the tangent weights against their central differences (to 1e-6), on a
+/// knot vector of the word's exact lengths (as f64) between unit intervals.
+pub fn check_limit_masks(s: &lsubdiv::compiler::exact::Scheme) -> Result<(), String> {
+    if s.ls.degree != 3 {
+        return Ok(());
+    }
+    if s.limits.len() != s.graph.words.len() {
+        return Err(format!(
+            "{} limit masks for {} words",
+            s.limits.len(),
+            s.graph.words.len()
+        ));
+    }
+    let len = |sym: u8| s.lengths[sym as usize].to_f64();
+    for m in &s.limits {
+        // Knots x_0..x_8: two unit intervals, the word's four, two unit intervals; five cubic
+        // B-splines, the middle one (x_2..x_6) the point's, its middle knot x_4.
+        let mut x = vec![0.0];
+        let intervals = [1.0, 1.0]
+            .into_iter()
+            .chain(m.word.iter().map(|&sym| len(sym)))
+            .chain([1.0, 1.0]);
+        for h in intervals {
+            x.push(x[x.len() - 1] + h);
+        }
+        let impulses: Vec<[f64; 3]> = (0..5)
+            .map(|j| std::array::from_fn(|k| f64::from(u8::from(j == k + 1))))
+            .collect();
+        let at = |t: f64| de_boor(&x, &impulses, 3, t);
+        let (knot, h) = (x[4], 1e-5);
+        let (value, before, after) = (at(knot), at(knot - h), at(knot + h));
+        let word = s.ls.word_str(&m.word);
+        for k in 0..3 {
+            let (p, t) = (m.position[k].to_f64(), m.tangent[k].to_f64());
+            let slope = (after[k] - before[k]) / (2.0 * h);
+            if (p - value[k]).abs() > 1e-12 || (t - slope).abs() > 1e-6 * (1.0 + slope.abs()) {
+                return Err(format!(
+                    "{word}: weight {k}: position {p} vs {}, tangent {t} vs {slope}",
+                    value[k]
+                ));
+            }
+        }
+    }
+    Ok(())
+}
