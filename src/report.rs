@@ -381,5 +381,19 @@ pub fn ev_text(
             r.n, r.alpha, r.lambda1, r.lambda2, r.mu0, r.normalisation
         );
     }
+    let _ = writeln!(
+        w,
+        "limit point from the stationary 1-ring (left eigenvector of eigenvalue 1; numeric, as alpha):"
+    );
+    let _ = writeln!(
+        w,
+        "{:>4} {:>18} {:>18} {:>18}",
+        "n", "EV", "each radial", "each diagonal"
+    );
+    let ev = a.coefficients_f64();
+    for r in rows {
+        let [c, radial, diagonal] = ev.limit_weights(r.n, r.alpha);
+        let _ = writeln!(w, "{:>4} {c:>18.15} {radial:>18.15} {diagonal:>18.15}", r.n);
+    }
     out
 }

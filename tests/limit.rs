@@ -164,3 +164,66 @@ fn the_command_line_writes_limit_points_and_tangents() {
         stderr(&o)
     );
 }
+
+/// The EV's limit point from its stationary 1-ring (`EvCoefficients::limit_weights`, the left
+/// eigenvector of eigenvalue 1): fixed under refinement (the limit of the 1-ring after one
+/// more step is the same point), and at valence 4 the tensor product of the curve's limit
+/// mask (uniform binary: 4/9, 1/9 per edge neighbour, 1/36 per diagonal one).
+#[test]
+fn ev_limit_points_are_fixed_under_refinement() {
+    use lsubdiv::generic::GenericSurface;
+    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, SurfaceScheme};
+    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::CurveScheme;
+    let ub = GenericSurface::new(
+        Scheme::build(lsubdiv_cli::resolve("uniform-binary").unwrap().ls).unwrap(),
+    )
+    .unwrap();
+    let st = ub.surface();
+    let w = st.ev.limit_weights(4, st.alpha(4).unwrap());
+    let want = [4.0 / 9.0, 1.0 / 9.0, 1.0 / 36.0];
+    assert!((0..3).all(|i| (w[i] - want[i]).abs() < 1e-12), "{w:?}");
+    for name in [
+        "uniform-binary",
+        "fibonacci",
+        "binary-ternary",
+        "found-cubic",
+    ] {
+        let s = GenericSurface::new(Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap())
+            .unwrap();
+        let st = s.surface();
+        let n = 3;
+        let weights = st.ev.limit_weights(n, st.alpha(n).unwrap());
+        let mut cube = lsubdiv::runtime::generators::cube();
+        cube.positions[5] = [1.3, -0.8, 1.1]; // not symmetric about vertex 0
+        let lm = LabelledMesh::with_axiom(&s.tables(), cube).unwrap();
+        // The limit of vertex 0 (an EV; base vertices keep their index) from a level's 1-ring.
+        let limit = |steps: usize| {
+            let (fine, _) = refine_surface(&s, &lm, steps).unwrap();
+            let topo = Topology::build(&fine.mesh).unwrap();
+            let at = |v: u32| fine.mesh.positions[v as usize];
+            let mut p = at(0).map(|x| weights[0] * x);
+            for wedge in topo.rotation(0) {
+                let prev = if wedge.next_is_plus {
+                    (wedge.corner + 3) % 4
+                } else {
+                    (wedge.corner + 1) % 4
+                };
+                let (r, d) = (
+                    topo.vertex(wedge.face, prev),
+                    topo.vertex(wedge.face, (wedge.corner + 2) % 4),
+                );
+                for i in 0..3 {
+                    p[i] += weights[1] * at(r)[i] + weights[2] * at(d)[i];
+                }
+            }
+            p
+        };
+        let (a, b) = (limit(4), limit(5));
+        let diff = (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max);
+        assert!(
+            diff < 1e-12,
+            "{name}: the EV limit moves by {diff:e} under refinement"
+        );
+    }
+}

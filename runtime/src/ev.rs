@@ -223,6 +223,37 @@ impl EvCoefficients {
         Err(EvError::NoRoot { n })
     }
 
+    /// The weights that take a stationary 1-ring to the EV's limit point (issue 16): the left
+    /// eigenvector of eigenvalue 1 of the local subdivision matrix, which lies in Fourier
+    /// index 0 (the limit is the same under rotation), so it is block 0's: (for the EV, for
+    /// each radial neighbour, for each diagonal neighbour), summing to 1 over the 1 + 2n
+    /// points. Numeric (f64), as α is.
+    pub fn limit_weights(&self, n: usize, alpha: f64) -> [f64; 3] {
+        let m = self.block0(n, alpha);
+        // l (M − I) = 0: l is orthogonal to the columns of M − I, so the cross product of two
+        // of them (block 0 has rank 2 there; the pair with the largest product is taken).
+        let col = |j: usize| [0, 1, 2].map(|i| m[i][j] - f64::from(u8::from(i == j)));
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let size = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>();
+        let l = [
+            cross(col(0), col(1)),
+            cross(col(1), col(2)),
+            cross(col(0), col(2)),
+        ]
+        .into_iter()
+        .max_by(|a, b| size(a).total_cmp(&size(b)))
+        .unwrap_or_default();
+        let total = l[0] + l[1] + l[2];
+        let nf = n as f64;
+        [l[0] / total, l[1] / (nf * total), l[2] / (nf * total)]
+    }
+
     /// α and the spectrum at valence n.
     pub fn spectrum(&self, n: usize) -> Result<Spectrum, EvError> {
         let alpha = self.alpha(n)?;
