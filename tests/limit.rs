@@ -213,8 +213,8 @@ fn ev_limit_points_are_fixed_under_refinement() {
                     topo.vertex(wedge.face, prev),
                     topo.vertex(wedge.face, (wedge.corner + 2) % 4),
                 );
-                for i in 0..3 {
-                    p[i] += weights[1] * at(r)[i] + weights[2] * at(d)[i];
+                for (i, x) in p.iter_mut().enumerate() {
+                    *x += weights[1] * at(r)[i] + weights[2] * at(d)[i];
                 }
             }
             p
