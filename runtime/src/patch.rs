@@ -351,23 +351,36 @@ impl<'t> Base<'t> {
         // of them hold for every later step.
         let decided = steps.min(features.changing_steps() + 1).max(1);
         let nv = topo.vertex_count() as u32;
+        let plain = features.is_plain();
+        // On a plain mesh the special vertices are the EVs, without resolving every rule.
         let special: Vec<u32> = (0..nv)
-            .filter(|&v| (0..decided).any(|k| features.needs_rule(topo, v, k)))
+            .filter(|&v| {
+                if plain {
+                    topo.valence(v) != 4
+                } else {
+                    (0..decided).any(|k| features.needs_rule(topo, v, k))
+                }
+            })
             .collect();
         let mut lockstep = vec![false; nv as usize];
         for &v in &special {
             lockstep[v as usize] = true;
         }
-        for v in 0..nv {
+        for v in (0..nv).filter(|_| !plain) {
             if features.changes_at(topo, v) {
                 lockstep[v as usize] = true;
             }
         }
-        let needs_containment = (0..topo.face_count() as u32).any(|f| {
-            (0..4).any(|c| {
-                (0..decided).any(|k| features.corner_kind(topo, f, c, k) == CornerKind::Ev)
+        // A plain mesh's corners lack their diagonal exactly at its EVs.
+        let needs_containment = if plain {
+            !special.is_empty()
+        } else {
+            (0..topo.face_count() as u32).any(|f| {
+                (0..4).any(|c| {
+                    (0..decided).any(|k| features.corner_kind(topo, f, c, k) == CornerKind::Ev)
+                })
             })
-        });
+        };
         Ok(Base {
             topo,
             features,
