@@ -227,3 +227,76 @@ fn ev_limit_points_are_fixed_under_refinement() {
         );
     }
 }
+
+/// The EV's limit tangents from the stationary 1-ring (`EvCoefficients::tangent_weight`, the
+/// left eigenvector of λ1): refining the 1-ring one more step scales them by λ1 exactly, and at
+/// valence 4 they are the regular tensor product of the curve's tangent and position masks
+/// (uniform binary: diagonals a quarter of the edge neighbours, c = √2/4).
+#[test]
+fn ev_limit_tangents_scale_by_lambda1() {
+    use lsubdiv::generic::GenericSurface;
+    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, SurfaceScheme};
+    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::CurveScheme;
+    let ub = GenericSurface::new(
+        Scheme::build(lsubdiv_cli::resolve("uniform-binary").unwrap().ls).unwrap(),
+    )
+    .unwrap();
+    let c = ub.surface().ev.tangent_weight(4).unwrap();
+    assert!((c - 2f64.sqrt() / 4.0).abs() < 1e-12, "{c}");
+    for name in [
+        "uniform-binary",
+        "fibonacci",
+        "binary-ternary",
+        "found-cubic",
+    ] {
+        let s = GenericSurface::new(Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap())
+            .unwrap();
+        let st = s.surface();
+        let n = 3;
+        let (c, lambda) = (
+            st.ev.tangent_weight(n).unwrap(),
+            st.ev.block(n, 1).unwrap().0,
+        );
+        let mut cube = lsubdiv::runtime::generators::cube();
+        cube.positions[5] = [1.3, -0.8, 1.1];
+        let lm = LabelledMesh::with_axiom(&s.tables(), cube).unwrap();
+        let theta = std::f64::consts::TAU / n as f64;
+        let tangents = |steps: usize| {
+            let (fine, _) = refine_surface(&s, &lm, steps).unwrap();
+            let topo = Topology::build(&fine.mesh).unwrap();
+            let at = |v: u32| fine.mesh.positions[v as usize];
+            let (mut e1, mut e2) = ([0.0f64; 3], [0.0f64; 3]);
+            for (k, wedge) in topo.rotation(0).iter().enumerate() {
+                let prev = if wedge.next_is_plus {
+                    (wedge.corner + 3) % 4
+                } else {
+                    (wedge.corner + 1) % 4
+                };
+                let (r, d) = (
+                    at(topo.vertex(wedge.face, prev)),
+                    at(topo.vertex(wedge.face, (wedge.corner + 2) % 4)),
+                );
+                let (ar, ad) = (theta * k as f64, theta * (k as f64 + 0.5));
+                for i in 0..3 {
+                    e1[i] += ar.cos() * r[i] + c * ad.cos() * d[i];
+                    e2[i] += ar.sin() * r[i] + c * ad.sin() * d[i];
+                }
+            }
+            (e1, e2)
+        };
+        let ((a1, a2), (b1, b2)) = (tangents(4), tangents(5));
+        let size = a1.iter().chain(&a2).fold(0.0f64, |m, x| m.max(x.abs()));
+        let off = (0..3)
+            .map(|i| {
+                (b1[i] - lambda * a1[i])
+                    .abs()
+                    .max((b2[i] - lambda * a2[i]).abs())
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            off < 1e-10 * size,
+            "{name}: tangents off λ1 scaling by {off:e} (size {size:e})"
+        );
+    }
+}

@@ -254,6 +254,19 @@ impl EvCoefficients {
         [l[0] / total, l[1] / (nf * total), l[2] / (nf * total)]
     }
 
+    /// The weight c of the EV's limit tangents (issue 16): the left eigenvector of λ1 (Fourier
+    /// index 1) gives the two tangents Σ_k (cos θk · R_k + c cos θ(k + ½) · D_k) and the same
+    /// with sines, θ = 2π/n, R_k the radial and D_k the diagonal neighbours in rotation order
+    /// (D_k between R_k and R_{k+1}); the EV itself has weight 0. Refining the 1-ring scales
+    /// both by λ1. Numeric (f64), as α is.
+    pub fn tangent_weight(&self, n: usize) -> Result<f64, EvError> {
+        let theta = TAU / n as f64;
+        let lambda = self.block(n, 1)?.0;
+        let a = self.radial_to_radial + 2.0 * self.side_to_radial * theta.cos();
+        // (u, v) B = λ (u, v) with u = 1: v = (λ − a) / (B1 (1 + e^{iθ})) = c e^{−iθ/2}.
+        Ok((lambda - a) / (2.0 * self.radial_to_diagonal * (theta / 2.0).cos()))
+    }
+
     /// α and the spectrum at valence n.
     pub fn spectrum(&self, n: usize) -> Result<Spectrum, EvError> {
         let alpha = self.alpha(n)?;
