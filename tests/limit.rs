@@ -165,56 +165,77 @@ fn the_command_line_writes_limit_points_and_tangents() {
     );
 }
 
+/// The compiled surface scheme `name`.
+fn surface(name: &str) -> lsubdiv::generic::GenericSurface {
+    let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();
+    lsubdiv::generic::GenericSurface::new(s).unwrap()
+}
+
+/// The surface schemes whose EV limits are checked on the cube.
+const EV_SCHEMES: [&str; 4] = [
+    "uniform-binary",
+    "fibonacci",
+    "binary-ternary",
+    "found-cubic",
+];
+
+/// A vertex and its 1-ring: (radial, diagonal) per wedge.
+type OneRing = ([f64; 3], Vec<([f64; 3], [f64; 3])>);
+
+/// The cube (vertex 5 moved: nothing is symmetric about vertex 0) refined `steps` times by the
+/// reference driver: vertex 0, an EV of valence 3 (base vertices keep their index), and its
+/// 1-ring in rotation order, (radial R_k, diagonal D_k) per wedge, D_k between R_k and
+/// R_{k+1}.
+fn cube_one_ring(s: &lsubdiv::generic::GenericSurface, steps: usize) -> OneRing {
+    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
+    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::CurveScheme;
+    let mut cube = lsubdiv::runtime::generators::cube();
+    cube.positions[5] = [1.3, -0.8, 1.1];
+    let lm = LabelledMesh::with_axiom(&s.tables(), cube).unwrap();
+    let (fine, _) = refine_surface(s, &lm, steps).unwrap();
+    let topo = Topology::build(&fine.mesh).unwrap();
+    let at = |v: u32| fine.mesh.positions[v as usize];
+    let ring = topo
+        .rotation(0)
+        .iter()
+        .map(|w| {
+            let prev = if w.next_is_plus {
+                (w.corner + 3) % 4
+            } else {
+                (w.corner + 1) % 4
+            };
+            (
+                at(topo.vertex(w.face, prev)),
+                at(topo.vertex(w.face, (w.corner + 2) % 4)),
+            )
+        })
+        .collect();
+    (at(0), ring)
+}
+
 /// The EV's limit point from its stationary 1-ring (`EvCoefficients::limit_weights`, the left
 /// eigenvector of eigenvalue 1): fixed under refinement (the limit of the 1-ring after one
 /// more step is the same point), and at valence 4 the tensor product of the curve's limit
 /// mask (uniform binary: 4/9, 1/9 per edge neighbour, 1/36 per diagonal one).
 #[test]
 fn ev_limit_points_are_fixed_under_refinement() {
-    use lsubdiv::generic::GenericSurface;
-    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, SurfaceScheme};
-    use lsubdiv::runtime::topology::Topology;
-    use lsubdiv::CurveScheme;
-    let ub = GenericSurface::new(
-        Scheme::build(lsubdiv_cli::resolve("uniform-binary").unwrap().ls).unwrap(),
-    )
-    .unwrap();
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    let ub = surface("uniform-binary");
     let st = ub.surface();
     let w = st.ev.limit_weights(4, st.alpha(4).unwrap());
     let want = [4.0 / 9.0, 1.0 / 9.0, 1.0 / 36.0];
     assert!((0..3).all(|i| (w[i] - want[i]).abs() < 1e-12), "{w:?}");
-    for name in [
-        "uniform-binary",
-        "fibonacci",
-        "binary-ternary",
-        "found-cubic",
-    ] {
-        let s = GenericSurface::new(Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap())
-            .unwrap();
+    for name in EV_SCHEMES {
+        let s = surface(name);
         let st = s.surface();
-        let n = 3;
-        let weights = st.ev.limit_weights(n, st.alpha(n).unwrap());
-        let mut cube = lsubdiv::runtime::generators::cube();
-        cube.positions[5] = [1.3, -0.8, 1.1]; // not symmetric about vertex 0
-        let lm = LabelledMesh::with_axiom(&s.tables(), cube).unwrap();
-        // The limit of vertex 0 (an EV; base vertices keep their index) from a level's 1-ring.
+        let weights = st.ev.limit_weights(3, st.alpha(3).unwrap());
         let limit = |steps: usize| {
-            let (fine, _) = refine_surface(&s, &lm, steps).unwrap();
-            let topo = Topology::build(&fine.mesh).unwrap();
-            let at = |v: u32| fine.mesh.positions[v as usize];
-            let mut p = at(0).map(|x| weights[0] * x);
-            for wedge in topo.rotation(0) {
-                let prev = if wedge.next_is_plus {
-                    (wedge.corner + 3) % 4
-                } else {
-                    (wedge.corner + 1) % 4
-                };
-                let (r, d) = (
-                    topo.vertex(wedge.face, prev),
-                    topo.vertex(wedge.face, (wedge.corner + 2) % 4),
-                );
+            let (centre, ring) = cube_one_ring(&s, steps);
+            let mut p = centre.map(|x| weights[0] * x);
+            for (r, d) in ring {
                 for (i, x) in p.iter_mut().enumerate() {
-                    *x += weights[1] * at(r)[i] + weights[2] * at(d)[i];
+                    *x += weights[1] * r[i] + weights[2] * d[i];
                 }
             }
             p
@@ -234,49 +255,25 @@ fn ev_limit_points_are_fixed_under_refinement() {
 /// (uniform binary: diagonals a quarter of the edge neighbours, c = √2/4).
 #[test]
 fn ev_limit_tangents_scale_by_lambda1() {
-    use lsubdiv::generic::GenericSurface;
-    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, SurfaceScheme};
-    use lsubdiv::runtime::topology::Topology;
-    use lsubdiv::CurveScheme;
-    let ub = GenericSurface::new(
-        Scheme::build(lsubdiv_cli::resolve("uniform-binary").unwrap().ls).unwrap(),
-    )
-    .unwrap();
-    let c = ub.surface().ev.tangent_weight(4).unwrap();
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    let c = surface("uniform-binary")
+        .surface()
+        .ev
+        .tangent_weight(4)
+        .unwrap();
     assert!((c - 2f64.sqrt() / 4.0).abs() < 1e-12, "{c}");
-    for name in [
-        "uniform-binary",
-        "fibonacci",
-        "binary-ternary",
-        "found-cubic",
-    ] {
-        let s = GenericSurface::new(Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap())
-            .unwrap();
+    for name in EV_SCHEMES {
+        let s = surface(name);
         let st = s.surface();
         let n = 3;
         let (c, lambda) = (
             st.ev.tangent_weight(n).unwrap(),
             st.ev.block(n, 1).unwrap().0,
         );
-        let mut cube = lsubdiv::runtime::generators::cube();
-        cube.positions[5] = [1.3, -0.8, 1.1];
-        let lm = LabelledMesh::with_axiom(&s.tables(), cube).unwrap();
         let theta = std::f64::consts::TAU / n as f64;
         let tangents = |steps: usize| {
-            let (fine, _) = refine_surface(&s, &lm, steps).unwrap();
-            let topo = Topology::build(&fine.mesh).unwrap();
-            let at = |v: u32| fine.mesh.positions[v as usize];
             let (mut e1, mut e2) = ([0.0f64; 3], [0.0f64; 3]);
-            for (k, wedge) in topo.rotation(0).iter().enumerate() {
-                let prev = if wedge.next_is_plus {
-                    (wedge.corner + 3) % 4
-                } else {
-                    (wedge.corner + 1) % 4
-                };
-                let (r, d) = (
-                    at(topo.vertex(wedge.face, prev)),
-                    at(topo.vertex(wedge.face, (wedge.corner + 2) % 4)),
-                );
+            for (k, (r, d)) in cube_one_ring(&s, steps).1.into_iter().enumerate() {
                 let (ar, ad) = (theta * k as f64, theta * (k as f64 + 0.5));
                 for i in 0..3 {
                     e1[i] += ar.cos() * r[i] + c * ad.cos() * d[i];

@@ -918,8 +918,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let resolved = Resolved::new(topo, features).map_err(SurfaceError::Features)?;
         let base = Base::new(topo, resolved, steps)?;
         let plain = base.features.is_plain();
-        let lookup: HashMap<&[u8], u32> =
-            (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+        let lookup = t.word_index();
         // Output quads index vertices with u32: refuse a result that would not fit, before
         // building anything.
         let (out_v, out_f) = output_counts(

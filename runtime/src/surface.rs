@@ -166,7 +166,7 @@ pub(crate) fn refine_ghosted<S: SurfaceScheme>(
 ) -> Result<LabelledMesh, SurfaceError> {
     let topo = Topology::build(&mesh.mesh)?;
     let t = scheme.tables();
-    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+    let lookup = t.word_index();
     let cx = Step {
         t,
         s: scheme.surface(),
@@ -185,7 +185,7 @@ fn refine_from<S: SurfaceScheme>(
     steps: usize,
 ) -> Result<(LabelledMesh, Vec<StepStats>), SurfaceError> {
     let t = scheme.tables();
-    let lookup: HashMap<&[u8], u32> = (0..t.word_count()).map(|i| (t.word(i), i as u32)).collect();
+    let lookup = t.word_index();
     let mut cur = mesh.clone();
     let mut stats = Vec::with_capacity(steps);
     for _ in 0..steps {
