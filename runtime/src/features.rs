@@ -325,7 +325,7 @@ impl Resolved {
     /// semi-sharp corner tag.
     pub fn changes_at(&self, topo: &crate::topology::Topology, v: u32) -> bool {
         let finite = |s: Sharpness| s.is_sharp() && !s.is_infinite();
-        finite(self.vertex[v as usize]) || spokes(topo, v).any(|e| finite(self.edge[e as usize]))
+        finite(self.vertex[v as usize]) || topo.spokes(v).any(|e| finite(self.edge[e as usize]))
     }
 
     /// The sharp spokes of v at step k: for each edge of its rotation E_0, E_1, … (E_k between
@@ -337,7 +337,7 @@ impl Resolved {
         v: u32,
         k: usize,
     ) -> Vec<bool> {
-        spokes(topo, v).map(|e| self.edge_sharp(e, k)).collect()
+        topo.spokes(v).map(|e| self.edge_sharp(e, k)).collect()
     }
 
     /// The vertex rule of v at step k.
@@ -429,18 +429,6 @@ impl Resolved {
     }
 }
 
-/// The edges of v's rotation E_0, E_1, …: E_k is wedge k's previous edge; at a boundary vertex
-/// the last wedge's next edge (a boundary edge) follows.
-pub(crate) fn spokes(topo: &crate::topology::Topology, v: u32) -> impl Iterator<Item = u32> + '_ {
-    let rot = topo.rotation(v);
-    let last = rot[rot.len() - 1];
-    let closing = topo
-        .is_boundary(v)
-        .then(|| topo.edge_of(last.face, last.next_local()));
-    rot.iter()
-        .map(move |w| topo.edge_of(w.face, w.prev_local()))
-        .chain(closing)
-}
 impl Features {
     /// Checks the features against a mesh of `vertices` vertices and `faces` faces whose
     /// edges are those for which `is_edge([lo, hi])` (endpoints smaller first) holds: every

@@ -1789,11 +1789,11 @@ impl Cut {
         // The point beyond a, away from b, along the sharp line through a.
         let beyond = |a: u32, e: u32, b: u32| -> [f64; 3] {
             let next = match features.vertex_rule(topo, a, 0) {
-                VertexRule::Crease => {
-                    crate::features::spokes(topo, a).find(|&s| s != e && features.edge_sharp(s, 0))
-                }
+                VertexRule::Crease => topo
+                    .spokes(a)
+                    .find(|&s| s != e && features.edge_sharp(s, 0)),
                 VertexRule::Smooth if topo.valence(a) == 4 && !topo.is_boundary(a) => {
-                    let spokes: Vec<u32> = crate::features::spokes(topo, a).collect();
+                    let spokes: Vec<u32> = topo.spokes(a).collect();
                     spokes
                         .iter()
                         .position(|&s| s == e)

@@ -432,12 +432,25 @@ impl Topology {
         self.mates[half(face, local)] == NONE
     }
 
+    /// The edges of v's rotation E_0, E_1, …: E_k is wedge k's previous edge; at a boundary
+    /// vertex the last wedge's next edge (a boundary edge) follows.
+    pub fn spokes(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        let rot = self.rotation(v);
+        let last = rot[rot.len() - 1];
+        let closing = self
+            .is_boundary(v)
+            .then(|| self.edge_of(last.face, last.next_local()));
+        rot.iter()
+            .map(move |w| self.edge_of(w.face, w.prev_local()))
+            .chain(closing)
+    }
+
     /// The edge between vertices a and b, if they share one.
     pub fn edge_between(&self, a: u32, b: u32) -> Option<u32> {
         if a as usize >= self.vertex_count || b as usize >= self.vertex_count {
             return None;
         }
-        crate::features::spokes(self, a).find(|&e| {
+        self.spokes(a).find(|&e| {
             let [x, y] = self.edge_vertices(e);
             (x, y) == (a.min(b), a.max(b))
         })
