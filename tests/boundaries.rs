@@ -618,6 +618,7 @@ fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
                 features: &features,
                 steps: 3,
                 threads: 2,
+                limit: false,
             };
             let generated = lsubdiv::generated::visit_surface(name, job)
                 .expect("a generated surface scheme")

@@ -297,3 +297,246 @@ fn ev_limit_tangents_scale_by_lambda1() {
         );
     }
 }
+
+/// The surface schemes, by name, with their exact interval lengths as f64.
+fn surface_schemes() -> Vec<(&'static str, lsubdiv::generic::GenericSurface, Vec<f64>)> {
+    CUBIC
+        .into_iter()
+        .filter_map(|name| {
+            let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();
+            let lengths = s.lengths.iter().map(|l| l.to_f64()).collect();
+            Some((
+                name,
+                lsubdiv::generic::GenericSurface::new(s).ok()?,
+                lengths,
+            ))
+        })
+        .collect()
+}
+
+/// The uniform cubic B-spline's four weights and their derivatives at parameter t, for the
+/// points centred at knots ⌊t⌋ − 1 ..= ⌊t⌋ + 2 (unit intervals): the independent reference.
+fn uniform_cubic(t: f64) -> (i64, [f64; 4], [f64; 4]) {
+    let k = t.floor();
+    let s = t - k;
+    let value = [
+        (1.0 - s).powi(3) / 6.0,
+        (3.0 * s.powi(3) - 6.0 * s * s + 4.0) / 6.0,
+        (-3.0 * s.powi(3) + 3.0 * s * s + 3.0 * s + 1.0) / 6.0,
+        s.powi(3) / 6.0,
+    ];
+    let slope = [
+        -(1.0 - s).powi(2) / 2.0,
+        1.5 * s * s - 2.0 * s,
+        -1.5 * s * s + s + 0.5,
+        s * s / 2.0,
+    ];
+    (k as i64 - 1, value, slope)
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// The angle between two vectors, in radians.
+fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let c = cross(a, b);
+    let sin = c.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let cos: f64 = (0..3).map(|i| a[i] * b[i]).sum();
+    sin.atan2(cos)
+}
+
+/// On the torus (every vertex of valence 4, every edge labelled by the axiom) the limit
+/// surface is the uniform bicubic B-spline of the control mesh, in the parameter where each
+/// base edge is one unit: knot insertion keeps the spline. Every refined vertex (x, y) of
+/// base face (i, j) sits at the knots (i + K_x / K_N, j + K_y / K_N), K the prefix sums of
+/// the exact lengths of W_s. The limit positions equal the spline there to 1e-12 and the
+/// limit normals its ∂u × ∂v to an angle of 1e-9, for every surface scheme.
+#[test]
+fn limit_on_the_torus_is_the_tensor_b_spline_at_the_knots() {
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::CurveScheme;
+    let (rows, cols) = (5, 7);
+    let torus = lsubdiv::runtime::generators::torus(rows, cols);
+    let topo = Topology::build(&torus).unwrap();
+    for (name, s, lengths) in surface_schemes() {
+        let steps = 3;
+        let lim = limit_with::<_, f64>(&s, &torus, &topo, &Features::default(), steps, 2).unwrap();
+        assert!(lim.approximate.is_empty(), "{name}");
+        // W_s and its knots in base-edge units.
+        let t = s.tables();
+        let mut word = t.axiom.to_vec();
+        for _ in 0..steps {
+            word = word.iter().flat_map(|&a| t.rule(a).to_vec()).collect();
+        }
+        let mut knots = vec![0.0];
+        for &a in &word {
+            knots.push(knots[knots.len() - 1] + lengths[a as usize]);
+        }
+        let n = word.len();
+        let total = knots[n];
+        let at = |a: i64, b: i64| {
+            let id = a.rem_euclid(rows as i64) as usize * cols + b.rem_euclid(cols as i64) as usize;
+            torus.positions[id]
+        };
+        let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
+        for (q, face) in lim.mesh.faces.iter().enumerate() {
+            let (f, cell) = (q / (n * n), q % (n * n));
+            let (x, y) = (cell % n, cell / n);
+            let u = (f / cols) as f64 + knots[x] / total;
+            let v = (f % cols) as f64 + knots[y] / total;
+            let (ku, wu, du) = uniform_cubic(u);
+            let (kv, wv, dv) = uniform_cubic(v);
+            let (mut p, mut su, mut sv) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+            for a in 0..4 {
+                for b in 0..4 {
+                    let c = at(ku + a as i64, kv + b as i64);
+                    for i in 0..3 {
+                        p[i] += wu[a] * wv[b] * c[i];
+                        su[i] += du[a] * wv[b] * c[i];
+                        sv[i] += wu[a] * dv[b] * c[i];
+                    }
+                }
+            }
+            let vtx = face[0] as usize;
+            let got = lim.mesh.positions[vtx];
+            worst_p = worst_p.max((0..3).map(|i| (got[i] - p[i]).abs()).fold(0.0, f64::max));
+            worst_n = worst_n.max(angle(lim.normals[vtx], cross(su, sv)));
+        }
+        assert!(
+            worst_p < 1e-12,
+            "{name}: limit positions off by {worst_p:e}"
+        );
+        assert!(
+            worst_n < 1e-9,
+            "{name}: limit normals off by {worst_n:e} rad"
+        );
+    }
+}
+
+/// Uniform binary is Catmull–Clark on quads: its limit points are Catmull–Clark's known limit
+/// masks, (16 P + 4 Σ edge neighbours + Σ diagonal neighbours) / 36 at regular interior
+/// vertices, (P₋ + 4 P + P₊) / 6 along a boundary, and the corner itself at a corner, on an
+/// open grid after two steps (read off the refined mesh's own connectivity).
+#[test]
+fn uniform_binary_limit_is_catmull_clark_on_regular_regions_and_boundaries() {
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::runtime::topology::Topology;
+    let mut grid = lsubdiv::runtime::generators::open_grid(3, 4);
+    for (i, p) in grid.positions.iter_mut().enumerate() {
+        p[2] = (i as f64 * 0.7).sin();
+    }
+    let topo = Topology::build(&grid).unwrap();
+    let s = surface("uniform-binary");
+    let steps = 2;
+    let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+        &s,
+        &grid,
+        &topo,
+        &Features::default(),
+        steps,
+        1,
+    )
+    .unwrap();
+    let lim = limit_with::<_, f64>(&s, &grid, &topo, &Features::default(), steps, 1).unwrap();
+    let ft = Topology::build(&fine).unwrap();
+    let p = |v: u32| fine.positions[v as usize];
+    let mut checked = [0usize; 3];
+    for v in 0..ft.vertex_count() as u32 {
+        let rot = ft.rotation(v);
+        let spokes: Vec<u32> = ft
+            .spokes(v)
+            .map(|e| {
+                let [a, b] = ft.edge_vertices(e);
+                a + b - v
+            })
+            .collect();
+        let want: [f64; 3] = if !ft.is_boundary(v) && rot.len() == 4 {
+            checked[0] += 1;
+            let diag = rot.iter().map(|w| ft.vertex(w.face, (w.corner + 2) % 4));
+            std::array::from_fn(|i| {
+                (16.0 * p(v)[i]
+                    + 4.0 * spokes.iter().map(|&u| p(u)[i]).sum::<f64>()
+                    + diag.clone().map(|u| p(u)[i]).sum::<f64>())
+                    / 36.0
+            })
+        } else if rot.len() == 1 {
+            checked[2] += 1;
+            p(v)
+        } else {
+            checked[1] += 1;
+            let (a, b) = (spokes[0], spokes[spokes.len() - 1]);
+            std::array::from_fn(|i| (p(a)[i] + 4.0 * p(v)[i] + p(b)[i]) / 6.0)
+        };
+        let got = lim.mesh.positions[v as usize];
+        let off = (0..3).map(|i| (got[i] - want[i]).abs()).fold(0.0, f64::max);
+        assert!(off < 1e-14, "vertex {v}: {got:?} vs {want:?}");
+    }
+    assert!(checked.iter().all(|&c| c > 0), "{checked:?}");
+}
+
+/// At the cube's EVs: the limit point is fixed under refinement (the limit after one more
+/// step is the same point, 1e-12), and the normals of the refined 1-ring faces converge to
+/// the limit normal as steps grow (the angle shrinks step by step; the sequence is printed).
+#[test]
+fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::runtime::topology::Topology;
+    let mut cube = lsubdiv::runtime::generators::cube();
+    cube.positions[5] = [1.3, -0.8, 1.1];
+    let topo = Topology::build(&cube).unwrap();
+    for name in EV_SCHEMES {
+        let s = surface(name);
+        let limit =
+            |steps| limit_with::<_, f64>(&s, &cube, &topo, &Features::default(), steps, 2).unwrap();
+        let (a, b) = (limit(4), limit(5));
+        let off = (0..3)
+            .map(|i| (a.mesh.positions[0][i] - b.mesh.positions[0][i]).abs())
+            .fold(0.0, f64::max);
+        assert!(off < 1e-12, "{name}: the EV's limit moves by {off:e}");
+        assert!(angle(a.normals[0], b.normals[0]) < 1e-12, "{name}");
+        let mut angles = Vec::new();
+        for steps in 2..=7 {
+            let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+                &s,
+                &cube,
+                &topo,
+                &Features::default(),
+                steps,
+                2,
+            )
+            .unwrap();
+            let ft = Topology::build(&fine).unwrap();
+            let p = |v: u32| fine.positions[v as usize];
+            let mut mean = [0.0; 3];
+            for w in ft.rotation(0) {
+                let f = fine.faces[w.face as usize];
+                let c = w.corner as usize;
+                let d = |j: usize| {
+                    let q = p(f[(c + j) % 4]);
+                    [0, 1, 2].map(|i| q[i] - p(0)[i])
+                };
+                let n = cross(d(1), d(3));
+                let len = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+                for i in 0..3 {
+                    mean[i] += n[i] / len;
+                }
+            }
+            angles.push(angle(mean, a.normals[0]));
+        }
+        eprintln!("{name}: 1-ring face normals vs the limit normal, steps 2..=7: {angles:?}");
+        assert!(
+            angles.windows(2).all(|w| w[1] < w[0]),
+            "{name}: not converging: {angles:?}"
+        );
+        assert!(angles[angles.len() - 1] < 1e-3, "{name}: {angles:?}");
+    }
+}

@@ -364,3 +364,27 @@ pub fn read(path: &Path, max: u64) -> Result<Checked, Error> {
     let bytes = lsubdiv_compiler::read_bytes(path, max)?;
     parse(&path.display().to_string(), bytes)
 }
+
+/// What a written mesh carries beside its positions and faces (issue 16).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Extras<'a> {
+    /// One unit normal per vertex, in the vertices' order (OBJ `vn` with faces `v//vn`, PLY
+    /// `nx ny nz`).
+    pub normals: Option<&'a [[f64; 3]]>,
+}
+
+impl Extras<'_> {
+    /// Refuses normals that are not one per vertex, or not finite.
+    pub fn check(&self, vertices: usize) -> Result<(), Error> {
+        if let Some(n) = self.normals {
+            if n.len() != vertices {
+                return Err(Error::internal(
+                    None,
+                    format!("{} normals for {vertices} vertices", n.len()),
+                ));
+            }
+            crate::points::finite("normal", n)?;
+        }
+        Ok(())
+    }
+}

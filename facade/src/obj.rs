@@ -4,7 +4,7 @@
 //! vertices numbered as in the file), and writing quad meshes. The tags are OpenSubdiv's
 //! ([`crate::obj_tags`]).
 
-use crate::mesh_file::{counted, shorten, too_few_corners, Parsed, Places, Unit};
+use crate::mesh_file::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use crate::obj_tags::Tags;
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::mesh::QuadMesh;
@@ -330,7 +330,14 @@ pub fn write(path: &Path, mesh: &QuadMesh) -> Result<(), Error> {
 /// `f` lines (1-based). A non-finite coordinate (which [`parse`] would reject) is refused
 /// instead ([`crate::points::finite`]).
 pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
+    format_with(mesh, Extras::default())
+}
+
+/// [`format`] with normals: `vn` lines after the `v` lines, one per vertex in the same order,
+/// and faces `f a//a …`.
+pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
     crate::points::finite("vertex", &mesh.positions)?;
+    extras.check(mesh.positions.len())?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 64);
     let _ = writeln!(
         s,
@@ -341,9 +348,27 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     for p in &mesh.positions {
         let _ = writeln!(s, "v {:?} {:?} {:?}", p[0], p[1], p[2]);
     }
+    for n in extras.normals.into_iter().flatten() {
+        let _ = writeln!(s, "vn {:?} {:?} {:?}", n[0], n[1], n[2]);
+    }
+    let slash = if extras.normals.is_some() { "//" } else { "" };
     for f in &mesh.faces {
         let [a, b, c, d] = f.map(|i| u64::from(i) + 1);
-        let _ = writeln!(s, "f {a} {b} {c} {d}");
+        let corner = |i: u64| {
+            if slash.is_empty() {
+                i.to_string()
+            } else {
+                format!("{i}{slash}{i}")
+            }
+        };
+        let _ = writeln!(
+            s,
+            "f {} {} {} {}",
+            corner(a),
+            corner(b),
+            corner(c),
+            corner(d)
+        );
     }
     Ok(s)
 }

@@ -8,7 +8,7 @@
 //! a binary element's count is checked against the bytes that follow before it is read, and
 //! values are stored only as they are read.
 
-use crate::mesh_file::{shorten, too_few_corners, Parsed, Places, Unit};
+use crate::mesh_file::{shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::features::Features;
 use lsubdiv_runtime::mesh::QuadMesh;
@@ -918,18 +918,34 @@ pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), Error> {
 /// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list; a
 /// non-finite coordinate is refused ([`crate::points::finite`]).
 pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
+    format_with(mesh, Extras::default())
+}
+
+/// [`format`] with normals: vertex properties `nx ny nz` (double) after x y z.
+pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
     crate::points::finite("vertex", &mesh.positions)?;
+    extras.check(mesh.positions.len())?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 256);
     let _ = write!(
         s,
         "ply\nformat ascii 1.0\ncomment lsubdiv quad mesh\nelement vertex {}\n\
-         property double x\nproperty double y\nproperty double z\nelement face {}\n\
-         property list uchar int vertex_indices\nend_header\n",
+         property double x\nproperty double y\nproperty double z\n",
         mesh.positions.len(),
+    );
+    if extras.normals.is_some() {
+        s.push_str("property double nx\nproperty double ny\nproperty double nz\n");
+    }
+    let _ = write!(
+        s,
+        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
         mesh.faces.len()
     );
-    for p in &mesh.positions {
-        let _ = writeln!(s, "{:?} {:?} {:?}", p[0], p[1], p[2]);
+    for (i, p) in mesh.positions.iter().enumerate() {
+        let _ = write!(s, "{:?} {:?} {:?}", p[0], p[1], p[2]);
+        if let Some(n) = extras.normals {
+            let _ = write!(s, " {:?} {:?} {:?}", n[i][0], n[i][1], n[i][2]);
+        }
+        s.push('\n');
     }
     for f in &mesh.faces {
         let _ = writeln!(s, "4 {} {} {} {}", f[0], f[1], f[2], f[3]);

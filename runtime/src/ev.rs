@@ -55,6 +55,36 @@ pub struct Spectrum {
     pub normalisation: f64,
 }
 
+/// What takes a stationary 1-ring (EV P, radial neighbours R_k, diagonal neighbours D_k) to
+/// the EV's limit point and limit tangents (issue 16): the point `centre`·P + `radial`·Σ R_k +
+/// `diagonal`·Σ D_k ([`EvCoefficients::limit_weights`]), the tangents Σ_k cos θk · R_k +
+/// `tangent` · cos θ(k + ½) · D_k and the same with sines ([`EvCoefficients::tangent_weight`]).
+/// Numeric (f64), as α is; tabulated per valence in generated code.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EvLimit {
+    /// The EV's weight.
+    pub centre: f64,
+    /// Each radial neighbour's weight.
+    pub radial: f64,
+    /// Each diagonal neighbour's weight.
+    pub diagonal: f64,
+    /// The diagonal neighbours' tangent weight c.
+    pub tangent: f64,
+}
+
+impl EvLimit {
+    /// The limit data at valence n, with α chosen by [`EvCoefficients::alpha`].
+    pub fn new(ev: &EvCoefficients, n: usize) -> Result<EvLimit, EvError> {
+        let [centre, radial, diagonal] = ev.limit_weights(n, ev.alpha(n)?);
+        Ok(EvLimit {
+            centre,
+            radial,
+            diagonal,
+            tangent: ev.tangent_weight(n)?,
+        })
+    }
+}
+
 /// Why no α could be found.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EvError {

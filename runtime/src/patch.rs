@@ -51,6 +51,9 @@ use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
 
+mod limit;
+pub use limit::SurfaceLimit;
+
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
 /// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept
 /// in gather form: per new point, its parents among the old points and their weights, summed
@@ -1064,6 +1067,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
     }
 
+    /// The last [`Refiner::refine`]'s output positions.
+    pub fn positions(&self) -> &[[T; 3]] {
+        if self.plans.is_empty() {
+            &self.start
+        } else {
+            &self.output
+        }
+    }
+
     /// Refines new positions of the base vertices; returns the output positions.
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
         let t = self.scheme.tables();
@@ -1599,37 +1611,100 @@ pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
     let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
     r.refine(&mesh.positions)?;
     let faces = r.faces();
-    let holes = r.base.features.has_holes();
-    let out = QuadMesh {
-        positions: r.into_positions(),
-        faces,
-    };
-    Ok(if holes { without_unused(out) } else { out })
+    let kept = used(&faces, r.output_vertices(), r.base.features.has_holes());
+    Ok(QuadMesh {
+        positions: keep(&kept, r.into_positions()),
+        faces: renumbered(&kept, faces),
+    })
 }
 
-/// The mesh without the vertices no face uses, the others in their order.
-fn without_unused<T: Copy>(mesh: QuadMesh<T>) -> QuadMesh<T> {
-    let mut map = vec![u32::MAX; mesh.positions.len()];
-    for &v in mesh.faces.iter().flatten() {
+/// A refined mesh on its limit surface ([`limit_with`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refined<T = f64> {
+    /// The refined mesh, each vertex at its limit point.
+    pub mesh: QuadMesh<T>,
+    /// The unit limit normal of each vertex ([`SurfaceLimit::normals`]).
+    pub normals: Vec<[T; 3]>,
+    /// The vertices whose limit is not derived in closed form ([`SurfaceLimit::approximate`]).
+    pub approximate: Vec<u32>,
+}
+
+/// [`subdivide_with`], then every vertex taken to its limit point, with its limit normal
+/// ([`Refiner::limit`]).
+pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
+    scheme: &S,
+    mesh: &QuadMesh,
+    topo: &Topology,
+    features: &Features,
+    steps: usize,
+    threads: usize,
+) -> Result<Refined<T>, SurfaceError> {
+    let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
+    r.refine(&mesh.positions)?;
+    let SurfaceLimit {
+        positions,
+        normals,
+        approximate,
+    } = r.limit()?;
+    let faces = r.faces();
+    let kept = used(&faces, positions.len(), r.base.features.has_holes());
+    let approximate = match &kept {
+        Some(map) => approximate
+            .into_iter()
+            .map(|v| map[v as usize])
+            .filter(|&v| v != u32::MAX)
+            .collect(),
+        None => approximate,
+    };
+    Ok(Refined {
+        mesh: QuadMesh {
+            positions: keep(&kept, positions),
+            faces: renumbered(&kept, faces),
+        },
+        normals: keep(&kept, normals),
+        approximate,
+    })
+}
+
+/// With holes, each vertex's index once the vertices no face uses are dropped (`u32::MAX`:
+/// dropped, the others in their order); without, none: every vertex is used.
+fn used(faces: &[[u32; 4]], vertices: usize, holes: bool) -> Option<Vec<u32>> {
+    if !holes {
+        return None;
+    }
+    let mut map = vec![u32::MAX; vertices];
+    for &v in faces.iter().flatten() {
         map[v as usize] = 0;
     }
-    let mut positions = Vec::with_capacity(mesh.positions.len());
-    for (m, p) in map.iter_mut().zip(&mesh.positions) {
-        if *m == 0 {
-            *m = positions.len() as u32;
-            positions.push(*p);
-        }
+    for (next, m) in map.iter_mut().filter(|m| **m == 0).enumerate() {
+        *m = next as u32;
     }
-    let faces = mesh
-        .faces
-        .iter()
-        .map(|f| f.map(|v| map[v as usize]))
-        .collect();
-    QuadMesh { positions, faces }
+    Some(map)
 }
 
-/// [`subdivide_with`] as a [`SurfaceVisitor`]: for a scheme known only by name (the generated
-/// registry's `visit_surface`) as for one at hand (`job.visit(&scheme)`).
+/// The entries of the vertices [`used`] keeps.
+fn keep<X>(map: &Option<Vec<u32>>, values: Vec<X>) -> Vec<X> {
+    match map {
+        None => values,
+        Some(map) => values
+            .into_iter()
+            .zip(map)
+            .filter(|(_, &m)| m != u32::MAX)
+            .map(|(x, _)| x)
+            .collect(),
+    }
+}
+
+/// Faces in the numbering [`used`] keeps.
+fn renumbered(map: &Option<Vec<u32>>, faces: Vec<[u32; 4]>) -> Vec<[u32; 4]> {
+    match map {
+        None => faces,
+        Some(map) => faces.iter().map(|f| f.map(|v| map[v as usize])).collect(),
+    }
+}
+
+/// [`subdivide_with`] or [`limit_with`] as a [`SurfaceVisitor`]: for a scheme known only by
+/// name (the generated registry's `visit_surface`) as for one at hand (`job.visit(&scheme)`).
 #[derive(Clone, Copy, Debug)]
 pub struct Subdivide<'m> {
     /// The mesh.
@@ -1642,19 +1717,22 @@ pub struct Subdivide<'m> {
     pub steps: usize,
     /// Worker threads (the result does not depend on it).
     pub threads: usize,
+    /// Whether to take the vertices to the limit surface, with normals ([`limit_with`]).
+    pub limit: bool,
 }
 
 impl SurfaceVisitor for Subdivide<'_> {
-    type Output = Result<QuadMesh, SurfaceError>;
+    type Output = Result<Refined, SurfaceError>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
-        subdivide_with(
-            scheme,
-            self.mesh,
-            self.topology,
-            self.features,
-            self.steps,
-            self.threads,
-        )
+        let (m, topo, features) = (self.mesh, self.topology, self.features);
+        if self.limit {
+            return limit_with(scheme, m, topo, features, self.steps, self.threads);
+        }
+        Ok(Refined {
+            mesh: subdivide_with(scheme, m, topo, features, self.steps, self.threads)?,
+            normals: Vec::new(),
+            approximate: Vec::new(),
+        })
     }
 }
 
@@ -2000,18 +2078,8 @@ fn crease_child<T: Real>(
     let rot = base.topo.rotation(v);
     let sharp = base.features.sharp_spokes(base.topo, v, k);
     let mut along = sharp.iter().enumerate().filter(|&(_, &s)| s).map(|(i, _)| {
-        // Spoke i is wedge i's previous edge; the last spoke of a boundary vertex is the
-        // last wedge's next edge.
-        let (w, prev) = match rot.get(i) {
-            Some(&w) => (w, true),
-            None => (rot[rot.len() - 1], false),
-        };
-        let dir = if prev == w.next_is_plus {
-            TOWARD_PREV[w.corner as usize]
-        } else {
-            TOWARD_NEXT[w.corner as usize]
-        };
-        (w, dir)
+        let (w, dir) = spoke(base.topo, v, i);
+        (rot[w], dir)
     });
     let (behind, ahead) = (along.next(), along.next());
     let (Some(behind), Some(ahead)) = (behind, ahead) else {
@@ -2029,6 +2097,25 @@ fn crease_child<T: Real>(
         }
     }
     acc.map(T::from_f64)
+}
+
+/// Spoke i of v's rotation (wedge i's previous edge; the last spoke of a boundary vertex is
+/// the last wedge's next edge): the wedge that holds it, and the unit step along it from the
+/// vertex in that wedge's face.
+fn spoke(topo: &Topology, v: u32, i: usize) -> (usize, (i64, i64)) {
+    let rot = topo.rotation(v);
+    let (w, prev) = if i < rot.len() {
+        (i, true)
+    } else {
+        (rot.len() - 1, false)
+    };
+    let c = rot[w].corner as usize;
+    let dir = if prev == rot[w].next_is_plus {
+        TOWARD_PREV[c]
+    } else {
+        TOWARD_NEXT[c]
+    };
+    (w, dir)
 }
 
 /// Where a point of a vertex's 1-ring lies, seen from one wedge of its rotation.

@@ -12,7 +12,7 @@
 //! weights do not sum to 1 by its weight sum (the ad hoc generalisation of \[G\] §3.1.2).
 
 use crate::curve::{CurveScheme, CurveTables};
-use crate::ev::{EvCoefficients, EvError};
+use crate::ev::{EvCoefficients, EvError, EvLimit};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::topology::{Topology, TopologyError};
@@ -28,6 +28,8 @@ pub struct SurfaceTables<'a> {
     pub ring_weights: &'a [f64],
     /// α for valences 3, 4, 5, … (entry n − 3).
     pub alpha: &'a [f64],
+    /// The EV's limit data for the same valences ([`EvLimit`], issue 16).
+    pub ev_limits: &'a [EvLimit],
     /// Stationary 1-ring stencils, for α beyond the table.
     pub ev: EvCoefficients,
     /// Per step (the last entry for every later step): what the EV child gets from each radial
@@ -44,6 +46,21 @@ impl SurfaceTables<'_> {
             Some(&a) => Ok(a),
             None => self.ev.alpha(n),
         }
+    }
+
+    /// The EV's limit data at valence n: the table, or the same computation
+    /// ([`EvLimit::new`]) beyond it.
+    pub fn ev_limit(&self, n: usize) -> Result<EvLimit, EvError> {
+        match self.ev_limits.get(n.wrapping_sub(3)) {
+            Some(&l) => Ok(l),
+            None => EvLimit::new(&self.ev, n),
+        }
+    }
+
+    /// First step from which the EV configuration, and so its local subdivision matrix, no
+    /// longer changes (\[G\] Lemma 4.6): the limit weights of [`EvLimit`] hold from there.
+    pub fn stationary_from(&self) -> usize {
+        self.rings.len().saturating_sub(1)
     }
 }
 

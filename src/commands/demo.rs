@@ -117,6 +117,7 @@ pub fn run() -> Result<(), Error> {
         features: &features,
         steps,
         threads,
+        limit: false,
     };
     let (generic, generic_ms) = timed(|| job(2).visit(&surface));
     let generic = generic.map_err(input_error)?;
@@ -128,8 +129,8 @@ pub fn run() -> Result<(), Error> {
         "surface: the cube ({ev_count} extraordinary vertices of valence {}), {steps} steps of {}: {} vertices, {} quads",
         evs.iter().map(usize::to_string).collect::<Vec<_>>().join(", "),
         r.ls.name,
-        generic.positions.len(),
-        generic.faces.len()
+        generic.mesh.positions.len(),
+        generic.mesh.faces.len()
     );
     println!(
         "  generic (2 threads) and generated (1 thread) paths {} (generic {generic_ms:.1} ms, generated {generated_ms:.1} ms)",

@@ -116,8 +116,9 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 path: PathChoice::Auto,
                 threads: threads(a.threads),
                 max_memory: a.limit.bytes(),
+                limit: false,
             };
-            let fine = refine_mesh(&load(scheme, None)?, &input, &job)?;
+            let fine = refine_mesh(&load(scheme, None)?, &input, &job)?.mesh;
             // The refined mesh's own connectivity (a closed manifold by construction).
             let t = Topology::build(&fine).map_err(|e| Error::internal(None, e.to_string()))?;
             (fine, t)

@@ -4,9 +4,9 @@
 use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
-use lsubdiv::mesh_file::Checked;
+use lsubdiv::mesh_file::{Checked, Extras};
 use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::Subdivide;
+use lsubdiv::runtime::patch::{Refined, Subdivide};
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
 use lsubdiv_cli::Resolved;
@@ -27,6 +27,10 @@ pub struct SubdivideArgs {
     threads: Option<usize>,
     #[command(flatten)]
     boundary: BoundaryArgs,
+    /// Every output vertex moved to its point on the limit surface, with the limit normal
+    /// there (OBJ `vn` and faces `v//vn`; PLY `nx ny nz`), in the vertices' order.
+    #[arg(long)]
+    limit: bool,
 }
 
 /// The output formats of `subdivide`, by extension.
@@ -44,6 +48,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         output,
         threads: t,
         boundary,
+        limit,
     } = a;
     check_output(&output)?;
     let format = if output.as_os_str() == "-" {
@@ -68,17 +73,27 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         path: refine.path,
         threads: threads(t),
         max_memory: refine.limit.bytes(),
+        limit,
     };
     let fine = refine_mesh(&r, &mesh, &job)?;
+    if !fine.approximate.is_empty() {
+        eprintln!(
+            "{in_name}: note: {} vertices (darts, creases with a sector other than two faces, corners with a sector of more than one face) have no derived limit: their limit point is the rule's and their normal the mean of their limit 1-ring faces' (docs/surfaces.md)",
+            fine.approximate.len()
+        );
+    }
     stages.next(format!(
         "writing {} vertices, {} quads to {}",
-        fine.positions.len(),
-        fine.faces.len(),
+        fine.mesh.positions.len(),
+        fine.mesh.faces.len(),
         output.display()
     ));
+    let extras = Extras {
+        normals: limit.then_some(fine.normals.as_slice()),
+    };
     let bytes = match format {
-        MeshFormat::Obj => lsubdiv::obj::format(&fine)?,
-        MeshFormat::Ply => lsubdiv::ply::format(&fine)?,
+        MeshFormat::Obj => lsubdiv::obj::format_with(&fine.mesh, extras)?,
+        MeshFormat::Ply => lsubdiv::ply::format_with(&fine.mesh, extras)?,
     };
     write_atomic(&output, bytes.as_bytes())
 }
@@ -91,13 +106,15 @@ pub struct MeshJob<'a> {
     pub path: PathChoice,
     pub threads: usize,
     pub max_memory: u64,
+    /// Whether to take the vertices to the limit surface, with normals.
+    pub limit: bool,
 }
 
 /// Refines a mesh (read and checked, with its features) by the picked implementation, after the size guard
 /// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
 /// read as its first step (one Catmull–Clark step, `lsubdiv::runtime::polygon`): the scheme
 /// takes the other steps, and it needs at least one.
-pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<QuadMesh, Error> {
+pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Refined, Error> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
     let MeshJob {
         name,
@@ -138,7 +155,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Q
     )?;
     let implementation = job.path.pick(r, Geometry::Surface)?;
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
-    let (faces, positions) = lsubdiv_cli::scale::refine_scaled(name, &m.positions, |scaled| {
+    let (rest, positions) = lsubdiv_cli::scale::refine_scaled(name, &m.positions, |scaled| {
         let scaled = scaled.map(|positions| QuadMesh {
             positions,
             faces: m.faces.clone(),
@@ -149,6 +166,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Q
             features: &input.features,
             steps,
             threads,
+            limit: job.limit,
         };
         let result = match implementation {
             Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
@@ -166,7 +184,17 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Q
                 Error::internal(None, e.to_string())
             }
         })?;
-        Ok((fine.faces, fine.positions))
+        let Refined {
+            mesh,
+            normals,
+            approximate,
+        } = fine;
+        Ok(((mesh.faces, normals, approximate), mesh.positions))
     })?;
-    Ok(QuadMesh { positions, faces })
+    let (faces, normals, approximate) = rest;
+    Ok(Refined {
+        mesh: QuadMesh { positions, faces },
+        normals,
+        approximate,
+    })
 }

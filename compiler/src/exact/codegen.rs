@@ -256,6 +256,13 @@ impl Codegen {
             let x = f64_lit(x);
             quote! { #field: #x }
         });
+        let ev_limits = st.ev_limits.iter().map(|l| {
+            let [centre, radial, diagonal, tangent] =
+                [l.centre, l.radial, l.diagonal, l.tangent].map(f64_lit);
+            quote! {
+                #rt::ev::EvLimit { centre: #centre, radial: #radial, diagonal: #diagonal, tangent: #tangent }
+            }
+        });
         let ring_pairs = st.rings.iter().map(|&[e1, e2]| {
             let (e1, e2) = (f64_lit(e1), f64_lit(e2));
             quote! { [#e1, #e2] }
@@ -263,7 +270,8 @@ impl Codegen {
         let contained_from = Literal::usize_unsuffixed(st.contained_from);
         let mut doc = format!(
             "Surface data ([G] §4.2): σ, per word its EV ring weight, α for valences 3..={} \
-             (larger ones by the same solver at run time), the EV child's 1-ring weights per step; \
+             and the EV's limit weights for the same valences (issue 16; larger ones by the same \
+             solvers at run time), the EV child's 1-ring weights per step; \
              EV configuration stationary from step {}, masks contained from step {}.\n\n\
              The stationary 1-ring stencils (`ev`), exactly and as f64:\n\n\
              | coefficient | exact | f64 |\n|---|---|---|\n",
@@ -280,6 +288,7 @@ impl Codegen {
                     sigma: &[#(#sigma),*],
                     ring_weights: &[#(#rings),*],
                     alpha: &[#(#alpha),*],
+                    ev_limits: &[#(#ev_limits),*],
                     ev: #rt::ev::EvCoefficients { #(#ev),* },
                     rings: &[#(#ring_pairs),*],
                     contained_from: #contained_from,

@@ -15,7 +15,7 @@ use crate::exact::lsystem::{Part, Word};
 use crate::exact::pipeline::Scheme;
 use crate::exact::work;
 use lsubdiv_runtime::curve::NO_CHILD;
-use lsubdiv_runtime::ev::EvCoefficients;
+use lsubdiv_runtime::ev::{EvCoefficients, EvLimit};
 use lsubdiv_runtime::surface::SurfaceTables;
 use lsubdiv_runtime::CurveTables;
 use std::collections::HashMap;
@@ -49,6 +49,8 @@ struct Surface {
     ev: EvCoefficients,
     /// α for valences 3..=[`MAX_TABULATED_VALENCE`].
     alpha: Vec<f64>,
+    /// The EV's limit data for the same valences.
+    ev_limits: Vec<EvLimit>,
     rings: Vec<[f64; 2]>,
     /// Per tabulated word, kept in step with the masks.
     ring_weights: Vec<f64>,
@@ -61,6 +63,14 @@ impl Surface {
             .map(|n| ev.alpha(n))
             .collect::<Result<_, _>>()
             .map_err(|e| scheme.ls.error(Part::Rules, format!("no α: {e}"), None))?;
+        let ev_limits = (3..=MAX_TABULATED_VALENCE)
+            .map(|n| EvLimit::new(&ev, n))
+            .collect::<Result<_, _>>()
+            .map_err(|e| {
+                scheme
+                    .ls
+                    .error(Part::Rules, format!("no EV limit: {e}"), None)
+            })?;
         let rings = analysis
             .steps
             .iter()
@@ -70,6 +80,7 @@ impl Surface {
             analysis,
             ev,
             alpha,
+            ev_limits,
             rings,
             ring_weights: Vec::new(),
         })
@@ -143,6 +154,7 @@ impl Tables {
             sigma: &s.analysis.sigma,
             ring_weights: &s.ring_weights,
             alpha: &s.alpha,
+            ev_limits: &s.ev_limits,
             ev: s.ev,
             rings: &s.rings,
             contained_from: s.analysis.contained_from,
