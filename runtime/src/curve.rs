@@ -43,6 +43,10 @@ pub struct CurveTables<'a> {
     /// derivative there (2d values a word, nearest f64 of the exact ones); empty for degrees
     /// without one (`lsubdiv_compiler::exact::limit`: degrees 1 and 3 have them).
     pub limit_weights: &'a [f64],
+    /// The interval length of each symbol (the Perron eigenvector, smallest 1: exact in the
+    /// compiler, nearest f64 here): where knots lie, for face-varying data
+    /// ([`crate::facevarying`]).
+    pub lengths: &'a [f64],
 }
 
 impl<'a> CurveTables<'a> {
@@ -555,6 +559,7 @@ mod tests {
             mask_weights: &[],
             mask_children: &[],
             limit_weights: &[],
+            lengths: &[],
         }
     }
 

@@ -38,6 +38,7 @@
 //!             mask_weights: &[0.25, 0.75, 0.75, 0.25],
 //!             mask_children: &[NO_CHILD],
 //!             limit_weights: &[], // no limit mask for even degrees
+//!             lengths: &[1.0],
 //!         }
 //!     }
 //! }
@@ -54,6 +55,7 @@
 pub mod curve;
 pub mod ends;
 pub mod ev;
+pub mod facevarying;
 pub mod features;
 pub mod gather;
 pub mod generators;

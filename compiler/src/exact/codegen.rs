@@ -181,6 +181,7 @@ impl Codegen {
         let mask_words = u32s(c.mask_words);
         let weights: Vec<Literal> = c.mask_weights.iter().map(|&w| f64_lit(w)).collect();
         let limit_weights: Vec<Literal> = c.limit_weights.iter().map(|&w| f64_lit(w)).collect();
+        let lengths: Vec<Literal> = c.lengths.iter().map(|&w| f64_lit(w)).collect();
         let children = with_sentinel(c.mask_children, NO_CHILD, "NO_CHILD");
         let no_child = c.mask_children.contains(&NO_CHILD).then(|| {
             quote! {
@@ -232,6 +233,7 @@ impl Codegen {
                 mask_weights: &[#(#weights),*],
                 mask_children: &[#(#children),*],
                 limit_weights: &[#(#limit_weights),*],
+                lengths: &[#(#lengths),*],
             };
 
             #contexts

@@ -39,6 +39,8 @@ pub struct Tables {
     mask_children: Vec<u32>,
     /// Per word, its limit mask's 2d weights (none for degrees without one).
     limit_weights: Vec<f64>,
+    /// Per symbol, its interval length as f64.
+    lengths: Vec<f64>,
     surface: Result<Surface, Error>,
 }
 
@@ -117,6 +119,7 @@ impl Tables {
             exact_weights: Vec::new(),
             mask_children: Vec::new(),
             limit_weights: Vec::new(),
+            lengths: scheme.lengths.iter().map(Elem::to_f64).collect(),
             surface,
             scheme,
         };
@@ -144,6 +147,7 @@ impl Tables {
             mask_weights: &self.mask_weights,
             mask_children: &self.mask_children,
             limit_weights: &self.limit_weights,
+            lengths: &self.lengths,
         }
     }
 

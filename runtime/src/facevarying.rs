@@ -1,0 +1,417 @@
+//! Face-varying data (issue 16): texture coordinates per face corner, refined with the mesh,
+//! as OpenSubdiv's face-varying channels.
+//!
+//! A channel is a list of values and, per face corner, the index of its value: corners that
+//! share an index share the value, and an edge whose two faces index different values is a
+//! seam. Two rules refine it:
+//! - [`UvRule::Linear`] (OpenSubdiv's `FVAR_LINEAR_ALL`): each refined vertex takes the
+//!   bilinear interpolation of its base face's corner values at its parameters, its knots
+//!   (K_x / K_N, K_y / K_N) with K the prefix sums of W_s's interval lengths (uniform
+//!   fractions only for uniform binary); a first Catmull–Clark step of polygons takes corners,
+//!   edge midpoints and centroids.
+//! - [`UvRule::Smooth`] (`FVAR_LINEAR_NONE`): the scheme refines the layout itself, the quad
+//!   mesh whose vertices are the values, with its seams and chart boundaries as edge-only
+//!   boundaries and the mesh's creases, corners and holes carried onto it.
+//!
+//! Either way the refined channel's faces are parallel to the refined mesh's faces
+//! ([`crate::patch::Refiner::faces`]) and seams stay seams.
+
+use crate::curve::rewrite;
+use crate::features::{Boundary, FeatureError, Features};
+use crate::grid::{site, Site};
+use crate::mesh::QuadMesh;
+use crate::patch::{limit_with, subdivide_with};
+use crate::polygon::{catmull_clark, PolyMesh, SplitError};
+use crate::real::Real;
+use crate::surface::{SurfaceError, SurfaceScheme};
+use crate::topology::{Topology, TopologyError};
+use std::collections::HashMap;
+use std::fmt;
+
+/// How a face-varying channel is refined.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UvRule {
+    /// Bilinear in each base face at the refined vertices' knots.
+    #[default]
+    Linear,
+    /// The scheme applied to the layout, seams and chart boundaries edge-only boundaries.
+    Smooth,
+}
+
+/// Texture coordinates of a polygon mesh: one value index per corner, parallel to
+/// [`PolyMesh::corners`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PolyUv {
+    /// The values.
+    pub values: Vec<[f64; 2]>,
+    /// Per face corner, its value.
+    pub corners: Vec<u32>,
+}
+
+/// Texture coordinates of a quad mesh: one value index per corner, parallel to its faces.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct QuadUv<T = f64> {
+    /// The values.
+    pub values: Vec<[T; 2]>,
+    /// Per face, its corners' values.
+    pub faces: Vec<[u32; 4]>,
+}
+
+/// Why a channel cannot be refined.
+#[derive(Clone, Debug, PartialEq)]
+pub enum UvError {
+    /// Not one index per corner.
+    Corners {
+        /// Indices given.
+        got: usize,
+        /// Corners of the mesh.
+        want: usize,
+    },
+    /// A corner names a value that does not exist.
+    NoSuchValue {
+        /// The face.
+        face: usize,
+        /// The index.
+        value: u32,
+        /// How many values there are.
+        values: usize,
+    },
+    /// The layout (faces over their value indices, whose vertices are the values) is not a
+    /// 2-manifold the topology accepts: the smooth rule needs one.
+    Layout(TopologyError),
+    /// The mesh's features carried onto the layout are refused there.
+    Features(FeatureError),
+    /// Refining the layout failed.
+    Surface(SurfaceError),
+}
+
+impl fmt::Display for UvError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            UvError::Corners { got, want } => write!(
+                f,
+                "{got} texture coordinate indices for {want} face corners"
+            ),
+            UvError::NoSuchValue {
+                face,
+                value,
+                values,
+            } => write!(
+                f,
+                "face {face} names texture coordinate {value}, but there are {values}"
+            ),
+            UvError::Layout(e) => write!(
+                f,
+                "the texture layout (its vertices are the texture coordinates) is not a \
+                 2-manifold, which the smooth rule needs: {e}; the linear rule takes any layout"
+            ),
+            UvError::Features(e) => write!(f, "the texture layout's features: {e}"),
+            UvError::Surface(e) => write!(f, "the texture layout: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for UvError {}
+
+fn check_indices<'a>(values: usize, faces: impl Iterator<Item = &'a [u32]>) -> Result<(), UvError> {
+    for (face, corners) in faces.enumerate() {
+        if let Some(&value) = corners.iter().find(|&&i| i as usize >= values) {
+            return Err(UvError::NoSuchValue {
+                face,
+                value,
+                values,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The mesh's creases, corners and holes on the layout: a crease on every layout edge whose
+/// corners sit on the crease's vertices, a corner on every value its vertex's corners use; the
+/// boundary edge-only (seams and chart boundaries are not corners).
+fn layout_features<'a>(
+    faces: impl Iterator<Item = (&'a [u32], &'a [u32])> + Clone,
+    features: &Features,
+) -> Features {
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    let mut edges: HashMap<[u32; 2], Vec<[u32; 2]>> = HashMap::new();
+    let mut at: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (pos, uv) in faces {
+        let n = pos.len();
+        for c in 0..n {
+            let d = (c + 1) % n;
+            let e = edges.entry(key(pos[c], pos[d])).or_default();
+            let k = key(uv[c], uv[d]);
+            if !e.contains(&k) {
+                e.push(k);
+            }
+            let v = at.entry(pos[c]).or_default();
+            if !v.contains(&uv[c]) {
+                v.push(uv[c]);
+            }
+        }
+    }
+    Features {
+        boundary: Boundary::EdgeOnly,
+        creases: (features.creases.iter())
+            .flat_map(|&([a, b], s)| {
+                let uv = edges.get(&key(a, b)).map_or(&[][..], Vec::as_slice);
+                uv.iter().map(move |&e| (e, s))
+            })
+            .collect(),
+        corners: (features.corners.iter())
+            .flat_map(|&(v, s)| {
+                let uv = at.get(&v).map_or(&[][..], Vec::as_slice);
+                uv.iter().map(move |&u| (u, s))
+            })
+            .collect(),
+        holes: features.holes.clone(),
+    }
+}
+
+/// The layout as a mesh in the plane z = 0, without the values no corner uses (the topology
+/// refuses unused vertices), and the corners renumbered to match.
+fn plane(values: &[[f64; 2]], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
+    let mut map = vec![u32::MAX; values.len()];
+    let mut kept = Vec::new();
+    let corners = corners
+        .iter()
+        .map(|&i| {
+            let m = &mut map[i as usize];
+            if *m == u32::MAX {
+                *m = kept.len() as u32;
+                let [u, v] = values[i as usize];
+                kept.push([u, v, 0.0]);
+            }
+            *m
+        })
+        .collect();
+    (kept, corners)
+}
+
+impl PolyUv {
+    /// Refuses indices that are not one per corner of `mesh`, or name no value.
+    pub fn check(&self, mesh: &PolyMesh) -> Result<(), UvError> {
+        if self.corners.len() != mesh.corners.len() {
+            return Err(UvError::Corners {
+                got: self.corners.len(),
+                want: mesh.corners.len(),
+            });
+        }
+        let faces = mesh.offsets.windows(2).map(|w| &self.corners[w[0]..w[1]]);
+        check_indices(self.values.len(), faces)
+    }
+
+    /// The channel of a mesh whose faces are all quads.
+    pub fn quads(&self) -> QuadUv {
+        QuadUv {
+            values: self.values.clone(),
+            faces: self
+                .corners
+                .chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect(),
+        }
+    }
+
+    /// The channel after the first Catmull–Clark step of `mesh` (with `features`), quads in
+    /// [`catmull_clark`]'s order (per face, per corner: the corner, the point of the edge
+    /// after it, the centroid, the point of the edge before). Linear: corner values, edge
+    /// midpoints, centroids; smooth: that step on the layout ([`layout_features`]).
+    pub fn split(
+        &self,
+        mesh: &PolyMesh,
+        features: &Features,
+        rule: UvRule,
+    ) -> Result<QuadUv, UvError> {
+        self.check(mesh)?;
+        let faces = || {
+            mesh.offsets
+                .windows(2)
+                .map(|w| (&mesh.corners[w[0]..w[1]], &self.corners[w[0]..w[1]]))
+        };
+        if rule == UvRule::Smooth {
+            let (positions, corners) = plane(&self.values, &self.corners);
+            let layout = PolyMesh {
+                positions,
+                offsets: mesh.offsets.clone(),
+                corners,
+            };
+            let renumbered = mesh
+                .offsets
+                .windows(2)
+                .map(|w| (&mesh.corners[w[0]..w[1]], &layout.corners[w[0]..w[1]]));
+            let split = catmull_clark(&layout, &layout_features(renumbered, features)).map_err(
+                |e| match e {
+                    SplitError::Topology(e) => UvError::Layout(e),
+                    SplitError::Feature(e) => UvError::Features(e),
+                },
+            )?;
+            return Ok(QuadUv {
+                values: split.mesh.positions.iter().map(|p| [p[0], p[1]]).collect(),
+                faces: split.mesh.faces,
+            });
+        }
+        let mut values = self.values.clone();
+        let mut midpoints: HashMap<[u32; 2], u32> = HashMap::new();
+        let mut quads = Vec::with_capacity(self.corners.len());
+        for (_, uv) in faces() {
+            let n = uv.len();
+            let centroid = uv.iter().fold([0.0; 2], |s, &i| {
+                let p = self.values[i as usize];
+                [s[0] + p[0] / n as f64, s[1] + p[1] / n as f64]
+            });
+            let centre = values.len() as u32;
+            values.push(centroid);
+            let mut mid = |a: u32, b: u32| {
+                *midpoints.entry([a.min(b), a.max(b)]).or_insert_with(|| {
+                    let (p, q) = (self.values[a as usize], self.values[b as usize]);
+                    values.push([(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]);
+                    values.len() as u32 - 1
+                })
+            };
+            for c in 0..n {
+                let (prev, next) = (uv[(c + n - 1) % n], uv[(c + 1) % n]);
+                let after = mid(uv[c], next);
+                let before = mid(prev, uv[c]);
+                quads.push([uv[c], after, centre, before]);
+            }
+        }
+        Ok(QuadUv {
+            values,
+            faces: quads,
+        })
+    }
+}
+
+impl QuadUv {
+    /// Refuses indices that are not one per face corner of `mesh`, or name no value.
+    pub fn check(&self, mesh: &QuadMesh) -> Result<(), UvError> {
+        if self.faces.len() != mesh.faces.len() {
+            return Err(UvError::Corners {
+                got: 4 * self.faces.len(),
+                want: 4 * mesh.faces.len(),
+            });
+        }
+        check_indices(self.values.len(), self.faces.iter().map(|f| &f[..]))
+    }
+}
+
+/// The channel `uv` of the quad mesh `mesh` (topology `topo`, features `features`) refined
+/// `steps` times by `rule`, its faces parallel to [`crate::patch::subdivide_with`]'s (holes
+/// dropped). With `limit`, the smooth rule takes the values to the layout's limit surface
+/// (as [`crate::patch::limit_with`] the positions); the linear rule's values are parameters
+/// and do not move.
+#[allow(clippy::too_many_arguments)]
+pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
+    scheme: &S,
+    mesh: &QuadMesh,
+    topo: &Topology,
+    features: &Features,
+    uv: &QuadUv,
+    (rule, limit): (UvRule, bool),
+    steps: usize,
+    threads: usize,
+) -> Result<QuadUv<T>, UvError> {
+    uv.check(mesh)?;
+    if rule == UvRule::Smooth {
+        let flat: Vec<u32> = uv.faces.iter().flatten().copied().collect();
+        let (positions, corners) = plane(&uv.values, &flat);
+        let layout = QuadMesh {
+            positions,
+            faces: corners
+                .chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect(),
+        };
+        let lt = Topology::build(&layout).map_err(UvError::Layout)?;
+        let pairs = (mesh.faces.iter())
+            .zip(&layout.faces)
+            .map(|(p, u)| (&p[..], &u[..]));
+        let lf = layout_features(pairs, features);
+        let fine: QuadMesh<T> = if limit {
+            limit_with(scheme, &layout, &lt, &lf, steps, threads).map(|r| r.mesh)
+        } else {
+            subdivide_with(scheme, &layout, &lt, &lf, steps, threads)
+        }
+        .map_err(|e| match e {
+            SurfaceError::Features(e) => UvError::Features(e),
+            e => UvError::Surface(e),
+        })?;
+        return Ok(QuadUv {
+            values: fine.positions.iter().map(|p| [p[0], p[1]]).collect(),
+            faces: fine.faces,
+        });
+    }
+    linear(scheme, topo, features, uv, steps)
+}
+
+/// [`UvRule::Linear`]: bilinear at the knots, one value per (base element, place): a base
+/// corner's value index, a point of a base edge by the edge, its two end values and its
+/// place from the smaller one, a face's inner point by the face.
+fn linear<S: SurfaceScheme, T: Real>(
+    scheme: &S,
+    topo: &Topology,
+    features: &Features,
+    uv: &QuadUv,
+    steps: usize,
+) -> Result<QuadUv<T>, UvError> {
+    let t = scheme.tables();
+    let mut word = t.axiom.to_vec();
+    for _ in 0..steps {
+        let mut next = Vec::new();
+        rewrite(&t, &word, &mut next);
+        word = next;
+    }
+    let length = |a: u8| t.lengths.get(a as usize).copied().unwrap_or(1.0);
+    let mut knots = vec![0.0];
+    for &a in &word {
+        knots.push(knots[knots.len() - 1] + length(a));
+    }
+    let n = word.len() as i64;
+    let total = knots[n as usize];
+    let holes: std::collections::HashSet<u32> = features.holes.iter().copied().collect();
+    let mut index: HashMap<(u8, u32, u32, u32, i64), u32> = HashMap::new();
+    let mut values: Vec<[T; 2]> = Vec::new();
+    let mut faces = Vec::new();
+    for (f, corners) in uv.faces.iter().enumerate() {
+        if holes.contains(&(f as u32)) {
+            continue;
+        }
+        let c = corners.map(|i| uv.values[i as usize]);
+        let mut value = |x: i64, y: i64| -> u32 {
+            let key = match site(x, y, n, n) {
+                Site::Corner(k) => (0, corners[k as usize], 0, 0, 0),
+                Site::Edge(l, along) => {
+                    let (a, b) = (corners[l as usize], corners[(l as usize + 1) % 4]);
+                    let e = topo.edge_of(f as u32, l);
+                    let forward = topo.from_smaller(f as u32, l);
+                    let place = if forward { along } else { n - along };
+                    let (a, b) = if forward { (a, b) } else { (b, a) };
+                    (1, e, a, b, place)
+                }
+                Site::Inside(i) => (2, f as u32, 0, 0, i as i64),
+            };
+            *index.entry(key).or_insert_with(|| {
+                let (s, r) = (knots[x as usize] / total, knots[y as usize] / total);
+                let w = [(1.0 - s) * (1.0 - r), s * (1.0 - r), s * r, (1.0 - s) * r];
+                let p = (0..4).fold([0.0; 2], |p, k| {
+                    [p[0] + w[k] * c[k][0], p[1] + w[k] * c[k][1]]
+                });
+                values.push(p.map(T::from_f64));
+                values.len() as u32 - 1
+            })
+        };
+        for y in 0..n {
+            for x in 0..n {
+                faces.push([
+                    value(x, y),
+                    value(x + 1, y),
+                    value(x + 1, y + 1),
+                    value(x, y + 1),
+                ]);
+            }
+        }
+    }
+    Ok(QuadUv { values, faces })
+}
