@@ -170,23 +170,20 @@ fn layout_features<'a>(
 }
 
 /// The layout as a mesh in the plane z = 0, without the values no corner uses (the topology
-/// refuses unused vertices), and the corners renumbered to match.
+/// refuses unused vertices; the others keep their order), and the corners renumbered to match.
 fn plane(values: &[[f64; 2]], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
     let mut map = vec![u32::MAX; values.len()];
+    for &i in corners {
+        map[i as usize] = 0;
+    }
     let mut kept = Vec::new();
-    let corners = corners
-        .iter()
-        .map(|&i| {
-            let m = &mut map[i as usize];
-            if *m == u32::MAX {
-                *m = kept.len() as u32;
-                let [u, v] = values[i as usize];
-                kept.push([u, v, 0.0]);
-            }
-            *m
-        })
-        .collect();
-    (kept, corners)
+    for (m, &[u, v]) in map.iter_mut().zip(values) {
+        if *m == 0 {
+            *m = kept.len() as u32;
+            kept.push([u, v, 0.0]);
+        }
+    }
+    (kept, corners.iter().map(|&i| map[i as usize]).collect())
 }
 
 impl PolyUv {

@@ -1,0 +1,240 @@
+//! Texture coordinates (issue 16, `runtime::facevarying`): the linear rule is bilinear
+//! interpolation at the refined vertices' knots, exactly; the smooth rule on a seamless chart
+//! is the scheme refining (u, v) as positions; seams keep their two sides apart; the refined
+//! channel has one value index per refined face corner.
+
+use lsubdiv::compiler::exact::Scheme;
+use lsubdiv::generic::GenericSurface;
+use lsubdiv::runtime::facevarying::{refine_uv, PolyUv, QuadUv, UvRule};
+use lsubdiv::runtime::features::{Boundary, Features};
+use lsubdiv::runtime::generators::{open_grid, tube};
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::patch::subdivide_with;
+use lsubdiv::runtime::polygon::PolyMesh;
+use lsubdiv::runtime::topology::Topology;
+use lsubdiv::CurveScheme;
+
+/// A surface scheme and its exact interval lengths as f64.
+fn surface(name: &str) -> (GenericSurface, Vec<f64>) {
+    let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();
+    let lengths = s.lengths.iter().map(|l| l.to_f64()).collect();
+    (GenericSurface::new(s).unwrap(), lengths)
+}
+
+/// A grid with one texture coordinate per vertex, not an affine image of the positions.
+fn grid_with_uv() -> (QuadMesh, QuadUv) {
+    let mesh = open_grid(3, 4);
+    let values = (mesh.positions.iter().enumerate())
+        .map(|(i, p)| {
+            [
+                0.5 + 0.4 * p[0] + 0.03 * (i as f64).sin(),
+                0.5 + 0.3 * p[1] * p[1],
+            ]
+        })
+        .collect();
+    let uv = QuadUv {
+        values,
+        faces: mesh.faces.clone(),
+    };
+    (mesh, uv)
+}
+
+fn refine(s: &GenericSurface, mesh: &QuadMesh, uv: &QuadUv, rule: UvRule, steps: usize) -> QuadUv {
+    let topo = Topology::build(mesh).unwrap();
+    let f = Features::default();
+    refine_uv(s, mesh, &topo, &f, uv, (rule, false), steps, 2).unwrap()
+}
+
+/// Linear: the value at corner (x, y) of refined face (base face f, cell x, y) is the
+/// bilinear interpolation of f's corner values at (K_x / K_N, K_y / K_N), K the prefix sums
+/// of W_s's exact lengths, for a uniform and two non-uniform schemes.
+#[test]
+fn linear_uvs_are_bilinear_at_the_knots() {
+    let (mesh, uv) = grid_with_uv();
+    for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
+        let (s, lengths) = surface(name);
+        let steps = 2;
+        let fine = refine(&s, &mesh, &uv, UvRule::Linear, steps);
+        let t = s.tables();
+        let mut word = t.axiom.to_vec();
+        for _ in 0..steps {
+            word = word.iter().flat_map(|&a| t.rule(a).to_vec()).collect();
+        }
+        let mut k = vec![0.0];
+        for &a in &word {
+            k.push(k[k.len() - 1] + lengths[a as usize]);
+        }
+        let n = word.len();
+        assert_eq!(fine.faces.len(), mesh.faces.len() * n * n, "{name}");
+        let mut worst = 0.0f64;
+        for (q, corners) in fine.faces.iter().enumerate() {
+            let (f, cell) = (q / (n * n), q % (n * n));
+            let c = mesh.faces[f].map(|v| uv.values[v as usize]);
+            let at = |x: usize, y: usize| {
+                let (s, r) = (k[x] / k[n], k[y] / k[n]);
+                [0, 1].map(|i| {
+                    (1.0 - s) * (1.0 - r) * c[0][i]
+                        + s * (1.0 - r) * c[1][i]
+                        + s * r * c[2][i]
+                        + (1.0 - s) * r * c[3][i]
+                })
+            };
+            let (x, y) = (cell % n, cell / n);
+            let want = [at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1)];
+            for (&i, w) in corners.iter().zip(want) {
+                let got = fine.values[i as usize];
+                worst = worst.max((got[0] - w[0]).abs().max((got[1] - w[1]).abs()));
+            }
+        }
+        assert!(
+            worst < 1e-15,
+            "{name}: linear UVs off bilinear by {worst:e}"
+        );
+    }
+}
+
+/// Smooth on a seamless chart (one value per vertex; the chart's boundary is the mesh's):
+/// exactly the scheme refining (u, v, 0) as positions with edge-only boundaries, and the
+/// refined channel shares a value wherever the refined mesh shares a vertex.
+#[test]
+fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
+    let (mesh, uv) = grid_with_uv();
+    for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
+        let (s, _) = surface(name);
+        let fine = refine(&s, &mesh, &uv, UvRule::Smooth, 2);
+        let layout = QuadMesh {
+            positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
+            faces: mesh.faces.clone(),
+        };
+        let topo = Topology::build(&layout).unwrap();
+        let edge_only = Features::with_boundary(Boundary::EdgeOnly);
+        let want = subdivide_with::<_, f64>(&s, &layout, &topo, &edge_only, 2, 1).unwrap();
+        let positions = subdivide_with::<_, f64>(
+            &s,
+            &mesh,
+            &Topology::build(&mesh).unwrap(),
+            &Features::default(),
+            2,
+            1,
+        )
+        .unwrap();
+        assert_eq!(fine.faces, want.faces, "{name}");
+        assert_eq!(fine.faces, positions.faces, "{name}: one value per vertex");
+        for (got, w) in fine.values.iter().zip(&want.positions) {
+            assert_eq!(*got, [w[0], w[1]], "{name}");
+        }
+    }
+}
+
+/// A tube whose chart is cut along one line of edges (u = 0 on one side, u = 1 on the
+/// other): under both rules every refined vertex on the seam has two values, one from each
+/// side, exactly u = 0 and u = 1 away from the chart's corners (near them the smooth rule's
+/// edge-only boundary rounds the corners, moving the values inward, as OpenSubdiv's
+/// `FVAR_LINEAR_NONE`), and every other vertex one; the counts match the refined mesh's.
+#[test]
+fn seams_keep_their_two_sides_apart() {
+    let (rows, cols) = (6, 5);
+    let mesh = tube(rows, cols);
+    // Value (i, j) for j = 0..=cols: column cols is the seam's other side.
+    let value = |i: usize, j: usize| (i * (cols + 1) + j) as u32;
+    let values = (0..=rows)
+        .flat_map(|i| (0..=cols).map(move |j| [j as f64 / cols as f64, i as f64 / rows as f64]))
+        .collect();
+    let faces = (0..rows)
+        .flat_map(|i| {
+            (0..cols).map(move |j| {
+                [
+                    value(i, j),
+                    value(i, j + 1),
+                    value(i + 1, j + 1),
+                    value(i + 1, j),
+                ]
+            })
+        })
+        .collect();
+    let uv = QuadUv { values, faces };
+    let topo = Topology::build(&mesh).unwrap();
+    for rule in [UvRule::Linear, UvRule::Smooth] {
+        for name in ["uniform-binary", "fibonacci"] {
+            let (s, _) = surface(name);
+            let fine = refine(&s, &mesh, &uv, rule, 2);
+            let m = subdivide_with::<_, f64>(&s, &mesh, &topo, &Features::default(), 2, 1).unwrap();
+            assert_eq!(fine.faces.len(), m.faces.len(), "{name} {rule:?}");
+            // Per refined mesh vertex, the values its corners use.
+            let mut used = vec![Vec::new(); m.positions.len()];
+            for (pf, uf) in m.faces.iter().zip(&fine.faces) {
+                for (&v, &u) in pf.iter().zip(uf) {
+                    if !used[v as usize].contains(&u) {
+                        used[v as usize].push(u);
+                    }
+                }
+            }
+            let mut seam = 0;
+            for (v, us) in used.iter().enumerate() {
+                let u: Vec<f64> = us.iter().map(|&i| fine.values[i as usize][0]).collect();
+                let on_seam = m.positions[v][1].abs() < 1e-12 && m.positions[v][0] > 0.0;
+                if on_seam {
+                    seam += 1;
+                    assert_eq!(us.len(), 2, "{name} {rule:?}: seam vertex {v}: {u:?}");
+                    // Beyond two base edges (a cubic B-spline's reach) from the chart's ends.
+                    let inner = m.positions[v][2].abs() < 0.3;
+                    let (lo, hi) = (u[0].min(u[1]), u[0].max(u[1]));
+                    let apart = if inner {
+                        lo.abs() < 1e-12 && (hi - 1.0).abs() < 1e-12
+                    } else {
+                        lo < 0.5 && hi > 0.5
+                    };
+                    assert!(apart, "{name} {rule:?}: seam vertex {v}: {u:?}");
+                } else {
+                    assert_eq!(
+                        us.len(),
+                        1,
+                        "{name} {rule:?}: vertex {v} off the seam: {u:?}"
+                    );
+                }
+            }
+            assert!(seam > rows, "{name} {rule:?}: {seam} seam vertices");
+        }
+    }
+}
+
+/// A polygon mesh's first (Catmull–Clark) step: linear UVs of a split quad are its corner's
+/// value, the midpoint after it, the face's centroid and the midpoint before it.
+#[test]
+fn the_first_step_of_polygons_splits_uvs_linearly() {
+    let mut mesh = PolyMesh::new();
+    mesh.positions = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 0.5, 0.0],
+    ];
+    mesh.push_face(&[0, 1, 2, 3]);
+    mesh.push_face(&[1, 4, 2]);
+    let uv = PolyUv {
+        values: vec![[0.0, 0.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5], [0.9, 0.2]],
+        corners: vec![0, 1, 2, 3, 1, 4, 2],
+    };
+    let split = uv
+        .split(&mesh, &Features::default(), UvRule::Linear)
+        .unwrap();
+    assert_eq!(split.faces.len(), 7);
+    let mid = |a: usize, b: usize| [0, 1].map(|i| (uv.values[a][i] + uv.values[b][i]) / 2.0);
+    let tri = [1, 4, 2];
+    let centroid = [0, 1].map(|i| tri.iter().map(|&v| uv.values[v][i]).sum::<f64>() / 3.0);
+    // The triangle's second quad: corner 4, midpoint 4–2, centroid, midpoint 1–4.
+    let q = split.faces[5].map(|i| split.values[i as usize]);
+    let want = [uv.values[4], mid(4, 2), centroid, mid(1, 4)];
+    for (g, w) in q.iter().zip(want) {
+        assert!(
+            (g[0] - w[0]).abs() < 1e-15 && (g[1] - w[1]).abs() < 1e-15,
+            "{q:?} vs {want:?}"
+        );
+    }
+    // The shared edge 1–2 has one midpoint: after corner 1 in the quad, before corner 1 and
+    // after corner 2 in the triangle.
+    let m = split.faces[1][1];
+    assert_eq!((split.faces[4][3], split.faces[6][1]), (m, m));
+    assert_eq!(split.values[m as usize], mid(1, 2));
+}
