@@ -603,7 +603,7 @@ fn new_points_are_convex_combinations_and_corners_stay() {
 }
 
 /// The generated kernels and the generic path, and any number of threads, refine open,
-/// creased and holed meshes to the same bits.
+/// creased and holed meshes to the same bits, and take them to the same limit.
 #[test]
 fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
     use lsubdiv::runtime::patch::Subdivide;
@@ -620,15 +620,18 @@ fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
                 threads: 2,
                 limit: false,
             };
-            let generated = lsubdiv::generated::visit_surface(name, job)
-                .expect("a generated surface scheme")
-                .unwrap();
-            let generic = job.visit(&s).unwrap();
-            assert_eq!(generated, generic, "{name} {what}");
-            // Threads never change a bit.
-            for threads in [1, 3] {
-                let other = Subdivide { threads, ..job }.visit(&s).unwrap();
-                assert_eq!(other, generic, "{name} {what}: {threads} threads");
+            // The refined meshes, and their limits (positions and normals).
+            for job in [job, Subdivide { limit: true, ..job }] {
+                let generated = lsubdiv::generated::visit_surface(name, job)
+                    .expect("a generated surface scheme")
+                    .unwrap();
+                let generic = job.visit(&s).unwrap();
+                assert_eq!(generated, generic, "{name} {what}");
+                // Threads never change a bit.
+                for threads in [1, 3] {
+                    let other = Subdivide { threads, ..job }.visit(&s).unwrap();
+                    assert_eq!(other, generic, "{name} {what}: {threads} threads");
+                }
             }
         }
     }
@@ -805,4 +808,34 @@ fn random_featured_meshes_refine_to_affine_combinations() {
         }
     }
     assert!(refined > 200, "only {refined} refinements");
+}
+
+/// The limit of every featured mesh (issue 16): finite positions, unit normals, one of each
+/// per refined vertex; the vertices without a derived limit are exactly the darts, the
+/// creases with a sector other than two faces and the corners with a sector of more than one
+/// face (here: the darts mesh's two darts, and none on the creased cube, whose corners have
+/// three one-face sectors).
+#[test]
+fn limits_of_featured_meshes_are_finite_unit_and_listed() {
+    use lsubdiv::runtime::patch::limit_with;
+    let s = surface("fibonacci");
+    for (what, mesh, features) in featured() {
+        let topo = Topology::build(&mesh).unwrap();
+        let fine = refine_with(&s, &mesh, &features, 3);
+        let lim = limit_with::<_, f64>(&s, &mesh, &topo, &features, 3, 2).unwrap();
+        assert_eq!(lim.mesh.faces, fine.faces, "{what}");
+        assert_eq!(lim.normals.len(), fine.positions.len(), "{what}");
+        for (p, n) in lim.mesh.positions.iter().zip(&lim.normals) {
+            assert!(p.iter().all(|x| x.is_finite()), "{what}: {p:?}");
+            let len = n.iter().map(|x| x * x).sum::<f64>().sqrt();
+            assert!((len - 1.0).abs() < 1e-12, "{what}: normal {n:?}");
+        }
+        match what {
+            "darts" => assert_eq!(lim.approximate.len(), 2, "{what}"),
+            "creased cube" | "grid" | "open box" => {
+                assert!(lim.approximate.is_empty(), "{what}: {:?}", lim.approximate)
+            }
+            _ => {}
+        }
+    }
 }

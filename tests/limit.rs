@@ -540,3 +540,129 @@ fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
         assert!(angles[angles.len() - 1] < 1e-3, "{name}: {angles:?}");
     }
 }
+
+/// The creased cube (every edge infinitely sharp, every vertex a corner with three one-face
+/// sectors) is its own limit surface: limit points on the cube, the normal of each face's
+/// inner points that face's, on an edge the bisector of its two faces', at a corner the mean
+/// of its three; nothing approximate.
+#[test]
+fn the_creased_cube_is_its_own_limit() {
+    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::runtime::topology::Topology;
+    let (cube, features) = lsubdiv::runtime::generators::creased_cube();
+    let topo = Topology::build(&cube).unwrap();
+    for name in EV_SCHEMES {
+        let s = surface(name);
+        let lim = limit_with::<_, f64>(&s, &cube, &topo, &features, 2, 1).unwrap();
+        assert!(lim.approximate.is_empty(), "{name}");
+        for (p, n) in lim.mesh.positions.iter().zip(&lim.normals) {
+            // On the cube [-1, 1]³: at least one coordinate is ±1, the others inside.
+            let on: Vec<usize> = (0..3)
+                .filter(|&i| (p[i].abs() - 1.0).abs() < 1e-12)
+                .collect();
+            assert!(
+                !on.is_empty() && p.iter().all(|x| x.abs() <= 1.0 + 1e-12),
+                "{p:?}"
+            );
+            let k = (on.len() as f64).sqrt();
+            let want: [f64; 3] = std::array::from_fn(|i| {
+                if on.contains(&i) {
+                    p[i].signum() / k
+                } else {
+                    0.0
+                }
+            });
+            assert!(
+                angle(*n, want) < 1e-9,
+                "{name}: normal {n:?} at {p:?}, want {want:?}"
+            );
+        }
+    }
+}
+
+/// `lsubdiv subdivide --limit` writes one `vn` per `v` and faces `a//a` (OBJ), or vertex
+/// properties nx ny nz (PLY), the positions those of the library's `limit_with`; a
+/// semi-sharp crease outlasting the steps is refused (exit 2), naming the reason.
+#[test]
+fn subdivide_writes_limit_positions_and_normals() {
+    use common::cli::{lsubdiv, stderr, write};
+    let dir = tempfile::tempdir().unwrap();
+    let cube =
+        "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n\
+                f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    let input = write(dir.path(), "cube.obj", cube);
+    let out = dir.path().join("out.obj");
+    let o = lsubdiv(&[
+        "subdivide",
+        "fibonacci",
+        &input,
+        "--steps",
+        "3",
+        "--limit",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let count = |p: &str| text.lines().filter(|l| l.starts_with(p)).count();
+    assert_eq!(count("v "), count("vn "));
+    assert!(count("vn ") > 8);
+    let face = text.lines().find(|l| l.starts_with("f ")).unwrap();
+    assert!(
+        face.split_whitespace().skip(1).all(|c| {
+            let (a, b) = c.split_once("//").unwrap();
+            a == b
+        }),
+        "{face}"
+    );
+    // The positions are the library's limit.
+    let mesh = lsubdiv::mesh_file::parse("cube.obj", cube.as_bytes().to_vec()).unwrap();
+    let s = surface("fibonacci");
+    let lim = lsubdiv::runtime::patch::limit_with::<_, f64>(
+        &s,
+        &mesh.mesh,
+        &mesh.topology,
+        &mesh.features,
+        3,
+        1,
+    )
+    .unwrap();
+    let first: Vec<f64> = text.lines().find(|l| l.starts_with("v ")).unwrap()[2..]
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(first, lim.mesh.positions[0].to_vec());
+    // PLY: nx ny nz after x y z.
+    let ply = dir.path().join("out.ply");
+    let o = lsubdiv(&[
+        "subdivide",
+        "fibonacci",
+        &input,
+        "--steps",
+        "3",
+        "--limit",
+        "-o",
+        ply.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&ply).unwrap();
+    assert!(text.contains("property double x\nproperty double y\nproperty double z\nproperty double nx\nproperty double ny\nproperty double nz\n"), "{text:.400}");
+    // A crease of sharpness 4 is still sharp after 3 steps.
+    let creased = write(
+        dir.path(),
+        "creased.obj",
+        &format!("{cube}t crease 2/1/0 0 1 4\n"),
+    );
+    let o = lsubdiv(&[
+        "subdivide",
+        "fibonacci",
+        &creased,
+        "--steps",
+        "3",
+        "--limit",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("still sharp"), "{}", stderr(&o));
+}
