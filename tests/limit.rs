@@ -483,13 +483,14 @@ fn uniform_binary_limit_is_catmull_clark_on_regular_regions_and_boundaries() {
 }
 
 /// At the cube's EVs: the limit point is fixed under refinement (the limit after one more
-/// step is the same point, 1e-12), and the normals of the refined 1-ring faces converge to
+/// step is the same point, 1e-12; so is every other point's, and its normal), and the normals of the refined 1-ring faces converge to
 /// the limit normal as steps grow (the angle shrinks step by step; the sequence is printed).
 #[test]
 fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
     use lsubdiv::runtime::features::Features;
     use lsubdiv::runtime::patch::limit_with;
     use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::CurveScheme;
     let mut cube = lsubdiv::runtime::generators::cube();
     cube.positions[5] = [1.3, -0.8, 1.1];
     let topo = Topology::build(&cube).unwrap();
@@ -503,6 +504,42 @@ fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
             .fold(0.0, f64::max);
         assert!(off < 1e-12, "{name}: the EV's limit moves by {off:e}");
         assert!(angle(a.normals[0], b.normals[0]) < 1e-12, "{name}");
+        // Every point of level 4, EVs' neighbours included, keeps its limit at level 5: point
+        // (x, y) of a base face is corner 0 of its cell (x, y), and old knot x is new knot
+        // Off(x) = Σ_{i<x} |π(W_4[i])|.
+        let t = s.tables();
+        let mut word = t.axiom.to_vec();
+        for _ in 0..4 {
+            word = word.iter().flat_map(|&a| t.rule(a).to_vec()).collect();
+        }
+        let mut off = vec![0usize];
+        for &a in &word {
+            off.push(off[off.len() - 1] + t.rule(a).len());
+        }
+        let (n, m) = (word.len(), off[word.len()]);
+        let mut worst = (0.0f64, 0.0f64);
+        for f in 0..cube.faces.len() {
+            for y in 0..n {
+                for x in 0..n {
+                    let va = a.mesh.faces[f * n * n + y * n + x][0] as usize;
+                    let vb = b.mesh.faces[f * m * m + off[y] * m + off[x]][0] as usize;
+                    let (p, q) = (a.mesh.positions[va], b.mesh.positions[vb]);
+                    let d = (0..3).map(|i| (p[i] - q[i]).abs()).fold(0.0, f64::max);
+                    worst.0 = worst.0.max(d);
+                    worst.1 = worst.1.max(angle(a.normals[va], b.normals[vb]));
+                }
+            }
+        }
+        assert!(
+            worst.0 < 1e-12,
+            "{name}: a limit point moves by {:e}",
+            worst.0
+        );
+        assert!(
+            worst.1 < 1e-9,
+            "{name}: a limit normal turns by {:e}",
+            worst.1
+        );
         let mut angles = Vec::new();
         for steps in 2..=7 {
             let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
