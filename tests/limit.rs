@@ -417,6 +417,16 @@ fn limit_on_the_torus_is_the_tensor_b_spline_at_the_knots() {
             worst_n < 1e-9,
             "{name}: limit normals off by {worst_n:e} rad"
         );
+        // In f32, the same to f32 precision.
+        let lim32 =
+            limit_with::<_, f32>(&s, &torus, &topo, &Features::default(), steps, 2).unwrap();
+        assert_eq!(lim32.mesh.faces, lim.mesh.faces, "{name}");
+        for (a, b) in lim32.mesh.positions.iter().zip(&lim.mesh.positions) {
+            assert!(
+                (0..3).all(|i| (f64::from(a[i]) - b[i]).abs() < 1e-5),
+                "{name}"
+            );
+        }
     }
 }
 
