@@ -108,6 +108,7 @@ fn checked(spec: &str, mesh: QuadMesh, split: bool, features: Features) -> Resul
         split,
         topology,
         features,
+        uv: None,
         warnings: Vec::new(),
     })
 }

@@ -1,7 +1,9 @@
 //! Mesh inputs as a user gives them (issue 14, kind 5): PLY (ASCII, binary of both byte orders,
 //! any case of extension, on a pipe) refines exactly as the same OBJ does, what `subdivide`
 //! writes as PLY reads back, bad PLY files are refused at their place with exit 2, pipes and
-//! devices are read only up to `--max-memory`, and OBJ lines continued by a `\` are read.
+//! devices are read only up to `--max-memory`, OBJ lines continued by a `\` are read, and
+//! texture coordinates (OBJ `vt`, PLY `u v` or `texcoord`) are read back as written and do not
+//! change the refinement.
 
 mod common;
 
@@ -379,6 +381,67 @@ fn obj_lines_continued_by_a_backslash() {
     assert!(
         e.starts_with(&format!(
             "{}:{line}: error: `x` is not a face corner",
+            p.display()
+        )),
+        "{e}"
+    );
+}
+
+#[test]
+fn textured_files_refine_as_the_plain_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let m = star();
+    let plain = d.join("plain.obj");
+    std::fs::write(&plain, lsubdiv::obj::format(&m).unwrap()).unwrap();
+    let expected = subdivide(&plain.display().to_string(), &d.join("expected.obj"));
+    // Per vertex (seamless) and per corner (a seam at every vertex): OBJ and PLY.
+    let per_vertex = lsubdiv::runtime::facevarying::QuadUv {
+        values: m.positions.iter().map(|p| [p[0], p[2]]).collect(),
+        faces: m.faces.clone(),
+    };
+    let per_corner = lsubdiv::runtime::facevarying::QuadUv {
+        values: (0..4 * m.faces.len()).map(|k| [k as f64, 0.5]).collect(),
+        faces: (0..m.faces.len() as u32)
+            .map(|f| [4 * f, 4 * f + 1, 4 * f + 2, 4 * f + 3])
+            .collect(),
+    };
+    for (k, uv) in [per_vertex, per_corner].iter().enumerate() {
+        let extras = lsubdiv::mesh_file::Extras {
+            normals: None,
+            uv: Some(uv),
+        };
+        for (name, text) in [
+            ("t.obj", lsubdiv::obj::format_with(&m, extras).unwrap()),
+            ("t.ply", lsubdiv::ply::format_with(&m, extras).unwrap()),
+        ] {
+            let p = d.join(format!("{k}-{name}"));
+            std::fs::write(&p, &text).unwrap();
+            let got = subdivide(&p.display().to_string(), &d.join("got.obj"));
+            assert!(got == expected, "{k}-{name}");
+            let read = lsubdiv::mesh_file::parse(name, text.into_bytes()).unwrap();
+            let back = read.uv.expect("texture coordinates");
+            let at = |uv: &lsubdiv::runtime::facevarying::QuadUv| -> Vec<[f64; 2]> {
+                uv.faces
+                    .iter()
+                    .flatten()
+                    .map(|&i| uv.values[i as usize])
+                    .collect()
+            };
+            assert_eq!(at(&back), at(uv), "{k}-{name}");
+        }
+    }
+    // Faces with and without texture indices are refused at the first face that differs.
+    let mixed = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nvt 0 0\n\
+                 f 1/1 2/1 3/1 4/1\nf 2 5 3\n";
+    let p = d.join("mixed.obj");
+    std::fs::write(&p, mixed).unwrap();
+    let o = one_step(&p.display().to_string(), &d.join("mixed-out.obj"), &[], b"");
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.starts_with(&format!(
+            "{}:8: error: this face has no texture indices, but the face at line 7 has them",
             p.display()
         )),
         "{e}"

@@ -5,6 +5,7 @@
 //! placed in the file.
 
 use lsubdiv_compiler::{Error, Location};
+use lsubdiv_runtime::facevarying::{PolyUv, QuadUv, UvError, UvRule};
 use lsubdiv_runtime::features::{FeatureError, FeatureList, Features};
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::{catmull_clark, check_features, PolyMesh, SplitError};
@@ -53,8 +54,9 @@ pub struct FeatureLines {
     pub boundary: Option<usize>,
 }
 
-/// What a reader parsed: the mesh and its sharp features (neither checked against the other),
-/// where each of its vertices, faces and features was read, and warnings about what it skipped.
+/// What a reader parsed: the mesh, its sharp features and its texture coordinates (none checked
+/// against the others), where each of its vertices, faces and features was read, and warnings
+/// about what it skipped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parsed {
     /// The mesh as written: triangles, quads, n-gons.
@@ -65,6 +67,12 @@ pub struct Parsed {
     /// or the default; a caller may set it before [`Parsed::check`], which applies it in the
     /// first step of a mesh that is not all quads).
     pub features: Features,
+    /// Texture coordinates, one value index per corner of `mesh` (OBJ `vt` and face corners
+    /// `i/t`; PLY vertex `u v` or face `texcoord`), if the file has them.
+    pub uv: Option<PolyUv>,
+    /// How [`Parsed::check`] takes `uv` through the first step of a mesh that is not all quads
+    /// (the default; a caller may set it before).
+    pub uv_rule: UvRule,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
 }
@@ -86,6 +94,9 @@ pub struct Checked {
     /// Its features, named by the vertices and faces of `mesh`: the file's, or their image
     /// after the first step ([`lsubdiv_runtime::polygon::Split::features`]).
     pub features: Features,
+    /// Its texture coordinates, faces parallel to `mesh`'s: the file's, or their first step
+    /// by [`Parsed::uv_rule`] ([`PolyUv::split`]).
+    pub uv: Option<QuadUv>,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
 }
@@ -277,23 +288,31 @@ impl Parsed {
     /// Builds the topology of the parsed mesh and checks it and its features (every crease an
     /// edge, every corner a vertex, every hole a face), its errors placed in `file`; a mesh with
     /// faces that are not quads is first taken one Catmull–Clark step with its boundaries and
-    /// features ([`catmull_clark`]), and errors found after it name the file's faces.
+    /// features ([`catmull_clark`]), and errors found after it name the file's faces. Texture
+    /// coordinates take the same step by [`Parsed::uv_rule`] ([`PolyUv::split`]); their errors
+    /// name the file.
     pub fn check(self, file: &str) -> Result<Checked, Error> {
         let Parsed {
             mesh,
             places,
             features,
+            uv,
+            uv_rule,
             warnings,
         } = self;
+        let uv_error = |e: UvError| Error::in_file(file, format!("texture coordinates: {e}"));
+        if let Some(uv) = &uv {
+            uv.check(&mesh).map_err(uv_error)?;
+        }
         let topology_of =
             |q: &QuadMesh| Topology::build(q).and_then(|t| t.check_valences().map(|()| t));
-        let (quads, features, topology, split) = match mesh.into_quads() {
+        let (quads, features, topology, uv, split) = match mesh.into_quads() {
             Ok(q) => {
                 let faces = q.faces.iter().map(|f| &f[..]);
                 check_features(q.positions.len(), faces, &features)
                     .map_err(|e| places.locate_feature(file, &e))?;
                 let topology = topology_of(&q).map_err(|e| places.locate(file, &e))?;
-                (q, features, topology, false)
+                (q, features, topology, uv.map(|uv| uv.quads()), false)
             }
             Err(mesh) => {
                 let s = catmull_clark(&mesh, &features).map_err(|e| match e {
@@ -302,7 +321,9 @@ impl Parsed {
                 })?;
                 let topology =
                     topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
-                (s.mesh, s.features, topology, true)
+                let uv = (uv.map(|uv| uv.split(&mesh, &features, uv_rule)).transpose())
+                    .map_err(uv_error)?;
+                (s.mesh, s.features, topology, uv, true)
             }
         };
         Ok(Checked {
@@ -310,6 +331,7 @@ impl Parsed {
             split,
             topology,
             features,
+            uv,
             warnings,
         })
     }
@@ -371,11 +393,16 @@ pub struct Extras<'a> {
     /// One unit normal per vertex, in the vertices' order (OBJ `vn` with faces `v//vn`, PLY
     /// `nx ny nz`).
     pub normals: Option<&'a [[f64; 3]]>,
+    /// Texture coordinates, faces parallel to the mesh's (OBJ `vt` with faces `v/vt`, PLY
+    /// vertex `u v` or face `texcoord`).
+    pub uv: Option<&'a QuadUv>,
 }
 
 impl Extras<'_> {
-    /// Refuses normals that are not one per vertex, or not finite.
-    pub fn check(&self, vertices: usize) -> Result<(), Error> {
+    /// Refuses normals that are not one per vertex of `mesh`, texture coordinates whose faces
+    /// are not `mesh`'s or name no value, and values that are not finite.
+    pub fn check(&self, mesh: &QuadMesh) -> Result<(), Error> {
+        let vertices = mesh.positions.len();
         if let Some(n) = self.normals {
             if n.len() != vertices {
                 return Err(Error::internal(
@@ -385,6 +412,208 @@ impl Extras<'_> {
             }
             crate::points::finite("normal", n)?;
         }
+        if let Some(uv) = self.uv {
+            uv.check(mesh)
+                .map_err(|e| Error::internal(None, format!("texture coordinates: {e}")))?;
+            crate::points::finite("texture coordinate", &uv.values)?;
+        }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use lsubdiv_runtime::features::Boundary;
+    use lsubdiv_runtime::generators::torus;
+
+    /// The torus `torus(rows, cols)` laid out on the grid [0,1]²: vertex (i, j) at
+    /// (i / rows, j / cols), so the rows i = 0 and the columns j = 0 have two values each (the
+    /// seams where the grid is closed), vertex (0, 0) four.
+    pub(crate) fn torus_grid_uv(rows: usize, cols: usize) -> QuadUv {
+        let id = |i: usize, j: usize| (i * (cols + 1) + j) as u32;
+        let values = (0..=rows)
+            .flat_map(|i| (0..=cols).map(move |j| [i as f64 / rows as f64, j as f64 / cols as f64]))
+            .collect();
+        let faces = (0..rows)
+            .flat_map(|i| {
+                (0..cols).map(move |j| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
+            })
+            .collect();
+        QuadUv { values, faces }
+    }
+
+    /// One value per vertex of `mesh`: its x and y.
+    pub(crate) fn xy_uv(mesh: &QuadMesh) -> QuadUv {
+        QuadUv {
+            values: mesh.positions.iter().map(|p| [p[0], p[1]]).collect(),
+            faces: mesh.faces.clone(),
+        }
+    }
+
+    /// A channel's values per corner (bits) and which corners share one, numbered in order of
+    /// first use: equal for two channels that differ only in how their values are numbered.
+    pub(crate) fn canonical(values: &[[f64; 2]], corners: &[u32]) -> (Vec<[u64; 2]>, Vec<u32>) {
+        let mut renumbered = vec![u32::MAX; values.len()];
+        let mut out = (Vec::new(), Vec::new());
+        for &c in corners {
+            let r = &mut renumbered[c as usize];
+            if *r == u32::MAX {
+                *r = out.0.len() as u32;
+                out.0.push(values[c as usize].map(f64::to_bits));
+            }
+            out.1.push(*r);
+        }
+        out
+    }
+
+    /// A flat open mesh (z = 0) of a square and a triangle on its right edge, and a second
+    /// triangle on its top edge: OBJ text with vertices and `vt` lines, faces to be added.
+    const FLAT: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0.5 0\nv 0.5 2 0\n";
+
+    fn parsed(text: &str) -> Parsed {
+        crate::obj::parse("t.obj", text).unwrap()
+    }
+
+    fn mid(p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
+        [(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0]
+    }
+
+    fn close(a: [f64; 2], b: [f64; 2]) -> bool {
+        (a[0] - b[0]).abs() < 1e-15 && (a[1] - b[1]).abs() < 1e-15
+    }
+
+    #[test]
+    fn linear_texture_coordinates_of_a_split_mesh() {
+        // Texture coordinates unlike the positions, with a seam between the square and the
+        // first triangle (edge 2–3 has other values there).
+        let text = format!(
+            "{FLAT}vt 0 0\nvt 0.5 0\nvt 0.5 0.5\nvt 0 0.5\nvt 0.75 0\nvt 0.75 0.25\nvt 1 0.1\n\
+             vt 0.2 0.9\nf 1/1 2/2 3/3 4/4\nf 2/5 5/7 3/6\nf 4/4 3/3 6/8\n"
+        );
+        let p = parsed(&text);
+        let uv = p.uv.clone().unwrap();
+        let faces: Vec<Vec<[f64; 2]>> = (p.mesh.offsets.windows(2))
+            .map(|w| {
+                uv.corners[w[0]..w[1]]
+                    .iter()
+                    .map(|&i| uv.values[i as usize])
+                    .collect()
+            })
+            .collect();
+        let c = p.check("t.obj").unwrap();
+        assert!(c.split);
+        let got = c.uv.expect("texture coordinates");
+        got.check(&c.mesh).unwrap();
+        // Per face, per corner: the corner, the edge midpoint after it, the centroid, the
+        // midpoint before it.
+        let mut k = 0;
+        for f in &faces {
+            let n = f.len();
+            let sum = f.iter().fold([0.0; 2], |s, p| [s[0] + p[0], s[1] + p[1]]);
+            let centroid = [sum[0] / n as f64, sum[1] / n as f64];
+            for i in 0..n {
+                let want = [
+                    f[i],
+                    mid(f[i], f[(i + 1) % n]),
+                    centroid,
+                    mid(f[(i + n - 1) % n], f[i]),
+                ];
+                let quad = got.faces[k].map(|v| got.values[v as usize]);
+                for (a, b) in quad.iter().zip(&want) {
+                    assert!(close(*a, *b), "quad {k}: {quad:?}, want {want:?}");
+                }
+                k += 1;
+            }
+        }
+        assert_eq!(k, got.faces.len());
+        // The seam stays one: the edge 2–3 point of the square and of the triangle differ.
+        let values_at = |face: usize, corner: usize| got.faces[face][corner];
+        assert_ne!(values_at(1, 1), values_at(4, 3)); // after corner 1 of the square; before corner 0 of triangle 1
+    }
+
+    #[test]
+    fn smooth_texture_coordinates_of_a_split_mesh_follow_the_mesh() {
+        // One value per vertex, its x and y: the smooth rule's layout is the flat mesh itself,
+        // so with the same (edge-only) boundary its split is the mesh's split.
+        let text = format!(
+            "{FLAT}vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 2 0.5\nvt 0.5 2\n\
+             f 1/1 2/2 3/3 4/4\nf 2/2 5/5 3/3\nf 4/4 3/3 6/6\n"
+        );
+        let split = |rule| {
+            let mut p = parsed(&text);
+            p.features.boundary = Boundary::EdgeOnly;
+            p.uv_rule = rule;
+            p.check("t.obj").unwrap()
+        };
+        let smooth = split(UvRule::Smooth);
+        let uv = smooth.uv.as_ref().unwrap();
+        for (face, corners) in smooth.mesh.faces.iter().zip(&uv.faces) {
+            for (&v, &t) in face.iter().zip(corners) {
+                let p = smooth.mesh.positions[v as usize];
+                assert!(close([p[0], p[1]], uv.values[t as usize]), "vertex {v}");
+            }
+        }
+        // The linear rule takes midpoints instead: on the interior edge 2–3 they differ.
+        let linear = split(UvRule::Linear);
+        let at = |c: &Checked| c.uv.as_ref().map(|uv| uv.values[uv.faces[1][1] as usize]);
+        assert_eq!(at(&linear), Some([1.0, 0.5]));
+        assert!(!close(at(&smooth).unwrap(), [1.0, 0.5]));
+    }
+
+    #[test]
+    fn texture_coordinates_of_quads_are_kept_and_checked() {
+        let m = torus(3, 4);
+        let uv = torus_grid_uv(3, 4);
+        let text = crate::obj::format_with(
+            &m,
+            Extras {
+                normals: None,
+                uv: Some(&uv),
+            },
+        )
+        .unwrap();
+        let c = parse("t.obj", text.into_bytes()).unwrap();
+        assert!(!c.split);
+        assert_eq!(c.uv, Some(uv));
+        // A channel that does not fit the mesh is refused, naming the file.
+        let mut p = parsed(&format!("{FLAT}f 1 2 3 4\nf 2 5 3\n"));
+        p.uv = Some(PolyUv {
+            values: vec![[0.0; 2]],
+            corners: vec![0; 6],
+        });
+        assert_eq!(
+            p.check("t.obj").unwrap_err().to_string(),
+            "t.obj: error: texture coordinates: 6 texture coordinate indices for 7 face corners"
+        );
+    }
+
+    #[test]
+    fn extras_are_checked_against_the_mesh() {
+        let m = torus(3, 4);
+        let mut uv = torus_grid_uv(3, 4);
+        let check = |uv: &QuadUv| {
+            Extras {
+                normals: None,
+                uv: Some(uv),
+            }
+            .check(&m)
+        };
+        check(&uv).unwrap();
+        uv.values[5][1] = f64::INFINITY;
+        assert!(check(&uv)
+            .unwrap_err()
+            .to_string()
+            .contains("texture coordinate 6 has a non-finite coordinate"));
+        uv.faces[2][3] = 99;
+        assert!(check(&uv)
+            .unwrap_err()
+            .to_string()
+            .contains("face 2 names texture coordinate 99, but there are 20"));
+        uv.faces.pop();
+        assert!(check(&uv)
+            .unwrap_err()
+            .to_string()
+            .contains("44 texture coordinate indices for 48 face corners"));
     }
 }

@@ -7,6 +7,7 @@
 use crate::mesh_file::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use crate::obj_tags::Tags;
 use lsubdiv_compiler::{Error, Location};
+use lsubdiv_runtime::facevarying::PolyUv;
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::PolyMesh;
 use lsubdiv_runtime::topology::TopologyError;
@@ -52,8 +53,6 @@ fn for_each_line<'a>(
 
 /// Directives of the OBJ format that carry nothing a quad mesh needs.
 const KNOWN_SKIPPED: &[&str] = &[
-    "vt",
-    "vn",
     "vp",
     "o",
     "g",
@@ -103,6 +102,10 @@ enum SkipKind {
     UnknownTag(String),
     OtherUnknown,
     VertexColours,
+    /// `vt` lines when no face has texture indices.
+    UnusedTextures,
+    /// `vn` lines and faces with normal indices.
+    Normals,
 }
 
 /// Skipped lines, one entry per kind, in order of first appearance.
@@ -119,6 +122,11 @@ impl Skipped {
         } else {
             self.entries.push((kind, 1, line));
         }
+    }
+
+    /// Drops the entry of `kind`, if any.
+    fn forget(&mut self, kind: &SkipKind) {
+        self.entries.retain(|e| e.0 != *kind);
     }
 
     fn note_directive(&mut self, d: &str, line: usize) {
@@ -165,10 +173,40 @@ impl Skipped {
                     SkipKind::VertexColours => {
                         format!("ignored vertex colours on {count} `v` {noun} {at}")
                     }
+                    SkipKind::UnusedTextures => {
+                        format!("ignored {count} `vt` {noun} {at}: no face has texture indices")
+                    }
+                    SkipKind::Normals => format!(
+                        "ignored normals (`vn`, normal indices of faces) on {count} {noun} {at}: \
+                         normals are recomputed (e.g. by `--limit`)"
+                    ),
                 }
             })
             .collect()
     }
+}
+
+/// The numbers of a line's values, the first `finite` of them finite (`what` names them in
+/// messages), or the line of the bad value and the message.
+fn numbers(
+    tokens: &[Token<'_>],
+    finite: usize,
+    what: &str,
+) -> Result<Vec<f64>, (Option<usize>, String)> {
+    let mut out = Vec::with_capacity(tokens.len());
+    for &(tok, line) in tokens {
+        let x: f64 = tok
+            .parse()
+            .map_err(|_| (Some(line), format!("`{}` is not a number", shorten(tok))))?;
+        if out.len() < finite && !x.is_finite() {
+            return Err((
+                Some(line),
+                format!("{what} `{}` is not finite", shorten(tok)),
+            ));
+        }
+        out.push(x);
+    }
+    Ok(out)
 }
 
 /// Parses the values of a `v` line; returns the position and whether colours were present, or
@@ -184,22 +222,25 @@ fn parse_vertex(tokens: &[Token<'_>]) -> Result<([f64; 3], bool), (Option<usize>
             ),
         ));
     }
-    let mut p = [0.0; 3];
-    for (i, &(tok, line)) in tokens.iter().enumerate() {
-        let x: f64 = tok
-            .parse()
-            .map_err(|_| (Some(line), format!("`{}` is not a number", shorten(tok))))?;
-        if i < 3 {
-            if !x.is_finite() {
-                return Err((
-                    Some(line),
-                    format!("coordinate `{}` is not finite", shorten(tok)),
-                ));
-            }
-            p[i] = x;
-        }
+    let x = numbers(tokens, 3, "coordinate")?;
+    Ok(([x[0], x[1], x[2]], count == 6))
+}
+
+/// Parses the values of a `vt` line (`u v [w]`, w ignored), or the line of the bad value and
+/// the message.
+fn parse_texture(tokens: &[Token<'_>]) -> Result<[f64; 2], (Option<usize>, String)> {
+    let count = tokens.len();
+    if !matches!(count, 2 | 3) {
+        return Err((
+            None,
+            format!(
+                "texture coordinate has {}; expected u v or u v w",
+                counted(count, "value", "values")
+            ),
+        ));
     }
-    Ok((p, count == 6))
+    let x = numbers(tokens, 2, "texture coordinate")?;
+    Ok([x[0], x[1]])
 }
 
 /// `[+-]?[0-9]+`
@@ -208,39 +249,53 @@ pub(crate) fn is_integer(s: &str) -> bool {
     !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
 }
 
-/// Resolves one face corner to a 0-based vertex index. `before`: vertices defined before this
-/// line (for negative indices); `total`: vertices in the whole file (for positive ones).
-fn parse_corner(tok: &str, before: usize, total: usize) -> Result<u32, String> {
-    let mut parts = tok.split('/');
-    let index = parts.next().unwrap_or("");
-    // `i`, `i/t`, `i//n` or `i/t/n`: texture and normal indices are integers when present.
-    let rest: Vec<&str> = parts.collect();
-    let well_formed = match rest.as_slice() {
-        [] => true,
-        [t] => is_integer(t),
-        [t, n] => (t.is_empty() || is_integer(t)) && is_integer(n),
-        _ => false,
-    };
-    if !well_formed || !is_integer(index) {
-        return Err(format!(
-            "`{}` is not a face corner (i, i/t, i//n or i/t/n)",
-            shorten(tok)
-        ));
-    }
+/// One face corner: its vertex, its texture coordinate if it names one, and whether it names
+/// a normal (0-based indices).
+struct Corner {
+    vertex: u32,
+    texture: Option<u32>,
+    normal: bool,
+}
+
+/// How many of something the file has: defined before this line (for negative indices) and in
+/// the whole file (for positive ones).
+#[derive(Clone, Copy)]
+struct Defined {
+    before: usize,
+    total: usize,
+}
+
+/// Resolves the OBJ index `index` (1-based, or negative: relative to the line) of a `what`
+/// (`vertex`, `texture`) among `defined` ones (`one`, `many`: their nouns) to a 0-based index.
+fn resolve(
+    index: &str,
+    what: &str,
+    (one, many): (&str, &str),
+    defined: Defined,
+) -> Result<u32, String> {
     let negative = index.starts_with('-');
-    let limit = if negative { before } else { total };
+    let limit = if negative {
+        defined.before
+    } else {
+        defined.total
+    };
     let out_of_range = || {
-        let vertices = counted(limit, "vertex", "vertices");
+        let things = counted(limit, one, many);
         let index = shorten(index);
         if negative {
-            format!("vertex index {index} out of range (only {vertices} precede this line)")
+            let verb = if limit == 1 { "precedes" } else { "precede" };
+            format!("{what} index {index} out of range (only {things} {verb} this line)")
         } else {
-            format!("vertex index {index} out of range (the file has {vertices})")
+            format!("{what} index {index} out of range (the file has {things})")
         }
     };
     let i: i64 = index.parse().map_err(|_| out_of_range())?;
     let resolved = match i {
-        0 => return Err("vertex index 0 is invalid (OBJ indices start at 1)".into()),
+        0 => {
+            return Err(format!(
+                "{what} index 0 is invalid (OBJ indices start at 1)"
+            ))
+        }
         i if i > 0 => i.unsigned_abs() - 1,
         i => (limit as u64)
             .checked_sub(i.unsigned_abs())
@@ -252,25 +307,60 @@ fn parse_corner(tok: &str, before: usize, total: usize) -> Result<u32, String> {
     Ok(resolved as u32)
 }
 
+/// Parses one face corner `i`, `i/t`, `i//n` or `i/t/n` among the `vertices` and `textures`
+/// (`vt`) the file defines; normal indices are not resolved (normals are ignored).
+fn parse_corner(tok: &str, vertices: Defined, textures: Defined) -> Result<Corner, String> {
+    let mut parts = tok.split('/');
+    let index = parts.next().unwrap_or("");
+    let rest: Vec<&str> = parts.collect();
+    let (texture, normal, well_formed) = match rest.as_slice() {
+        [] => ("", false, true),
+        [t] => (*t, false, is_integer(t)),
+        [t, n] => (*t, true, (t.is_empty() || is_integer(t)) && is_integer(n)),
+        _ => ("", false, false),
+    };
+    if !well_formed || !is_integer(index) {
+        return Err(format!(
+            "`{}` is not a face corner (i, i/t, i//n or i/t/n)",
+            shorten(tok)
+        ));
+    }
+    let noun = ("texture coordinate", "texture coordinates");
+    Ok(Corner {
+        vertex: resolve(index, "vertex", ("vertex", "vertices"), vertices)?,
+        texture: (!texture.is_empty())
+            .then(|| resolve(texture, "texture", noun, textures))
+            .transpose()?,
+        normal,
+    })
+}
+
 /// Parses OBJ text (`file` names it in errors): `v x y z [w]` (w ignored; `v x y z r g b`
-/// with vertex colours is accepted with a warning), `f a b c d` where each corner may be `i`,
-/// `i/t`, `i//n`, `i/t/n`, with negative (relative) indices supported; texture and normal
-/// indices are ignored. A line ending in `\` continues on the next. OpenSubdiv's sharp-feature
+/// with vertex colours is accepted with a warning), `vt u v [w]` (w ignored), `f a b c d`
+/// where each corner may be `i`, `i/t`, `i//n`, `i/t/n`, with negative (relative) indices
+/// supported. Texture indices are read into [`Parsed::uv`] (values: the `vt` lines in file
+/// order): every face has them or none; a file whose faces have none ignores its `vt` lines
+/// with a warning. `vn` lines and normal indices are ignored with one warning (normals are
+/// recomputed). A line ending in `\` continues on the next. OpenSubdiv's sharp-feature
 /// tags (`t crease`, `t corner`, `t hole`, `t interpolateboundary`) are read into
 /// [`Parsed::features`] ([`crate::obj_tags`]); other tags are skipped with a warning.
 ///
-/// Lines it does not need (`vt`, `vn`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, other OBJ
-/// directives, unknown directives, comments, blank lines) are skipped with one warning per kind
-/// of skipped directive (count and first line). Errors are at their physical line. A file
+/// Lines it does not need (`o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, other OBJ directives,
+/// unknown directives, comments, blank lines) are skipped with one warning per kind of
+/// skipped directive (count and first line). Errors are at their physical line. A file
 /// without faces is an error. Connectivity is not checked here (see [`Parsed::check`]).
 pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
-    // Positive indices may refer to vertices defined later in the file.
-    let mut total = 0;
+    // Positive indices may refer to vertices and texture coordinates defined later in the file.
+    let (mut vertices, mut textures) = (0, 0);
     for_each_line(text, |_, tokens| {
-        total += usize::from(tokens[0].0 == "v");
+        vertices += usize::from(tokens[0].0 == "v");
+        textures += usize::from(tokens[0].0 == "vt");
         Ok(())
     })?;
     let mut mesh = PolyMesh::new();
+    let mut uv = PolyUv::default();
+    // Whether the first face has texture indices, and its line.
+    let mut textured: Option<(bool, usize)> = None;
     let mut places = Places::new(Unit::Line, 1);
     let mut skipped = Skipped::default();
     let mut tags = Tags::default();
@@ -287,16 +377,60 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
                 mesh.positions.push(p);
                 places.vertices.push(line);
             }
+            "vt" => {
+                let t = parse_texture(values).map_err(|(l, m)| at(l.unwrap_or(line), m))?;
+                uv.values.push(t);
+                skipped.note_kind(SkipKind::UnusedTextures, line);
+            }
+            "vn" => skipped.note_kind(SkipKind::Normals, line),
             "f" => {
                 if values.len() < 3 {
                     return Err(at(line, too_few_corners(values.len())));
                 }
-                let face = values
+                let v = Defined {
+                    before: mesh.positions.len(),
+                    total: vertices,
+                };
+                let t = Defined {
+                    before: uv.values.len(),
+                    total: textures,
+                };
+                let corners = values
                     .iter()
-                    .map(|&(tok, l)| {
-                        parse_corner(tok, mesh.positions.len(), total).map_err(|m| at(l, m))
-                    })
-                    .collect::<Result<Vec<u32>, Error>>()?;
+                    .map(|&(tok, l)| parse_corner(tok, v, t).map_err(|m| at(l, m)))
+                    .collect::<Result<Vec<Corner>, Error>>()?;
+                let has = corners[0].texture.is_some();
+                if let Some(k) = corners.iter().position(|c| c.texture.is_some() != has) {
+                    return Err(at(
+                        values[k].1,
+                        "some corners of this face have texture indices and others do not \
+                         (every corner has one or none)"
+                            .into(),
+                    ));
+                }
+                match textured {
+                    None => textured = Some((has, line)),
+                    Some((first, l)) if first != has => {
+                        let (this, that) = if has {
+                            ("has", "none")
+                        } else {
+                            ("has no", "them")
+                        };
+                        return Err(at(
+                            line,
+                            format!(
+                                "this face {this} texture indices, but the face at line {l} \
+                                 has {that} (every face has them or none)"
+                            ),
+                        ));
+                    }
+                    Some(_) => {}
+                }
+                if corners.iter().any(|c| c.normal) {
+                    skipped.note_kind(SkipKind::Normals, line);
+                }
+                let face: Vec<u32> = corners.iter().map(|c| c.vertex).collect();
+                uv.corners.extend(corners.iter().filter_map(|c| c.texture));
                 mesh.push_face(&face);
                 places.faces.push(line);
             }
@@ -312,11 +446,17 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
     if mesh.face_count() == 0 {
         return Err(places.locate(file, &TopologyError::NoFaces));
     }
+    let uv = textured.is_some_and(|(t, _)| t).then_some(uv);
+    if uv.is_some() {
+        skipped.forget(&SkipKind::UnusedTextures);
+    }
     places.features = tags.lines;
     Ok(Parsed {
         mesh,
         places,
         features: tags.features,
+        uv,
+        uv_rule: Default::default(),
         warnings: skipped.warnings(),
     })
 }
@@ -333,11 +473,12 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     format_with(mesh, Extras::default())
 }
 
-/// [`format`] with normals: `vn` lines after the `v` lines, one per vertex in the same order,
-/// and faces `f a//a …`.
+/// [`format`] with extras: normals as `vn` lines after the `v` lines, one per vertex in the
+/// same order, texture coordinates as `vt` lines after them; faces `f a/ta …`, `f a//a …` or
+/// `f a/ta/a …`.
 pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
     crate::points::finite("vertex", &mesh.positions)?;
-    extras.check(mesh.positions.len())?;
+    extras.check(mesh)?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 64);
     let _ = writeln!(
         s,
@@ -351,24 +492,25 @@ pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error>
     for n in extras.normals.into_iter().flatten() {
         let _ = writeln!(s, "vn {:?} {:?} {:?}", n[0], n[1], n[2]);
     }
-    let slash = if extras.normals.is_some() { "//" } else { "" };
-    for f in &mesh.faces {
-        let [a, b, c, d] = f.map(|i| u64::from(i) + 1);
-        let corner = |i: u64| {
-            if slash.is_empty() {
-                i.to_string()
-            } else {
-                format!("{i}{slash}{i}")
+    for t in extras.uv.iter().flat_map(|uv| &uv.values) {
+        let _ = writeln!(s, "vt {:?} {:?}", t[0], t[1]);
+    }
+    let normals = extras.normals.is_some();
+    for (f, face) in mesh.faces.iter().enumerate() {
+        s.push('f');
+        for (c, &v) in face.iter().enumerate() {
+            let v = u64::from(v) + 1;
+            let _ = write!(s, " {v}");
+            if let Some(uv) = extras.uv {
+                let _ = write!(s, "/{}", u64::from(uv.faces[f][c]) + 1);
+            } else if normals {
+                s.push('/');
             }
-        };
-        let _ = writeln!(
-            s,
-            "f {} {} {} {}",
-            corner(a),
-            corner(b),
-            corner(c),
-            corner(d)
-        );
+            if normals {
+                let _ = write!(s, "/{v}");
+            }
+        }
+        s.push('\n');
     }
     Ok(s)
 }
@@ -411,21 +553,129 @@ mod tests {
 
     #[test]
     fn face_corner_syntax_variants() {
-        for face in [
-            "f 1 2 3 4",
-            "f 1/1 2/2 3/3 4/4",
-            "f 1//7 2//7 3//7 4//7",
-            "f 1/1/1 2/2/2 3/3/3 4/4/4",
-            "f 1 2/5 3//6 4/7/8",
-            "f -4 -3 -2 -1",
-            "f -4/1 -3//2 3/3/4 -1",
-            "f +1 2 3 4",
+        // Texture indices: none, or per corner (after four `vt` lines, at lines 5–8).
+        let vt = "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+        for (face, uv, normals) in [
+            ("f 1 2 3 4", None, false),
+            ("f 1//7 2//7 3//7 4//7", None, true),
+            ("f -4 -3 -2 -1", None, false),
+            ("f +1 2 3 4", None, false),
+            ("f 1/1 2/2 3/3 4/4", Some(vec![0, 1, 2, 3]), false),
+            ("f 1/4/1 2/3/2 3/2/3 4/1/4", Some(vec![3, 2, 1, 0]), true),
+            ("f -4/1 -3/-3/2 3/+3/4 -1/-1", Some(vec![0, 1, 2, 3]), true),
         ] {
-            let (m, w) = parse_obj(&format!("{SQUARE_V}{face}\n")).unwrap();
-            assert_eq!(faces(&m), vec![vec![0, 1, 2, 3]], "{face}");
-            assert_eq!(m.positions.len(), 4);
-            assert!(w.is_empty(), "{face}: {w:?}");
+            let p = parse("t.obj", &format!("{SQUARE_V}{vt}{face}\n")).unwrap();
+            assert_eq!(faces(&p.mesh), vec![vec![0, 1, 2, 3]], "{face}");
+            assert_eq!(p.mesh.positions.len(), 4);
+            let values = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+            let want = uv.map(|corners| PolyUv { values, corners });
+            assert_eq!(p.uv, want, "{face}");
+            let mut w = Vec::new();
+            if p.uv.is_none() {
+                w.push("ignored 4 `vt` lines (first at line 5): no face has texture indices");
+            }
+            if normals {
+                w.push(
+                    "ignored normals (`vn`, normal indices of faces) on 1 line (line 9): \
+                     normals are recomputed (e.g. by `--limit`)",
+                );
+            }
+            assert_eq!(p.warnings, w, "{face}");
         }
+    }
+
+    #[test]
+    fn texture_coordinates_are_read_with_relative_indices() {
+        // A quad and a triangle; the vt lines interleaved, one of them unused, with `w`.
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.5 0.25\nvt 1 0 7\n\
+                    vt -2 3e1\nf 1/1 2/2 3/3 4/-1\nvt 0.125 0.5\nvt 9 9\nv 2 0 0\n\
+                    f 2/-2 5/5 3/3\n";
+        let p = parse("t.obj", text).unwrap();
+        assert_eq!(faces(&p.mesh), vec![vec![0, 1, 2, 3], vec![1, 4, 2]]);
+        let uv = p.uv.expect("textured");
+        assert_eq!(
+            uv.values,
+            vec![
+                [0.5, 0.25],
+                [1.0, 0.0],
+                [-2.0, 30.0],
+                [0.125, 0.5],
+                [9.0, 9.0]
+            ]
+        );
+        assert_eq!(uv.corners, vec![0, 1, 2, 2, 3, 4, 2]);
+        assert!(p.warnings.is_empty(), "{:?}", p.warnings);
+    }
+
+    #[test]
+    fn texture_errors_name_their_line() {
+        let vt = "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"; // lines 5–8
+        for (text, line, message) in [
+            (
+                format!("{SQUARE_V}{vt}f 1/1 2/2 3/3 4/4\nf 1 2 3 4\n"),
+                10,
+                "this face has no texture indices, but the face at line 9 has them (every face has them or none)",
+            ),
+            (
+                format!("{SQUARE_V}{vt}f 1 2 3 4\n\nf 1//1 2//1 3//1 4//1\nf 1/1 2/2 3/3 4/4\n"),
+                12,
+                "this face has texture indices, but the face at line 9 has none (every face has them or none)",
+            ),
+            (
+                format!("{SQUARE_V}{vt}f 1/1 2/2 \\\n3/3 4\n"),
+                10,
+                "some corners of this face have texture indices and others do not (every corner has one or none)",
+            ),
+            (
+                format!("{SQUARE_V}{vt}f 1 2/5 3//6 4/7/8\n"),
+                9,
+                "texture index 5 out of range (the file has 4 texture coordinates)",
+            ),
+            (
+                format!("{SQUARE_V}{vt}f 1 \\\n2/2 3//6 4/2/8\n"),
+                10,
+                "some corners of this face have texture indices and others do not (every corner has one or none)",
+            ),
+            (
+                format!("{SQUARE_V}f 1/1 2/2 3/3 4/4\n"),
+                5,
+                "texture index 1 out of range (the file has 0 texture coordinates)",
+            ),
+            (
+                format!("{SQUARE_V}vt 0 0\nf 1/1 2/-2 3/1 4/1\nvt 1 1\n"),
+                6,
+                "texture index -2 out of range (only 1 texture coordinate precedes this line)",
+            ),
+            (
+                format!("{SQUARE_V}{vt}f 1/1 2/0 3/3 4/4\n"),
+                9,
+                "texture index 0 is invalid (OBJ indices start at 1)",
+            ),
+            (
+                format!("{SQUARE_V}{vt}f 1/1 2/2 \\\n3/3 4/99999999999999999999\n"),
+                10,
+                "texture index 99999999999999999999 out of range (the file has 4 texture coordinates)",
+            ),
+            (format!("{SQUARE_V}vt 0\n"), 5, "texture coordinate has 1 value; expected u v or u v w"),
+            (format!("{SQUARE_V}vt\n"), 5, "texture coordinate has 0 values; expected u v or u v w"),
+            (format!("{SQUARE_V}vt 0 0 0 0\n"), 5, "texture coordinate has 4 values; expected u v or u v w"),
+            (format!("{SQUARE_V}vt 0 \\\nnan\n"), 6, "texture coordinate `nan` is not finite"),
+            (format!("{SQUARE_V}vt inf 0\n"), 5, "texture coordinate `inf` is not finite"),
+            (format!("{SQUARE_V}vt 0 0 u\n"), 5, "`u` is not a number"),
+        ] {
+            assert_eq!(
+                err(&text),
+                Error::at(Location::line("t.obj", line), message),
+                "{text:?}"
+            );
+        }
+        // The w of `vt u v w` may be anything finite or not: it is ignored.
+        let p = parse(
+            "t.obj",
+            &format!("{SQUARE_V}vt 0 0 nan\nf 1/1 2/1 3/1 4/1\n"),
+        )
+        .unwrap();
+        assert_eq!(p.uv.unwrap().values, vec![[0.0, 0.0]]);
     }
 
     #[test]
@@ -520,7 +770,7 @@ mod tests {
     fn skipped_directives_give_one_warning_per_kind() {
         let text = format!(
             "mtllib a.mtl\no thing\n{SQUARE_V}vt 0 0\nvt 1 0\nvn 0 0 1\ng grp\ns 1\nusemtl m\n\
-             l 1 2\np 3\nfoo bar\nvt 1 1\nfoo\nf 1 2 3 4\n"
+             l 1 2\np 3\nfoo bar\nvt 1 1\nfoo\nf 1//1 2//1 3//1 4//1\n"
         );
         let (m, w) = parse_obj(&text).unwrap();
         assert_eq!(m.face_count(), 1);
@@ -529,8 +779,9 @@ mod tests {
             vec![
                 "skipped 1 `mtllib` line (line 1)",
                 "skipped 1 `o` line (line 2)",
-                "skipped 3 `vt` lines (first at line 7)",
-                "skipped 1 `vn` line (line 9)",
+                "ignored 3 `vt` lines (first at line 7): no face has texture indices",
+                "ignored normals (`vn`, normal indices of faces) on 2 lines (first at line 9): \
+                 normals are recomputed (e.g. by `--limit`)",
                 "skipped 1 `g` line (line 10)",
                 "skipped 1 `s` line (line 11)",
                 "skipped 1 `usemtl` line (line 12)",
@@ -763,6 +1014,49 @@ mod tests {
                 for c in 0..3 {
                     assert_eq!(a[c].to_bits(), b[c].to_bits());
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn texture_coordinates_round_trip() {
+        use crate::mesh_file::tests::{torus_grid_uv, xy_uv};
+        let m = torus(4, 5);
+        let normals: Vec<[f64; 3]> = m.positions.iter().map(|p| [p[2], p[0], -p[1]]).collect();
+        for uv in [torus_grid_uv(4, 5), xy_uv(&m)] {
+            for normals in [None, Some(&normals[..])] {
+                let extras = Extras {
+                    normals,
+                    uv: Some(&uv),
+                };
+                let text = format_with(&m, extras).unwrap();
+                // v, then vn, then vt lines, then faces `a/ta` or `a/ta/a`.
+                let kinds: Vec<&str> = text
+                    .lines()
+                    .skip(1)
+                    .map(|l| l.split(' ').next().unwrap())
+                    .collect();
+                let mut want = vec!["v"; 20];
+                want.extend(vec!["vn"; if normals.is_some() { 20 } else { 0 }]);
+                want.extend(vec!["vt"; uv.values.len()]);
+                want.extend(vec!["f"; 20]);
+                assert_eq!(kinds, want);
+                let [a, b, c, d] = m.faces[0].map(|v| v + 1);
+                let [ta, tb, tc, td] = uv.faces[0].map(|t| t + 1);
+                let f0 = match normals {
+                    None => format!("f {a}/{ta} {b}/{tb} {c}/{tc} {d}/{td}"),
+                    Some(_) => format!("f {a}/{ta}/{a} {b}/{tb}/{b} {c}/{tc}/{c} {d}/{td}/{d}"),
+                };
+                assert!(text.contains(&format!("\n{f0}\n")), "{f0}");
+                let p = parse("t.obj", &text).unwrap();
+                assert_eq!(
+                    p.mesh.corners,
+                    m.faces.iter().flatten().copied().collect::<Vec<_>>()
+                );
+                let corners = uv.faces.iter().flatten().copied().collect();
+                let values = uv.values.clone();
+                assert_eq!(p.uv, Some(PolyUv { values, corners }));
+                assert_eq!(p.warnings.len(), usize::from(normals.is_some()));
             }
         }
     }

@@ -3,13 +3,16 @@
 //! element, property and byte offset — and writing (ASCII, and binary for other programs).
 //!
 //! The reader takes a `vertex` element with scalar `x`, `y`, `z` of any type and a `face`
-//! element with a `vertex_indices` (or `vertex_index`) list of integers; other properties,
+//! element with a `vertex_indices` (or `vertex_index`) list of integers; texture coordinates
+//! from vertex properties `u v`, `s t` or `texture_u texture_v` (any type), or from a face list
+//! `texcoord` (u v per corner, as MeshLab writes it; it takes precedence); other properties,
 //! lists and elements are skipped in order. Nothing is allocated from a count in the header:
 //! a binary element's count is checked against the bytes that follow before it is read, and
 //! values are stored only as they are read.
 
 use crate::mesh_file::{shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
+use lsubdiv_runtime::facevarying::{PolyUv, QuadUv};
 use lsubdiv_runtime::features::Features;
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::PolyMesh;
@@ -414,12 +417,30 @@ fn header(file: &str, bytes: &[u8]) -> Result<Header, Error> {
     }
 }
 
-/// What the reader takes from the elements: the vertex element and its x, y, z properties,
-/// the face element and its index list (element and property indices).
+/// The pairs of vertex properties read as texture coordinates, the first pair present.
+const UV_NAMES: [[&str; 2]; 3] = [["u", "v"], ["s", "t"], ["texture_u", "texture_v"]];
+
+/// What the reader takes from the elements: the vertex element and its x, y, z properties and
+/// its texture coordinates, the face element and its index list and its `texcoord` list
+/// (element and property indices).
 struct Roles {
     vertex: usize,
     xyz: [usize; 3],
+    uv: Option<[usize; 2]>,
     face: Option<(usize, usize)>,
+    texcoord: Option<usize>,
+}
+
+impl Roles {
+    /// Whether property `i` of element `e` is read.
+    fn reads(&self, e: usize, i: usize) -> bool {
+        let vertex = e == self.vertex
+            && (self.xyz.contains(&i) || self.uv.is_some_and(|uv| uv.contains(&i)));
+        let face = self
+            .face
+            .is_some_and(|(f, p)| f == e && (p == i || self.texcoord == Some(i)));
+        vertex || face
+    }
 }
 
 fn roles(file: &str, h: &Header) -> Result<Roles, Error> {
@@ -431,22 +452,37 @@ fn roles(file: &str, h: &Header) -> Result<Roles, Error> {
         ));
     };
     let ve = &h.elements[vertex];
-    let mut xyz = [0; 3];
-    for (slot, axis) in xyz.iter_mut().zip(["x", "y", "z"]) {
-        let Some(i) = ve.properties.iter().position(|p| p.name == axis) else {
-            return Err(Error::at(
-                Location::line(file, ve.line),
-                format!("the `vertex` element has no `{axis}` property"),
-            ));
+    // The vertex property `name`, refused if it is a list.
+    let scalar = |name: &str| -> Result<Option<usize>, Error> {
+        let Some(i) = ve.properties.iter().position(|p| p.name == name) else {
+            return Ok(None);
         };
         if matches!(ve.properties[i].kind, Kind::List { .. }) {
             return Err(Error::at(
                 Location::line(file, ve.properties[i].line),
-                format!("vertex property `{axis}` is a list; expected a number"),
+                format!("vertex property `{name}` is a list; expected a number"),
             ));
         }
-        *slot = i;
+        Ok(Some(i))
+    };
+    let mut xyz = [0; 3];
+    for (slot, axis) in xyz.iter_mut().zip(["x", "y", "z"]) {
+        *slot = scalar(axis)?.ok_or_else(|| {
+            Error::at(
+                Location::line(file, ve.line),
+                format!("the `vertex` element has no `{axis}` property"),
+            )
+        })?;
     }
+    let mut uv = None;
+    for [u, v] in UV_NAMES {
+        let present = |name| ve.properties.iter().any(|p| p.name == name);
+        if present(u) && present(v) {
+            uv = scalar(u)?.zip(scalar(v)?).map(|(u, v)| [u, v]);
+            break;
+        }
+    }
+    let mut texcoord = None;
     let face = match find("face") {
         None => None,
         Some(f) => {
@@ -480,10 +516,27 @@ fn roles(file: &str, h: &Header) -> Result<Roles, Error> {
                     ))
                 }
             }
+            if let Some(t) = fe.properties.iter().position(|p| p.name == "texcoord") {
+                let p = &fe.properties[t];
+                if let Kind::Scalar(_) = p.kind {
+                    return Err(Error::at(
+                        Location::line(file, p.line),
+                        "face property `texcoord` is not a list (u v per corner)",
+                    ));
+                }
+                texcoord = Some(t);
+                uv = None; // per corner, finer than per vertex
+            }
             Some((f, i))
         }
     };
-    Ok(Roles { vertex, xyz, face })
+    Ok(Roles {
+        vertex,
+        xyz,
+        uv,
+        face,
+        texcoord,
+    })
 }
 
 /// Which value is being read, for messages: `vertex 3, property `y``.
@@ -772,14 +825,15 @@ fn body(
     let mut mesh = PolyMesh::new();
     let mut places = Places::new(unit, 0);
     let mut warnings = Vec::new();
+    // Texture coordinates per vertex (roles.uv) or per corner (roles.texcoord).
+    let mut uv_values: Vec<[f64; 2]> = Vec::new();
     for (e, element) in h.elements.iter().enumerate() {
         let role_xyz = (e == roles.vertex).then_some(roles.xyz);
+        let role_uv = roles.uv.filter(|_| e == roles.vertex);
         let role_face = roles.face.filter(|&(f, _)| f == e).map(|(_, p)| p);
-        let skipped: Vec<&str> = element
-            .properties
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| !role_xyz.is_some_and(|xyz| xyz.contains(&i)) && role_face != Some(i))
+        let role_texcoord = roles.texcoord.filter(|_| role_face.is_some());
+        let skipped: Vec<&str> = (element.properties.iter().enumerate())
+            .filter(|&(i, _)| !roles.reads(e, i))
             .map(|(_, p)| p.name.as_str())
             .collect();
         if role_xyz.is_none() && role_face.is_none() {
@@ -812,15 +866,21 @@ fn body(
             };
             let place = src.begin(cx, element.count)?;
             let mut p = [0.0; 3];
+            let mut t = [0.0; 2];
             let mut face = None;
+            let mut corner_uv = None;
             for (i, prop) in element.properties.iter().enumerate() {
                 cx.property = Some(&prop.name);
                 let axis = role_xyz.and_then(|xyz| xyz.iter().position(|&j| j == i));
+                let uv_axis = role_uv.and_then(|uv| uv.iter().position(|&j| j == i));
                 match prop.kind {
-                    Kind::Scalar(t) => {
-                        let v = src.value(t, cx, axis.is_some())?;
+                    Kind::Scalar(s) => {
+                        let v = src.value(s, cx, axis.is_some() || uv_axis.is_some())?;
                         if let Some(a) = axis {
                             p[a] = v.to_f64();
+                        }
+                        if let Some(a) = uv_axis {
+                            t[a] = v.to_f64();
                         }
                     }
                     Kind::List { count, item } => {
@@ -830,6 +890,15 @@ fn body(
                         };
                         if role_face == Some(i) {
                             face = Some(indices(src, item, n, cx)?);
+                        } else if role_texcoord == Some(i) {
+                            for _ in 0..n / 2 {
+                                let u = src.value(item, cx, true)?.to_f64();
+                                uv_values.push([u, src.value(item, cx, true)?.to_f64()]);
+                            }
+                            if n % 2 == 1 {
+                                src.value(item, cx, true)?;
+                            }
+                            corner_uv = Some((n, cx));
                         } else {
                             src.skip(item, n, cx)?;
                         }
@@ -842,7 +911,22 @@ fn body(
                 mesh.positions.push(p);
                 places.vertices.push(place);
             }
+            if role_uv.is_some() {
+                uv_values.push(t);
+            }
             if let Some(f) = face {
+                if let Some((got, cx)) = corner_uv {
+                    if got != 2 * f.len() as u64 {
+                        let corners = f.len();
+                        return Err(src.fail(
+                            cx,
+                            &format!(
+                                "{got} values for {corners} corners; expected {} (u v per corner)",
+                                2 * corners
+                            ),
+                        ));
+                    }
+                }
                 mesh.push_face(&f);
                 places.faces.push(place);
             }
@@ -852,12 +936,56 @@ fn body(
     if mesh.face_count() == 0 {
         return Err(places.locate(file, &TopologyError::NoFaces));
     }
+    let uv = if roles.texcoord.is_some() {
+        Some(shared(&mesh, uv_values))
+    } else {
+        roles.uv.map(|_| PolyUv {
+            values: uv_values,
+            corners: mesh.corners.clone(),
+        })
+    };
     Ok(Parsed {
         mesh,
         places,
         features: Features::default(),
+        uv,
+        uv_rule: Default::default(),
         warnings,
     })
+}
+
+/// The channel of per-corner `values` (parallel to `mesh.corners`): corners at one vertex
+/// with the same value (bit for bit) share it, values numbered in order of first use. Found by
+/// sorting, which holds 8 bytes per corner besides the values, and the values are compacted in
+/// place: the first corner of each value comes no earlier than its new index.
+fn shared(mesh: &PolyMesh, mut values: Vec<[f64; 2]>) -> PolyUv {
+    let key = |c: u32| {
+        let c = c as usize;
+        (mesh.corners[c], values[c].map(f64::to_bits))
+    };
+    let mut order: Vec<u32> = (0..values.len() as u32).collect();
+    order.sort_unstable_by_key(|&c| (key(c), c));
+    // Each corner's first corner with its vertex and value.
+    let mut corners = vec![0; values.len()];
+    for run in order.chunk_by(|&a, &b| key(a) == key(b)) {
+        for &c in run {
+            corners[c as usize] = run[0];
+        }
+    }
+    drop(order);
+    let mut used = 0;
+    for c in 0..corners.len() {
+        let first = corners[c] as usize;
+        corners[c] = if first == c {
+            values[used] = values[c];
+            used += 1;
+            used as u32 - 1
+        } else {
+            corners[first]
+        };
+    }
+    values.truncate(used);
+    PolyUv { values, corners }
 }
 
 /// The vertex indices of a face (a list of `n` values of type `item`, at least 3; read one by
@@ -921,10 +1049,15 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     format_with(mesh, Extras::default())
 }
 
-/// [`format`] with normals: vertex properties `nx ny nz` (double) after x y z.
+/// [`format`] with extras: normals as vertex properties `nx ny nz` (double) after x y z;
+/// texture coordinates as vertex properties `u v` (double) after them when every vertex has
+/// one value at all its corners ([`per_vertex`]), else as a face list `texcoord` of u v per
+/// corner (`uchar double`) after the vertex indices.
 pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
     crate::points::finite("vertex", &mesh.positions)?;
-    extras.check(mesh.positions.len())?;
+    extras.check(mesh)?;
+    let vertex_uv = extras.uv.and_then(|uv| per_vertex(mesh, uv));
+    let corner_uv = extras.uv.filter(|_| vertex_uv.is_none());
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 256);
     let _ = write!(
         s,
@@ -935,22 +1068,57 @@ pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error>
     if extras.normals.is_some() {
         s.push_str("property double nx\nproperty double ny\nproperty double nz\n");
     }
+    if vertex_uv.is_some() {
+        s.push_str("property double u\nproperty double v\n");
+    }
     let _ = write!(
         s,
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        "element face {}\nproperty list uchar int vertex_indices\n",
         mesh.faces.len()
     );
+    if corner_uv.is_some() {
+        s.push_str("property list uchar double texcoord\n");
+    }
+    s.push_str("end_header\n");
     for (i, p) in mesh.positions.iter().enumerate() {
         let _ = write!(s, "{:?} {:?} {:?}", p[0], p[1], p[2]);
         if let Some(n) = extras.normals {
             let _ = write!(s, " {:?} {:?} {:?}", n[i][0], n[i][1], n[i][2]);
         }
+        if let Some(t) = &vertex_uv {
+            let _ = write!(s, " {:?} {:?}", t[i][0], t[i][1]);
+        }
         s.push('\n');
     }
-    for f in &mesh.faces {
-        let _ = writeln!(s, "4 {} {} {} {}", f[0], f[1], f[2], f[3]);
+    for (k, f) in mesh.faces.iter().enumerate() {
+        let _ = write!(s, "4 {} {} {} {}", f[0], f[1], f[2], f[3]);
+        if let Some(uv) = corner_uv {
+            s.push_str(" 8");
+            for &i in &uv.faces[k] {
+                let t = uv.values[i as usize];
+                let _ = write!(s, " {:?} {:?}", t[0], t[1]);
+            }
+        }
+        s.push('\n');
     }
     Ok(s)
+}
+
+/// One texture coordinate per vertex of `mesh`, if each vertex has exactly one value (bit for
+/// bit) at all its corners in `uv`: no seam, and no vertex without a face.
+fn per_vertex(mesh: &QuadMesh, uv: &QuadUv) -> Option<Vec<[f64; 2]>> {
+    let mut at: Vec<Option<[f64; 2]>> = vec![None; mesh.positions.len()];
+    for (face, corners) in mesh.faces.iter().zip(&uv.faces) {
+        for (&v, &i) in face.iter().zip(corners) {
+            let t = uv.values[i as usize];
+            match &mut at[v as usize] {
+                slot @ None => *slot = Some(t),
+                Some(s) if s.map(f64::to_bits) == t.map(f64::to_bits) => {}
+                Some(_) => return None,
+            }
+        }
+    }
+    at.into_iter().collect()
 }
 
 /// Binary PLY in the byte order `big` (big-endian) or little-endian: vertex x y z as double,
@@ -1035,9 +1203,16 @@ mod tests {
         b
     }
 
+    /// The `texcoord` of [`cube_with_extras`] at vertex `v` of face `f`: by vertex, but face 0
+    /// has its own (a seam around it); exact in f32.
+    fn corner_uv(f: usize, v: u32) -> [f64; 2] {
+        [f64::from(v) / 8.0, if f == 0 { 0.25 } else { 0.5 }]
+    }
+
     /// The cube with every kind of extra: skipped scalar and list properties of many types
-    /// around x, y, z, an element between vertices and faces, aliases, comments and `obj_info`;
-    /// in `format` (`ascii`, `binary_little_endian` or `binary_big_endian`).
+    /// around x, y, z, an element between vertices and faces, aliases, comments and `obj_info`,
+    /// texture coordinates per corner ([`corner_uv`]); in `format` (`ascii`,
+    /// `binary_little_endian` or `binary_big_endian`).
     fn cube_with_extras(format: &str) -> Vec<u8> {
         use Scalar::*;
         let m = cube();
@@ -1051,10 +1226,11 @@ mod tests {
         }
         rows.push(vec![(I32, 0.0), (I32, 1.0)]);
         rows.push(vec![(I32, 1.0), (I32, 2.0)]);
-        for f in &m.faces {
+        for (k, f) in m.faces.iter().enumerate() {
             let mut row = vec![(U8, 7.0), (I8, 4.0)];
             row.extend(f.iter().map(|&i| (U16, f64::from(i))));
-            row.extend([(U8, 2.0), (F32, 0.125), (F32, 0.75)]);
+            row.push((U8, 8.0));
+            row.extend(f.iter().flat_map(|&i| corner_uv(k, i)).map(|x| (F32, x)));
             rows.push(row);
         }
         let mut out = format!(
@@ -1093,11 +1269,127 @@ mod tests {
                 vec![
                     "ignored vertex properties red, tex, nx (header line 5)",
                     "skipped 2 `edge` elements (header line 12)",
-                    "ignored face properties flags, texcoord (header line 15)",
+                    "ignored face properties flags (header line 15)",
                 ],
                 "{format}"
             );
+            // Corners at one vertex with one value share it, in order of first use.
+            let mut want = PolyUv::default();
+            let mut index = std::collections::HashMap::new();
+            for (f, face) in m.faces.iter().enumerate() {
+                for &v in face {
+                    let t = corner_uv(f, v);
+                    let i = *index.entry((v, t.map(f64::to_bits))).or_insert_with(|| {
+                        want.values.push(t);
+                        want.values.len() as u32 - 1
+                    });
+                    want.corners.push(i);
+                }
+            }
+            assert_eq!(want.values.len(), 8 + 4);
+            assert_eq!(read.uv, Some(want.quads()), "{format}");
         }
+    }
+
+    /// A square of two vertex properties `names` of type `t` (values `uv(i)` at vertex i) in
+    /// `format`.
+    fn square_with(
+        format: &str,
+        names: [&str; 2],
+        t: Scalar,
+        uv: impl Fn(usize) -> [f64; 2],
+    ) -> Vec<u8> {
+        let mut out = format!(
+            "ply\nformat {format} 1.0\nelement vertex 4\nproperty {t} {u}\nproperty float x\n\
+             property float y\nproperty {t} {v}\nproperty float z\nelement face 1\n\
+             property list uchar int vertex_indices\nend_header\n",
+            t = t.name(),
+            u = names[0],
+            v = names[1]
+        )
+        .into_bytes();
+        let big = format == "binary_big_endian";
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let mut rows: Vec<Vec<(Scalar, f64)>> = (0..4)
+            .map(|i| {
+                let [u, v] = uv(i);
+                let [x, y] = square[i];
+                vec![
+                    (t, u),
+                    (Scalar::F32, x),
+                    (Scalar::F32, y),
+                    (t, v),
+                    (Scalar::F32, 0.0),
+                ]
+            })
+            .collect();
+        rows.push(vec![
+            (Scalar::U8, 4.0),
+            (Scalar::I32, 0.0),
+            (Scalar::I32, 1.0),
+            (Scalar::I32, 2.0),
+            (Scalar::I32, 3.0),
+        ]);
+        for row in rows {
+            if format == "ascii" {
+                let text: Vec<String> = row.iter().map(|(_, x)| format!("{x}")).collect();
+                out.extend(format!("{}\n", text.join(" ")).bytes());
+            } else {
+                for (t, x) in row {
+                    out.extend(encode(t, x, big));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn vertex_texture_coordinates_of_any_type_and_encoding() {
+        let uv = |i: usize| [i as f64 * 2.0, 100.0 - i as f64];
+        for format in ["ascii", "binary_little_endian", "binary_big_endian"] {
+            for (names, t) in [
+                (["u", "v"], Scalar::F32),
+                (["s", "t"], Scalar::U8),
+                (["texture_u", "texture_v"], Scalar::F64),
+                (["s", "t"], Scalar::I16),
+            ] {
+                let p = parse("t.ply", &square_with(format, names, t, uv))
+                    .unwrap_or_else(|e| panic!("{format} {names:?}: {e}"));
+                let want = PolyUv {
+                    values: (0..4).map(uv).collect(),
+                    corners: vec![0, 1, 2, 3],
+                };
+                assert_eq!(p.uv, Some(want), "{format} {names:?}");
+                assert!(
+                    p.warnings.is_empty(),
+                    "{format} {names:?}: {:?}",
+                    p.warnings
+                );
+            }
+            // One of a pair is not texture coordinates: skipped with the rest.
+            let p = parse("t.ply", &square_with(format, ["u", "t"], Scalar::F32, uv)).unwrap();
+            assert_eq!(p.uv, None);
+            assert_eq!(
+                p.warnings,
+                vec!["ignored vertex properties u, t (header line 3)"]
+            );
+        }
+        // Non-finite values are refused at their element.
+        let nan = |i: usize| if i == 2 { [0.0, f64::NAN] } else { [0.0, 0.0] };
+        let e = parse("t.ply", &square_with("ascii", ["u", "v"], Scalar::F32, nan)).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t.ply:14:7: error: vertex 2, property `v`: coordinate `NaN` is not finite"
+        );
+        let le = square_with("binary_little_endian", ["s", "t"], Scalar::F64, nan);
+        let e = parse("t.ply", &le).unwrap_err();
+        let at = body_start(&le) + 2 * 28 + 16;
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "t.ply: error: vertex 2, property `t`, byte {at}: coordinate NaN is not finite"
+            )
+        );
     }
 
     #[test]
@@ -1119,6 +1411,125 @@ mod tests {
                 assert_eq!(bits(&back), bits(&m));
             }
         }
+    }
+
+    #[test]
+    fn texture_coordinates_round_trip_per_vertex_or_per_corner() {
+        use crate::mesh_file::tests::{canonical, torus_grid_uv, xy_uv};
+        let m = torus(4, 5);
+        let normals: Vec<[f64; 3]> = m.positions.iter().map(|p| [p[2], p[0], -p[1]]).collect();
+        let flat = |uv: &QuadUv| uv.faces.iter().flatten().copied().collect::<Vec<u32>>();
+        // Seamless: vertex properties; with seams (the grid closed on the torus): per corner.
+        for (uv, header) in [
+            (xy_uv(&m), "property double u\nproperty double v\nelement face 20\n\
+                         property list uchar int vertex_indices\nend_header\n"),
+            (torus_grid_uv(4, 5), "property double z\n{N}element face 20\n\
+                         property list uchar int vertex_indices\nproperty list uchar double texcoord\n"),
+        ] {
+            for normals in [None, Some(&normals[..])] {
+                let text = format_with(&m, Extras { normals, uv: Some(&uv) }).unwrap();
+                let n = if normals.is_some() {
+                    "property double nx\nproperty double ny\nproperty double nz\n"
+                } else {
+                    ""
+                };
+                assert!(text.contains(&header.replace("{N}", n)), "{text}");
+                let p = parse("t.ply", text.as_bytes()).unwrap();
+                assert_eq!(p.mesh.corners, m.faces.iter().flatten().copied().collect::<Vec<_>>());
+                let back = p.uv.clone().expect("texture coordinates");
+                assert_eq!(
+                    canonical(&back.values, &back.corners),
+                    canonical(&uv.values, &flat(&uv))
+                );
+                let c = p.check("t.ply").unwrap();
+                let back = c.uv.unwrap();
+                assert_eq!(canonical(&back.values, &flat(&back)), canonical(&uv.values, &flat(&uv)));
+            }
+        }
+        assert!(per_vertex(&m, &torus_grid_uv(4, 5)).is_none());
+    }
+
+    #[test]
+    fn bad_texcoord_lists_are_refused_at_their_face() {
+        let m = cube();
+        let uv = QuadUv {
+            values: vec![[0.5, 0.25]],
+            faces: vec![[0; 4]; 6],
+        };
+        let mut seamed = uv.clone();
+        seamed.values.push([1.0, 1.0]);
+        seamed.faces[0][0] = 1;
+        let ascii = format_with(
+            &m,
+            Extras {
+                normals: None,
+                uv: Some(&seamed),
+            },
+        )
+        .unwrap();
+        // Header lines 1–11 (`texcoord` at 10), vertices 12–19, face 1 at line 21.
+        let face: Vec<&str> = ascii.lines().nth(20).unwrap().split(' ').collect();
+        assert_eq!(face[5], "8");
+        let column =
+            |tokens: &[&str], k: usize| tokens[..k].iter().map(|t| t.len() + 1).sum::<usize>() + 1;
+        for (texcoord, last, message) in [
+            (
+                "6 0 0 0 0 0 0",
+                6,
+                "6 values for 4 corners; expected 8 (u v per corner)",
+            ),
+            (
+                "9 0 0 0 0 0 0 0 0 0",
+                9,
+                "9 values for 4 corners; expected 8 (u v per corner)",
+            ),
+            ("8 0 0 0 0 inf 0 0 0", 5, "coordinate `inf` is not finite"),
+        ] {
+            let mut tokens = face[..5].to_vec();
+            tokens.extend(texcoord.split(' '));
+            let text = with_line(&ascii, 21, &tokens.join(" "));
+            let e = parse("t.ply", text.as_bytes()).unwrap_err().to_string();
+            let at = column(&tokens, 5 + last);
+            assert_eq!(
+                e,
+                format!("t.ply:21:{at}: error: face 1, property `texcoord`: {message}")
+            );
+        }
+        let scalar = ascii.replace("list uchar double texcoord", "double texcoord");
+        let e = parse("t.ply", scalar.as_bytes()).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "t.ply:10: error: face property `texcoord` is not a list (u v per corner)"
+        );
+        // `texcoord` takes precedence over vertex `u v`, which are then ignored.
+        let both = ascii
+            .replace(
+                "property double z\n",
+                "property double z\nproperty float u\nproperty float v\n",
+            )
+            .lines()
+            .enumerate()
+            .map(|(i, l)| {
+                if (13..21).contains(&i) {
+                    format!("{l} 7 7\n")
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect::<String>();
+        let p = parse("t.ply", both.as_bytes()).unwrap();
+        assert_eq!(
+            p.warnings,
+            vec!["ignored vertex properties u, v (header line 4)"]
+        );
+        let read = p.uv.unwrap();
+        let per_corner = read.corners.iter().map(|&i| read.values[i as usize]);
+        let written = seamed
+            .faces
+            .iter()
+            .flatten()
+            .map(|&i| seamed.values[i as usize]);
+        assert!(per_corner.eq(written));
     }
 
     /// One row per kind of bad file: the bytes, the location and a fragment of the message.

@@ -90,6 +90,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     ));
     let extras = Extras {
         normals: limit.then_some(fine.normals.as_slice()),
+        uv: None,
     };
     let bytes = match format {
         MeshFormat::Obj => lsubdiv::obj::format_with(&fine.mesh, extras)?,
