@@ -248,6 +248,7 @@ pub fn read_mesh(
     path: &std::path::Path,
     max: u64,
     boundary: Option<lsubdiv::runtime::features::Boundary>,
+    uv_rule: lsubdiv::runtime::facevarying::UvRule,
 ) -> Result<Checked, Error> {
     let (path, bytes) = read_input(path, max)?;
     let name = path.display().to_string();
@@ -259,13 +260,16 @@ pub fn read_mesh(
     if let Some(b) = boundary {
         parsed.features.boundary = b;
     }
+    parsed.uv_rule = uv_rule;
     if !parsed.mesh.all_quads() {
         // The Catmull–Clark split holds, per corner, a quad (16 bytes), its face (4) and half
         // an edge point (12), per face a face point (24), with its topology (the refiner's
-        // model: about 100 bytes a quad).
+        // model: about 100 bytes a quad); texture coordinates a quad of indices and a value
+        // (32) per corner more.
         let corners = parsed.mesh.corners.len() as u128;
         let faces = parsed.mesh.face_count() as u128;
-        let split = corners * (16 + 4 + 12 + TOPOLOGY_PER_QUAD) + faces * 24;
+        let uv = if parsed.uv.is_some() { 32 } else { 0 };
+        let split = corners * (16 + 4 + 12 + uv + TOPOLOGY_PER_QUAD) + faces * 24;
         if split > u128::from(max) {
             return Err(Error::in_file(
                 &name,

@@ -412,3 +412,39 @@ fn linear<S: SurfaceScheme, T: Real>(
     }
     Ok(QuadUv { values, faces })
 }
+
+/// [`refine_uv`] as a [`crate::surface::SurfaceVisitor`], for a scheme known only by name (the
+/// generated registry's `visit_surface`) as for one at hand.
+#[derive(Clone, Copy, Debug)]
+pub struct RefineUv<'m> {
+    /// The mesh the channel belongs to.
+    pub mesh: &'m QuadMesh,
+    /// Its topology.
+    pub topology: &'m Topology,
+    /// Its features.
+    pub features: &'m Features,
+    /// The channel.
+    pub uv: &'m QuadUv,
+    /// How it is refined, and whether smooth values go to the layout's limit.
+    pub rule: (UvRule, bool),
+    /// Refinement steps.
+    pub steps: usize,
+    /// Worker threads (the result does not depend on it).
+    pub threads: usize,
+}
+
+impl crate::surface::SurfaceVisitor for RefineUv<'_> {
+    type Output = Result<QuadUv, UvError>;
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
+        refine_uv(
+            scheme,
+            self.mesh,
+            self.topology,
+            self.features,
+            self.uv,
+            self.rule,
+            self.steps,
+            self.threads,
+        )
+    }
+}

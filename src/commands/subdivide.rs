@@ -6,6 +6,7 @@ use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::{Checked, Extras};
 use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::facevarying::UvRule;
 use lsubdiv::runtime::patch::{Refined, Subdivide};
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
@@ -31,6 +32,28 @@ pub struct SubdivideArgs {
     /// there (OBJ `vn` and faces `v//vn`; PLY `nx ny nz`), in the vertices' order.
     #[arg(long)]
     limit: bool,
+    /// How texture coordinates (OBJ `vt`, PLY `u v`) are refined: `linear`, bilinear in each
+    /// base face at the refined vertices' knots (OpenSubdiv's FVAR_LINEAR_ALL), or `smooth`,
+    /// the scheme applied to the texture layout, its seams edge-only boundaries
+    /// (FVAR_LINEAR_NONE).
+    #[arg(long, value_enum, default_value_t = UvArg::Linear)]
+    uv: UvArg,
+}
+
+/// `--uv`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum UvArg {
+    Linear,
+    Smooth,
+}
+
+impl UvArg {
+    fn rule(self) -> UvRule {
+        match self {
+            UvArg::Linear => UvRule::Linear,
+            UvArg::Smooth => UvRule::Smooth,
+        }
+    }
 }
 
 /// The output formats of `subdivide`, by extension.
@@ -49,6 +72,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: t,
         boundary,
         limit,
+        uv,
     } = a;
     check_output(&output)?;
     let format = if output.as_os_str() == "-" {
@@ -64,7 +88,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let mesh = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule())?;
+    let mesh = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule(), uv.rule())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
