@@ -15,7 +15,7 @@ use std::time::Instant;
 fn draw(rows: usize, cols: usize, runs: usize) -> f64 {
     let mesh = torus(rows, cols);
     let topology = Topology::build(&mesh).expect("a torus is a closed manifold");
-    let scene = Scene::new(&mesh, &topology).expect("the torus has an extent");
+    let scene = Scene::new(&mesh, &topology, None).expect("the torus has an extent");
     let opts = Options {
         width: 800,
         height: 600,

@@ -309,3 +309,93 @@ fn open_meshes_draw_their_boundary_and_their_back() {
         }
     }
 }
+
+/// `--normals limit` (the default with `--scheme`) shades a coarse refinement with the limit
+/// surface's normals at its limit points, `--normals mesh` with normals averaged from the refined
+/// control mesh: the images differ, and the limit one's reflection lines are much closer to those
+/// of the same surface refined far finer (drawn with mesh normals: nothing of the limit code).
+/// A 2-step torus: 28 % of the pixels show the other stripe than the fine one's with mesh
+/// normals, 12 % with limit normals (the rest is the triangles' linear interpolation).
+/// Without `--scheme` there is no limit surface, and before its EVs' configuration is
+/// stationary a mesh with EVs has none either: `--normals limit` is refused, the default falls
+/// back to mesh normals with a note.
+#[test]
+fn limit_normals_draw_truer_reflection_lines_and_need_a_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let draw = |name: &str, steps: &str, normals: &str| {
+        render(
+            dir.path(),
+            name,
+            &[
+                "torus:8:5",
+                "--scheme",
+                "fibonacci",
+                "--steps",
+                steps,
+                "--normals",
+                normals,
+                "--shading",
+                "reflection",
+                "--size",
+                "400x300",
+            ],
+        )
+    };
+    let mesh = draw("mesh.png", "2", "mesh");
+    let limit = draw("limit.png", "2", "limit");
+    let fine = draw("fine.png", "6", "mesh");
+    assert!(mesh.rgb != limit.rgb, "the normals make no difference");
+    // Pixels inside all three silhouettes whose stripe (light or dark) differs from the fine one.
+    let light = |p: &Picture, (x, y): (usize, usize)| p.at(x, y)[0] > 128;
+    let inside = |p: &Picture, x: usize, y: usize| p.at(x, y) != [255; 3];
+    let common: Vec<(usize, usize)> = fine
+        .interior()
+        .into_iter()
+        .filter(|&(x, y)| inside(&mesh, x, y) && inside(&limit, x, y))
+        .collect();
+    assert!(common.len() > 5000, "{} common pixels", common.len());
+    let wrong = |p: &Picture| {
+        common
+            .iter()
+            .filter(|&&q| light(p, q) != light(&fine, q))
+            .count() as f64
+            / common.len() as f64
+    };
+    let (mesh_wrong, limit_wrong) = (wrong(&mesh), wrong(&limit));
+    assert!(
+        limit_wrong < 0.6 * mesh_wrong,
+        "stripes off the fine surface's: {mesh_wrong} with mesh normals, {limit_wrong} with limit normals"
+    );
+
+    let out = dir.path().join("x.png");
+    let out = out.to_str().unwrap();
+    let early = [
+        "cube",
+        "--scheme",
+        "fibonacci",
+        "--steps",
+        "2",
+        "--size",
+        "40x30",
+    ];
+    let o = lsubdiv(&[&["render", "-o", out][..], &early].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("note: shaded with the refined mesh's normals, not the limit surface's: the limit at extraordinary vertices after 2 steps"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_file(out).unwrap();
+    for (args, says) in [
+        (&["cube"][..], "--normals limit needs --scheme"),
+        (
+            &early[..],
+            "error: the limit at extraordinary vertices after 2 steps",
+        ),
+    ] {
+        let o = lsubdiv(&[&["render", "-o", out, "--normals", "limit"], args].concat());
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(says), "{args:?}: {}", stderr(&o));
+        assert!(!Path::new(out).exists(), "{args:?} wrote {out}");
+    }
+}

@@ -1,12 +1,23 @@
 //! `lsubdiv render`: draws a quad mesh, closed or open, with the software renderer ([G] Fig. 6).
 
 use crate::commands::args::MemoryLimit;
-use crate::commands::subdivide::{refine_mesh, MeshJob};
+use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob};
 use crate::commands::{load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::PathChoice;
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
+
+/// Where the shading normals (and the curvature fit's points and normals) come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Normals {
+    /// The limit surface's: the refined vertices taken to their limit points, with the limit
+    /// normals there (needs --scheme; its default, where the limit is available).
+    Limit,
+    /// Averaged from the faces of the mesh drawn, the refined control mesh (the default
+    /// without --scheme).
+    Mesh,
+}
 
 /// Arguments of `lsubdiv render`.
 #[derive(clap::Args)]
@@ -42,6 +53,11 @@ pub struct RenderArgs {
     /// Subdivision steps before drawing.
     #[arg(long, requires = "scheme")]
     steps: Option<usize>,
+    /// Shading normals and curvature: of the limit surface (default with --scheme, where the
+    /// scheme has it after --steps; else a note and `mesh`) or of the mesh drawn (default, and
+    /// the only choice, without --scheme).
+    #[arg(long, value_enum)]
+    normals: Option<Normals>,
     /// Curvature colours span [−R, R] (default: the 98th percentile of |H| over the vertices of
     /// the faces in view).
     #[arg(long)]
@@ -98,6 +114,15 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
             )));
         }
     }
+    let limit = match (a.normals, &a.scheme) {
+        (Some(Normals::Limit), None) => return Err(Error::input(
+            "--normals limit needs --scheme and --steps: only a refined mesh has a limit surface",
+        )
+        .with_hint("add --scheme S --steps N, or use --normals mesh")),
+        (Some(Normals::Limit), Some(_)) => Limit::On,
+        (None, Some(_)) => Limit::IfAvailable,
+        (Some(Normals::Mesh), _) | (None, None) => Limit::Off,
+    };
     // The picture's buffers alone, before any mesh is read; again with the mesh before drawing.
     let samples = render::supersampling(width, height);
     let image_limit = |vertices: usize, quads: usize| {
@@ -107,7 +132,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
     let input = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes(), a.boundary.rule())?;
-    let (mesh, topology) = match (&a.scheme, a.steps) {
+    let (mesh, topology, limit_normals) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));
             let job = MeshJob {
@@ -116,12 +141,23 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 path: PathChoice::Auto,
                 threads: threads(a.threads),
                 max_memory: a.limit.bytes(),
-                limit: false,
+                limit,
             };
-            let fine = refine_mesh(&load(scheme, None)?, &input, &job)?.mesh;
+            let (fine, refused) = refine_mesh(&load(scheme, None)?, &input, &job)?;
+            if let Some(why) = refused {
+                stages.note(&format!(
+                    "{}: note: shaded with the refined mesh's normals, not the limit surface's: {why}",
+                    a.mesh
+                ));
+            }
+            if let Some(note) = approximate_note(&a.mesh, &fine) {
+                stages.note(&note);
+            }
             // The refined mesh's own connectivity (a closed manifold by construction).
-            let t = Topology::build(&fine).map_err(|e| Error::internal(None, e.to_string()))?;
-            (fine, t)
+            let t =
+                Topology::build(&fine.mesh).map_err(|e| Error::internal(None, e.to_string()))?;
+            let normals = (!fine.normals.is_empty()).then_some(fine.normals);
+            (fine.mesh, t, normals)
         }
         _ => {
             if input.split {
@@ -130,12 +166,13 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                     a.mesh
                 );
             }
-            (input.mesh, input.topology)
+            (input.mesh, input.topology, None)
         }
     };
     image_limit(mesh.positions.len(), mesh.faces.len())?;
     stages.next(format!("drawing {} quads", mesh.faces.len()));
-    let scene = render::Scene::new(&mesh, &topology).map_err(|e| Error::in_file(&a.mesh, e))?;
+    let scene = render::Scene::new(&mesh, &topology, limit_normals)
+        .map_err(|e| Error::in_file(&a.mesh, e))?;
     let opts = render::Options {
         width,
         height,

@@ -97,14 +97,11 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         path: refine.path,
         threads: threads(t),
         max_memory: refine.limit.bytes(),
-        limit,
+        limit: if limit { Limit::On } else { Limit::Off },
     };
-    let fine = refine_mesh(&r, &mesh, &job)?;
-    if !fine.approximate.is_empty() {
-        eprintln!(
-            "{in_name}: note: {} vertices (darts, creases with a sector other than two faces, corners with a sector of more than one face) have no derived limit: their limit point is the rule's and their normal the mean of their limit 1-ring faces' (docs/surfaces.md)",
-            fine.approximate.len()
-        );
+    let (fine, _) = refine_mesh(&r, &mesh, &job)?;
+    if let Some(note) = approximate_note(&in_name, &fine) {
+        eprintln!("{note}");
     }
     stages.next(format!(
         "writing {} vertices, {} quads to {}",
@@ -123,6 +120,14 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     write_atomic(&output, bytes.as_bytes())
 }
 
+/// The note for a limit with vertices not derived in closed form, if it has any.
+pub fn approximate_note(name: &str, fine: &Refined) -> Option<String> {
+    (!fine.approximate.is_empty()).then(|| format!(
+        "{name}: note: {} vertices (darts, creases with a sector other than two faces, corners with a sector of more than one face) have no derived limit: their limit point is the rule's and their normal the mean of their limit 1-ring faces' (docs/surfaces.md)",
+        fine.approximate.len()
+    ))
+}
+
 /// How `subdivide` and `render` refine a mesh.
 pub struct MeshJob<'a> {
     /// Where the mesh came from (a file or a built-in mesh), for messages.
@@ -132,14 +137,31 @@ pub struct MeshJob<'a> {
     pub threads: usize,
     pub max_memory: u64,
     /// Whether to take the vertices to the limit surface, with normals.
-    pub limit: bool,
+    pub limit: Limit,
+}
+
+/// Whether [`refine_mesh`] takes the vertices to the limit surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Limit {
+    /// The refined control points.
+    Off,
+    /// The limit surface, or the runtime's refusal as the error.
+    On,
+    /// The limit surface where the runtime has it; where it refuses it (too few steps for the
+    /// EVs' limit, a semi-sharp feature still sharp) the refined control points, refined again.
+    IfAvailable,
 }
 
 /// Refines a mesh (read and checked, with its features) by the picked implementation, after the size guard
 /// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
 /// read as its first step (one Catmull–Clark step, `lsubdiv::runtime::polygon`): the scheme
-/// takes the other steps, and it needs at least one.
-pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<Refined, Error> {
+/// takes the other steps, and it needs at least one. With [`Limit::IfAvailable`], also the
+/// reason the limit was refused, if it was.
+pub fn refine_mesh(
+    r: &Resolved,
+    input: &Checked,
+    job: &MeshJob<'_>,
+) -> Result<(Refined, Option<String>), Error> {
     use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
     let MeshJob {
         name,
@@ -185,21 +207,29 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
             positions,
             faces: m.faces.clone(),
         });
-        let refine = Subdivide {
-            mesh: scaled.as_ref().unwrap_or(m),
-            topology,
-            features: &input.features,
-            steps,
-            threads,
-            limit: job.limit,
+        let run = |limit: bool| {
+            let refine = Subdivide {
+                mesh: scaled.as_ref().unwrap_or(m),
+                topology,
+                features: &input.features,
+                steps,
+                threads,
+                limit,
+            };
+            match implementation {
+                Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
+                    .ok_or_else(|| {
+                        Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
+                    }),
+                Implementation::Generic => Ok(refine.visit(&surface)),
+            }
         };
-        let result = match implementation {
-            Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
-                .ok_or_else(|| {
-                    Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
-                })?,
-            Implementation::Generic => refine.visit(&surface),
-        };
+        let mut result = run(job.limit != Limit::Off)?;
+        let mut refused = None;
+        if let (Limit::IfAvailable, Err(SurfaceError::Unsupported(why))) = (job.limit, &result) {
+            refused = Some(why.clone());
+            result = run(false)?;
+        }
         let fine = result.map_err(|e| match e {
             SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
             SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
@@ -214,12 +244,13 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
             normals,
             approximate,
         } = fine;
-        Ok(((mesh.faces, normals, approximate), mesh.positions))
+        Ok(((mesh.faces, normals, approximate, refused), mesh.positions))
     })?;
-    let (faces, normals, approximate) = rest;
-    Ok(Refined {
+    let (faces, normals, approximate, refused) = rest;
+    let fine = Refined {
         mesh: QuadMesh { positions, faces },
         normals,
         approximate,
-    })
+    };
+    Ok((fine, refused))
 }

@@ -176,7 +176,7 @@ mod tests {
 
     fn curvature(m: &QuadMesh) -> Vec<f64> {
         let t = Topology::build(m).unwrap();
-        let o = orient(m, &t);
+        let o = orient(m, &t, None);
         mean_curvature(m, &t, &o.normals)
     }
 

@@ -106,8 +106,21 @@ pub fn supersampling(width: usize, height: usize) -> usize {
 
 impl<'m> Scene<'m> {
     /// Orients the mesh (a 2-manifold quad mesh of topology `topology`, as for
-    /// `subdivide`) and measures it.
-    pub fn new(mesh: &QuadMesh, topology: &'m Topology) -> Result<Scene<'m>, String> {
+    /// `subdivide`) and measures it. Shading and the curvature fit use `normals` (one unit
+    /// normal a vertex, oriented with the face winding: the limit surface's) where given, else
+    /// normals averaged from the faces ([`surface::orient`]).
+    pub fn new(
+        mesh: &QuadMesh,
+        topology: &'m Topology,
+        normals: Option<Vec<[f64; 3]>>,
+    ) -> Result<Scene<'m>, String> {
+        if let Some(n) = normals.as_ref().filter(|n| n.len() != mesh.positions.len()) {
+            return Err(format!(
+                "{} normals given for {} vertices",
+                n.len(),
+                mesh.positions.len()
+            ));
+        }
         let framing = Framing::of(&mesh.positions)?;
         let mesh = framing.normalise(mesh);
         // At most √3: the box is [−1, 1]³.
@@ -117,7 +130,8 @@ impl<'m> Scene<'m> {
             .map(|&p| surface::dot(p, p))
             .fold(0.0, f64::max)
             .sqrt();
-        let oriented = surface::orient(&mesh, topology);
+        // The framing moves and scales uniformly: the normals stay as they are.
+        let oriented = surface::orient(&mesh, topology, normals);
         Ok(Scene {
             mesh,
             topology,
@@ -344,5 +358,22 @@ impl<'c> Projected<'c> {
         }
         let at = |t: f64| [0, 1, 2].map(|c| pa[c] + t * (pb[c] - pa[c]));
         Some((self.vertex(at(t0), [0.0; 3]), self.vertex(at(t1), [0.0; 3])))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lsubdiv::runtime::generators::cube;
+
+    #[test]
+    fn given_normals_are_one_a_vertex() {
+        let m = cube();
+        let topology = Topology::build(&m).unwrap();
+        let e = Scene::new(&m, &topology, Some(vec![[0.0, 0.0, 1.0]; 7])).err();
+        assert_eq!(e.as_deref(), Some("7 normals given for 8 vertices"));
+        let normals: Vec<[f64; 3]> = m.positions.iter().map(|&p| surface::normalize(p)).collect();
+        let scene = Scene::new(&m, &topology, Some(normals.clone())).unwrap();
+        assert_eq!(scene.oriented.normals, normals);
     }
 }

@@ -1,5 +1,6 @@
 //! What shading needs from a quad mesh (closed or open) beyond its positions: a consistent orientation of
-//! the faces (outward where the mesh is orientable) and area-weighted vertex normals.
+//! the faces (outward where the mesh is orientable) and vertex normals, area-weighted from the
+//! faces or given (the limit surface's) and turned with the faces.
 //!
 //! Nothing assumes the file's windings agree: they are made consistent by a walk over the faces,
 //! and a non-orientable mesh (or a seam the walk cannot avoid) is reported, not hidden.
@@ -15,8 +16,9 @@ pub struct Oriented {
     pub flip: Vec<bool>,
     /// Every component could be oriented consistently.
     pub orientable: bool,
-    /// Unit vertex normals (zero where the incident faces have no area). Outward on orientable
-    /// components; at a non-orientable seam, on the side of the vertex's first face.
+    /// Unit vertex normals (zero where the incident faces have no area, or the given normal is
+    /// zero). Outward on orientable components; at a non-orientable seam, on the side of the
+    /// vertex's first face.
     pub normals: Vec<[f64; 3]>,
 }
 
@@ -65,8 +67,10 @@ fn cone_volume6(p: [[f64; 3]; 4]) -> f64 {
 /// Orients the faces of each connected component consistently (breadth-first over shared
 /// edges): a closed component outward (positive enclosed volume), an open one as most of its
 /// faces are wound in the file (an open surface encloses nothing); then averages the vertex
-/// normals.
-pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
+/// normals, or takes `given` ones (one a vertex, oriented with the winding of the vertex's
+/// first face in `topo`'s rotation, as [`lsubdiv::runtime::patch::limit_with`]'s are on a
+/// consistently wound mesh) negated where that face was flipped.
+pub fn orient(mesh: &QuadMesh, topo: &Topology, given: Option<Vec<[f64; 3]>>) -> Oriented {
     let nf = mesh.faces.len();
     let mut flip = vec![false; nf];
     let mut seen = vec![false; nf];
@@ -123,7 +127,7 @@ pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
             }
         }
     }
-    let normals = vertex_normals(mesh, topo, &flip);
+    let normals = vertex_normals(mesh, topo, &flip, given);
     Oriented {
         flip,
         orientable,
@@ -131,11 +135,22 @@ pub fn orient(mesh: &QuadMesh, topo: &Topology) -> Oriented {
     }
 }
 
-/// Sum of the oriented vector areas of the faces around each vertex, normalised. Around a vertex
-/// the faces form a disc, so their windings can always be matched locally: a face whose winding
-/// runs the other way round the vertex than the first face's (`Wedge::next_is_plus` differs,
-/// after the flips) counts negated. On an orientable mesh this never happens.
-fn vertex_normals(mesh: &QuadMesh, topo: &Topology, flip: &[bool]) -> Vec<[f64; 3]> {
+/// The vertex normals: `given` ones, each negated where its vertex's first face is flipped;
+/// averaged from the faces where none are given, and where the faces around the vertex are not
+/// wound alike in the mesh (the given normal, summed over faces wound both ways, means nothing
+/// there; on a non-orientable mesh this happens along its seam).
+///
+/// The average is the sum of the oriented vector areas of the faces around the vertex,
+/// normalised. Around a vertex the faces form a disc, so their windings can always be matched
+/// locally: a face whose winding runs the other way round the vertex than the first face's
+/// (`Wedge::next_is_plus` differs, after the flips) counts negated. On an orientable mesh this
+/// never happens.
+fn vertex_normals(
+    mesh: &QuadMesh,
+    topo: &Topology,
+    flip: &[bool],
+    given: Option<Vec<[f64; 3]>>,
+) -> Vec<[f64; 3]> {
     let areas: Vec<[f64; 3]> = (0..mesh.faces.len())
         .into_par_iter()
         .map(|f| {
@@ -147,22 +162,37 @@ fn vertex_normals(mesh: &QuadMesh, topo: &Topology, flip: &[bool]) -> Vec<[f64; 
             }
         })
         .collect();
-    (0..mesh.positions.len() as u32)
-        .into_par_iter()
-        .map(|v| {
-            let rot = topo.rotation(v);
-            let turn =
-                |w: &lsubdiv::runtime::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
-            let first = rot.first().map(turn);
-            let mut n = [0.0; 3];
-            for w in rot {
-                let a = areas[w.face as usize];
-                let s = if Some(turn(w)) == first { 1.0 } else { -1.0 };
-                n = [n[0] + s * a[0], n[1] + s * a[1], n[2] + s * a[2]];
-            }
-            normalize(n)
-        })
-        .collect()
+    let average = |v: u32| {
+        let rot = topo.rotation(v);
+        let turn = |w: &lsubdiv::runtime::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
+        let first = rot.first().map(turn);
+        let mut n = [0.0; 3];
+        for w in rot {
+            let a = areas[w.face as usize];
+            let s = if Some(turn(w)) == first { 1.0 } else { -1.0 };
+            n = [n[0] + s * a[0], n[1] + s * a[1], n[2] + s * a[2]];
+        }
+        normalize(n)
+    };
+    match given {
+        None => (0..mesh.positions.len() as u32)
+            .into_par_iter()
+            .map(average)
+            .collect(),
+        Some(mut normals) => {
+            normals.par_iter_mut().enumerate().for_each(|(v, n)| {
+                let rot = topo.rotation(v as u32);
+                match rot.first() {
+                    Some(w) if rot.iter().any(|x| x.next_is_plus != w.next_is_plus) => {
+                        *n = average(v as u32)
+                    }
+                    Some(w) if flip[w.face as usize] => *n = scale(*n, -1.0),
+                    _ => {}
+                }
+            });
+            normals
+        }
+    }
 }
 
 #[cfg(test)]
@@ -171,7 +201,7 @@ mod tests {
     use lsubdiv::runtime::generators::{cube, klein_bottle, torus};
 
     fn oriented(m: &QuadMesh) -> Oriented {
-        orient(m, &Topology::build(m).unwrap())
+        orient(m, &Topology::build(m).unwrap(), None)
     }
 
     #[test]
@@ -194,6 +224,97 @@ mod tests {
         }
     }
 
+    /// The limit normals of a cube refined twice by binary-ternary, given as they come from
+    /// the library (oriented with the face winding): with the cube wound outward they are used
+    /// as they are; wound inward, every face is flipped and every normal negated with it, so
+    /// both come out outward.
+    #[test]
+    fn given_normals_turn_with_the_faces() {
+        use lsubdiv::runtime::features::Features;
+        use lsubdiv::runtime::patch::Subdivide;
+        for inward in [false, true] {
+            let mut m = cube();
+            if inward {
+                m.faces.iter_mut().for_each(|f| f.reverse());
+            }
+            let topology = Topology::build(&m).unwrap();
+            let job = Subdivide {
+                mesh: &m,
+                topology: &topology,
+                features: &Features::default(),
+                steps: 2,
+                threads: 1,
+                limit: true,
+            };
+            let fine = lsubdiv::generated::visit_surface("binary-ternary", job)
+                .unwrap()
+                .unwrap();
+            let o = orient(
+                &fine.mesh,
+                &Topology::build(&fine.mesh).unwrap(),
+                Some(fine.normals.clone()),
+            );
+            assert!(o.flip.iter().all(|&f| f == inward));
+            let sign = if inward { -1.0 } else { 1.0 };
+            for ((n, given), p) in o
+                .normals
+                .iter()
+                .zip(&fine.normals)
+                .zip(&fine.mesh.positions)
+            {
+                assert_eq!(*n, scale(*given, sign));
+                assert!(dot(*n, normalize(*p)) > 0.9, "{n:?} at {p:?}");
+            }
+        }
+    }
+
+    /// The largest |cos| between a vertex normal and an edge at the vertex.
+    fn worst_tangency(m: &QuadMesh, normals: &[[f64; 3]]) -> f64 {
+        let mut worst = 0.0f64;
+        for f in &m.faces {
+            for i in 0..4 {
+                let (a, b) = (f[i] as usize, f[(i + 1) % 4] as usize);
+                let e = normalize(sub(m.positions[b], m.positions[a]));
+                for v in [a, b] {
+                    let n = normals[v];
+                    assert!((dot(n, n) - 1.0).abs() < 1e-9, "{n:?} at {v}");
+                    worst = worst.max(dot(n, e).abs());
+                }
+            }
+        }
+        worst
+    }
+
+    /// Along a Klein bottle's seam the faces around a vertex are wound both ways, and the
+    /// library's limit normal there sums normals of both signs: those vertices take the
+    /// averaged normal, so every normal is still a normal.
+    #[test]
+    fn given_normals_give_way_where_the_windings_disagree() {
+        use lsubdiv::runtime::features::Features;
+        use lsubdiv::runtime::patch::Subdivide;
+        let m = klein_bottle(48, 32);
+        let topology = Topology::build(&m).unwrap();
+        let job = Subdivide {
+            mesh: &m,
+            topology: &topology,
+            features: &Features::default(),
+            steps: 1,
+            threads: 1,
+            limit: true,
+        };
+        let fine = lsubdiv::generated::visit_surface("uniform-binary", job)
+            .unwrap()
+            .unwrap();
+        let o = orient(
+            &fine.mesh,
+            &Topology::build(&fine.mesh).unwrap(),
+            Some(fine.normals),
+        );
+        assert!(!o.orientable);
+        let worst = worst_tangency(&fine.mesh, &o.normals);
+        assert!(worst < 0.4, "{worst}");
+    }
+
     #[test]
     fn klein_bottle_is_reported_and_its_normals_are_normal() {
         assert!(oriented(&torus(6, 5)).orientable);
@@ -202,18 +323,7 @@ mod tests {
         assert!(!o.orientable);
         // Even along the seam every vertex normal is a normal: nearly perpendicular to the edges
         // at the vertex (a cancelled sum would leave a tangent residue).
-        let mut worst = 0.0f64;
-        for f in &m.faces {
-            for i in 0..4 {
-                let (a, b) = (f[i] as usize, f[(i + 1) % 4] as usize);
-                let e = normalize(sub(m.positions[b], m.positions[a]));
-                for v in [a, b] {
-                    let n = o.normals[v];
-                    assert!((dot(n, n) - 1.0).abs() < 1e-9);
-                    worst = worst.max(dot(n, e).abs());
-                }
-            }
-        }
+        let worst = worst_tangency(&m, &o.normals);
         // 0.28 here (it halves when the grid doubles); a plain sum leaves 0.96 at the seam.
         assert!(worst < 0.4, "{worst}");
     }
