@@ -85,7 +85,14 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
             return split(spec, &polygon_prism(n), boundary);
         }
         ["pentagon-star"] => return split(spec, &pentagon_star(), boundary),
-        _ => return crate::limits::read_mesh(std::path::Path::new(spec), max, boundary, Default::default()),
+        _ => {
+            return crate::limits::read_mesh(
+                std::path::Path::new(spec),
+                max,
+                boundary,
+                Default::default(),
+            )
+        }
     };
     checked(spec, built, false, Features::default())
 }

@@ -3,6 +3,8 @@
 //! is the scheme refining (u, v) as positions; seams keep their two sides apart; the refined
 //! channel has one value index per refined face corner.
 
+mod common;
+
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::facevarying::{refine_uv, PolyUv, QuadUv, UvRule};
@@ -237,4 +239,88 @@ fn the_first_step_of_polygons_splits_uvs_linearly() {
     let m = split.faces[1][1];
     assert_eq!((split.faces[4][3], split.faces[6][1]), (m, m));
     assert_eq!(split.values[m as usize], mid(1, 2));
+}
+
+/// `lsubdiv subdivide` carries texture coordinates through: OBJ `vt` in, `vt` and `v/vt` out
+/// (`v/vt/vn` with `--limit`), the input's `vn` ignored with one warning; linear values are
+/// the library's `refine_uv`; `--uv smooth` on a layout that is not a 2-manifold is refused
+/// (exit 2) with the hint to use `--uv linear`.
+#[test]
+fn subdivide_refines_texture_coordinates() {
+    use common::cli::{lsubdiv, stderr, write};
+    let dir = tempfile::tempdir().unwrap();
+    // A 2 × 1 strip; the second quad's texture corners repeat the first's (a layout whose two
+    // faces share all four values: not a 2-manifold), and normals to ignore.
+    let strip = "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0.5\n\
+                 vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n\
+                 f 1/1/1 2/2/1 5/3/1 4/4/1\nf 2/1/1 3/2/1 6/3/1 5/4/1\n";
+    let input = write(dir.path(), "strip.obj", strip);
+    let out = dir.path().join("out.obj");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "subdivide",
+            "uniform-binary",
+            input.as_str(),
+            "--steps",
+            "2",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", out.to_str().unwrap()]);
+        lsubdiv(&args)
+    };
+    let o = run(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let warnings = stderr(&o).lines().filter(|l| l.contains("normals")).count();
+    assert_eq!(warnings, 1, "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let vt: Vec<[f64; 2]> = (text.lines().filter_map(|l| l.strip_prefix("vt ")))
+        .map(|l| {
+            let x: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [x[0], x[1]]
+        })
+        .collect();
+    let faces: Vec<[u32; 4]> = (text.lines().filter_map(|l| l.strip_prefix("f ")))
+        .map(|l| {
+            let c: Vec<u32> = (l.split_whitespace())
+                .map(|c| c.split('/').nth(1).unwrap().parse::<u32>().unwrap() - 1)
+                .collect();
+            [c[0], c[1], c[2], c[3]]
+        })
+        .collect();
+    // The library's linear refinement of the same channel.
+    let read = lsubdiv::mesh_file::parse("strip.obj", strip.as_bytes().to_vec()).unwrap();
+    let (s, _) = surface("uniform-binary");
+    let uv = read.uv.as_ref().unwrap();
+    let want: QuadUv = refine_uv(
+        &s,
+        &read.mesh,
+        &read.topology,
+        &read.features,
+        uv,
+        (UvRule::Linear, false),
+        2,
+        1,
+    )
+    .unwrap();
+    assert_eq!(faces.len(), want.faces.len());
+    for (f, w) in faces.iter().zip(&want.faces) {
+        for (&a, &b) in f.iter().zip(w) {
+            assert_eq!(vt[a as usize], want.values[b as usize]);
+        }
+    }
+    // With --limit: v/vt/vn.
+    let o = run(&["--limit"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let face = text.lines().find(|l| l.starts_with("f ")).unwrap();
+    assert!(
+        face.split_whitespace()
+            .skip(1)
+            .all(|c| c.split('/').count() == 3),
+        "{face}"
+    );
+    // The smooth rule needs a 2-manifold layout.
+    let o = run(&["--uv", "smooth"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--uv linear"), "{}", stderr(&o));
 }

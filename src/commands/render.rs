@@ -1,7 +1,7 @@
 //! `lsubdiv render`: draws a quad mesh, closed or open, with the software renderer ([G] Fig. 6).
 
 use crate::commands::args::MemoryLimit;
-use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob};
+use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob, RefinedMesh};
 use crate::commands::{load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::topology::Topology;
@@ -142,8 +142,10 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 threads: threads(a.threads),
                 max_memory: a.limit.bytes(),
                 limit,
+                uv: None,
             };
-            let (fine, refused) = refine_mesh(&load(scheme, None)?, &input, &job)?;
+            let RefinedMesh { fine, refused, .. } =
+                refine_mesh(&load(scheme, None)?, &input, &job)?;
             if let Some(why) = refused {
                 stages.note(&format!(
                     "{}: note: shaded with the refined mesh's normals, not the limit surface's: {why}",

@@ -5,9 +5,10 @@ use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::{Checked, Extras};
+use lsubdiv::runtime::facevarying::{QuadUv, RefineUv, UvError, UvRule};
 use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::facevarying::UvRule;
 use lsubdiv::runtime::patch::{Refined, Subdivide};
+use lsubdiv::runtime::surface::SurfaceVisitor;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
 use lsubdiv_cli::Resolved;
@@ -88,7 +89,8 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let mesh = lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule(), uv.rule())?;
+    let mesh =
+        lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule(), uv.rule())?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
@@ -98,8 +100,9 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: threads(t),
         max_memory: refine.limit.bytes(),
         limit: if limit { Limit::On } else { Limit::Off },
+        uv: Some(uv.rule()),
     };
-    let (fine, _) = refine_mesh(&r, &mesh, &job)?;
+    let RefinedMesh { fine, uv, .. } = refine_mesh(&r, &mesh, &job)?;
     if let Some(note) = approximate_note(&in_name, &fine) {
         eprintln!("{note}");
     }
@@ -111,7 +114,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     ));
     let extras = Extras {
         normals: limit.then_some(fine.normals.as_slice()),
-        uv: None,
+        uv: uv.as_ref(),
     };
     let bytes = match format {
         MeshFormat::Obj => lsubdiv::obj::format_with(&fine.mesh, extras)?,
@@ -138,6 +141,9 @@ pub struct MeshJob<'a> {
     pub max_memory: u64,
     /// Whether to take the vertices to the limit surface, with normals.
     pub limit: Limit,
+    /// Whether to refine the input's texture coordinates, and by which rule (the one they
+    /// were read with).
+    pub uv: Option<UvRule>,
 }
 
 /// Whether [`refine_mesh`] takes the vertices to the limit surface.
@@ -155,14 +161,9 @@ pub enum Limit {
 /// Refines a mesh (read and checked, with its features) by the picked implementation, after the size guard
 /// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
 /// read as its first step (one Catmull–Clark step, `lsubdiv::runtime::polygon`): the scheme
-/// takes the other steps, and it needs at least one. With [`Limit::IfAvailable`], also the
-/// reason the limit was refused, if it was.
-pub fn refine_mesh(
-    r: &Resolved,
-    input: &Checked,
-    job: &MeshJob<'_>,
-) -> Result<(Refined, Option<String>), Error> {
-    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
+/// takes the other steps, and it needs at least one.
+pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<RefinedMesh, Error> {
+    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
     let MeshJob {
         name,
         steps,
@@ -207,22 +208,17 @@ pub fn refine_mesh(
             positions,
             faces: m.faces.clone(),
         });
+        let mesh = scaled.as_ref().unwrap_or(m);
         let run = |limit: bool| {
             let refine = Subdivide {
-                mesh: scaled.as_ref().unwrap_or(m),
+                mesh,
                 topology,
                 features: &input.features,
                 steps,
                 threads,
                 limit,
             };
-            match implementation {
-                Implementation::Generated => lsubdiv::generated::visit_surface(&r.ls.name, refine)
-                    .ok_or_else(|| {
-                        Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
-                    }),
-                Implementation::Generic => Ok(refine.visit(&surface)),
-            }
+            visit(r, implementation, &surface, refine)
         };
         let mut result = run(job.limit != Limit::Off)?;
         let mut refused = None;
@@ -239,18 +235,76 @@ pub fn refine_mesh(
                 Error::internal(None, e.to_string())
             }
         })?;
+        // The texture coordinates by the rule they were read with, to the layout's limit where
+        // the positions went to theirs.
+        let uv = match (&input.uv, job.uv) {
+            (Some(uv), Some(rule)) => {
+                let job = RefineUv {
+                    mesh,
+                    topology,
+                    features: &input.features,
+                    uv,
+                    rule: (rule, !fine.normals.is_empty()),
+                    steps,
+                    threads,
+                };
+                let refined = visit(r, implementation, &surface, job)?.map_err(|e| {
+                    let error = Error::in_file(name, format!("texture coordinates: {e}"));
+                    match e {
+                        UvError::Layout(_) => error.with_hint("use --uv linear"),
+                        _ => error,
+                    }
+                })?;
+                Some(refined)
+            }
+            _ => None,
+        };
         let Refined {
             mesh,
             normals,
             approximate,
         } = fine;
-        Ok(((mesh.faces, normals, approximate, refused), mesh.positions))
+        Ok((
+            (mesh.faces, normals, approximate, refused, uv),
+            mesh.positions,
+        ))
     })?;
-    let (faces, normals, approximate, refused) = rest;
-    let fine = Refined {
-        mesh: QuadMesh { positions, faces },
-        normals,
-        approximate,
-    };
-    Ok((fine, refused))
+    let (faces, normals, approximate, refused, uv) = rest;
+    Ok(RefinedMesh {
+        fine: Refined {
+            mesh: QuadMesh { positions, faces },
+            normals,
+            approximate,
+        },
+        uv,
+        refused,
+    })
+}
+
+/// What [`refine_mesh`] gives.
+pub struct RefinedMesh {
+    /// The refined mesh, on the limit surface with normals if asked.
+    pub fine: Refined,
+    /// Its texture coordinates, if the input had some and the job asked for them.
+    pub uv: Option<QuadUv>,
+    /// With [`Limit::IfAvailable`], the reason the limit was refused, if it was.
+    pub refused: Option<String>,
+}
+
+/// Runs `job` on the scheme by the picked implementation: the generated registry's, or the
+/// dynamic path's `surface`.
+fn visit<V: SurfaceVisitor>(
+    r: &Resolved,
+    implementation: Implementation,
+    surface: &lsubdiv::generic::GenericSurface,
+    job: V,
+) -> Result<V::Output, Error> {
+    match implementation {
+        Implementation::Generated => {
+            lsubdiv::generated::visit_surface(&r.ls.name, job).ok_or_else(|| {
+                Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
+            })
+        }
+        Implementation::Generic => Ok(job.visit(surface)),
+    }
 }
