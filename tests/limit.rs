@@ -639,16 +639,21 @@ fn subdivide_writes_limit_positions_and_normals() {
                 f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
     let input = write(dir.path(), "cube.obj", cube);
     let out = dir.path().join("out.obj");
-    let o = lsubdiv(&[
-        "subdivide",
-        "fibonacci",
-        &input,
-        "--steps",
-        "3",
-        "--limit",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let limit = |input: &str, out: &std::path::Path| {
+        let args = [
+            "subdivide",
+            "fibonacci",
+            input,
+            "--steps",
+            "3",
+            "--limit",
+            "-o",
+        ];
+        let mut args = args.to_vec();
+        args.push(out.to_str().unwrap());
+        lsubdiv(&args)
+    };
+    let o = limit(&input, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
     let count = |p: &str| text.lines().filter(|l| l.starts_with(p)).count();
@@ -681,16 +686,7 @@ fn subdivide_writes_limit_positions_and_normals() {
     assert_eq!(first, lim.mesh.positions[0].to_vec());
     // PLY: nx ny nz after x y z.
     let ply = dir.path().join("out.ply");
-    let o = lsubdiv(&[
-        "subdivide",
-        "fibonacci",
-        &input,
-        "--steps",
-        "3",
-        "--limit",
-        "-o",
-        ply.to_str().unwrap(),
-    ]);
+    let o = limit(&input, &ply);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&ply).unwrap();
     assert!(text.contains("property double x\nproperty double y\nproperty double z\nproperty double nx\nproperty double ny\nproperty double nz\n"), "{text:.400}");
@@ -700,16 +696,7 @@ fn subdivide_writes_limit_positions_and_normals() {
         "creased.obj",
         &format!("{cube}t crease 2/1/0 0 1 4\n"),
     );
-    let o = lsubdiv(&[
-        "subdivide",
-        "fibonacci",
-        &creased,
-        "--steps",
-        "3",
-        "--limit",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = limit(&creased, &out);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("still sharp"), "{}", stderr(&o));
 }
