@@ -146,6 +146,10 @@ pub fn run() -> Result<(), Error> {
             "your mesh: open or closed, any polygons, OBJ creases and holes",
         ),
         (
+            "lsubdiv subdivide fibonacci --steps 3 mesh.obj -o on.obj --limit",
+            "on the limit surface: points, normals, texture coordinates",
+        ),
+        (
             "lsubdiv render cube --scheme binary-ternary --steps 3 -o cube.png",
             "a picture",
         ),
