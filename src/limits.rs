@@ -79,6 +79,28 @@ pub struct Prediction {
 }
 
 impl Prediction {
+    /// The prediction with what a refined mesh's limit and texture coordinates add (issue 16):
+    /// with `limit`, the limit pass's f64 positions and normals and the kept normals (72 bytes
+    /// a vertex) and their text (`vn` lines, faces `a//a`); with `uv`, up to four values a quad
+    /// with their index (about 80 bytes: the value, its key and the hash table's share), the
+    /// quads' indices (16) and their text (`vt` lines, the `/t` of the faces).
+    pub fn with_extras(self, limit: bool, uv: bool) -> Prediction {
+        let (v, q) = (self.vertices, self.quads.unwrap_or(0));
+        let digits = v.max(1).ilog10() as u128 + 1;
+        let limit = if limit {
+            v.saturating_mul(72 + 3 * COORDINATE_TEXT + 4)
+                .saturating_add(q.saturating_mul(4 * (digits + 2)))
+        } else {
+            0
+        };
+        let uv = if uv {
+            q.saturating_mul(4 * (80 + 2 * COORDINATE_TEXT + 4) + 16 + 4 * (digits + 2))
+        } else {
+            0
+        };
+        self.holding(limit.saturating_add(uv))
+    }
+
     /// The prediction when `bytes` more are held throughout, e.g. the input copied at another
     /// scale (`lsubdiv_cli::scale`).
     pub fn holding(self, bytes: u128) -> Prediction {

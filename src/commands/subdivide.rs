@@ -197,6 +197,10 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
         &m.positions,
         16 * m.faces.len() as u128,
     ))
+    .with_extras(
+        job.limit != Limit::Off,
+        input.uv.is_some() && job.uv.is_some(),
+    )
     .check(
         &format!("{steps} steps of {} on {name}", r.ls.name),
         job.max_memory,
