@@ -234,6 +234,11 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
             SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
             SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
             SurfaceError::Features(e) => Error::in_file(name, e.to_string()),
+            // The runtime counts the scheme's steps; a polygon mesh's first step came before.
+            SurfaceError::Unsupported(m) if input.split => Error::in_file(
+                name,
+                format!("{m} (steps of the scheme: --steps counts one more, the first Catmull–Clark step)"),
+            ),
             SurfaceError::Unsupported(m) => Error::in_file(name, m),
             e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
                 Error::internal(None, e.to_string())

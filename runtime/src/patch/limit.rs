@@ -94,10 +94,11 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                 t.name, t.degree
             ));
         }
+        let after = format!("after {steps} step{}", if steps == 1 { "" } else { "s" });
         if features.changing_steps() > steps {
             return unsupported(format!(
-                "the limit after {steps} steps: a semi-sharp crease or corner of sharpness {} is \
-                 still sharp, so the limit depends on steps not taken; refine at least {} steps",
+                "the limit {after}: a semi-sharp crease or corner of sharpness {} is still \
+                 sharp, so the limit depends on steps not taken; refine at least {} steps",
                 features.changing_steps(),
                 features.changing_steps()
             ));
@@ -125,7 +126,7 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
             && (0..nv).any(|v| special[v as usize] && rule(v) == VertexRule::Smooth)
         {
             return unsupported(format!(
-                "the limit at extraordinary vertices after {steps} steps of `{}`: the \
+                "the limit at extraordinary vertices {after} of `{}`: the \
                  configuration around them is stationary from step {} ([G] Lemma 4.6), and \
                  their limit weights hold from there; refine at least {} steps",
                 t.name,
