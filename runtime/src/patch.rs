@@ -145,7 +145,7 @@ impl Plan {
     /// [`Plan::pass`] for the new points X' = `first`, `first` + 1, … that `dst` holds.
     fn pass_rows<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
         #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
+        if simd_path() == "avx2" {
             // SAFETY: the CPU has AVX2 (checked just above).
             return unsafe { self.pass_avx2(src, len, first, dst) };
         }
@@ -294,6 +294,16 @@ impl Plan {
 const STRIP_BYTES: usize = 512 << 10;
 
 /// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
+/// The instruction set the patch passes run with on this CPU: `avx2` (x86-64 with AVX2,
+/// detected at run time) or `baseline`; the same operations in the same order either way.
+pub fn simd_path() -> &'static str {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        return "avx2";
+    }
+    "baseline"
+}
+
 fn grown<T: Real>(v: &mut Vec<T>, n: usize) -> &mut [T] {
     if v.len() < n {
         v.resize(n, T::default());

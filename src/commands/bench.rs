@@ -92,6 +92,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         serde_json::json!({
             "mesh": mesh, "scheme": scheme, "path": implementation.name(),
             "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
+            "simd": lsubdiv::runtime::patch::simd_path(),
             "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
             "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
             "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]},
