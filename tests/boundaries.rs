@@ -858,3 +858,65 @@ fn a_reused_refiner_equals_a_fresh_one() {
         assert_eq!(again, fresh.refine(&moved).unwrap(), "{what}");
     }
 }
+
+/// A crease that turns at an interior vertex (sectors of one and three faces: its child is
+/// set by the curve rule) is still the scheme's curve between its corners, for every scheme;
+/// and the limit point there is the curve's (`end_limit` of the refined crease), while its
+/// normal is listed as not derived.
+#[test]
+fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
+    use lsubdiv::runtime::patch::limit_with;
+    let mesh = grid(4, 4);
+    // Along row 2 to the centre, then up column 2: vertex 12 has two adjacent sharp edges.
+    let line: Vec<u32> = vec![10, 11, 12, 17, 22];
+    let mut features = Features::default();
+    for w in line.windows(2) {
+        features.creases.push(([w[0], w[1]], Sharpness::INFINITE));
+    }
+    let topo = Topology::build(&mesh).unwrap();
+    let nv = mesh.positions.len();
+    for name in SCHEMES {
+        let s = surface(name);
+        let (mut c, sigma) = curve(name);
+        for steps in 1..=3 {
+            let fine = refine_with(&s, &mesh, &features, steps);
+            let n = s.tables().image_len(s.tables().axiom, steps) as usize;
+            let mut walk = vec![line[0]];
+            for w in line.windows(2) {
+                let e = topo.edge_between(w[0], w[1]).unwrap() as usize;
+                let inner: Vec<u32> = (0..n - 1).map(|t| (nv + e * (n - 1) + t) as u32).collect();
+                if w[0] < w[1] {
+                    walk.extend(&inner);
+                } else {
+                    walk.extend(inner.iter().rev());
+                }
+                walk.push(w[1]);
+            }
+            let pts: Vec<[f64; 3]> = line.iter().map(|&v| mesh.positions[v as usize]).collect();
+            let piece = EndCurve::with_axiom(&c.tables(), pts);
+            let extended = piece.extended(&c.tables(), &sigma).unwrap();
+            c.prepare(&extended).unwrap();
+            let want = refine_ends(&c, &sigma, &piece, steps).unwrap();
+            let got = &fine.positions;
+            let worst = (want.points.iter().zip(&walk))
+                .flat_map(|(w, &g)| (0..3).map(move |k| (w[k] - got[g as usize][k]).abs()))
+                .fold(0.0, f64::max);
+            assert!(
+                worst < 1e-12,
+                "{name} steps={steps}: off the curve by {worst:e}"
+            );
+            // The limit at the turning vertex: the refined crease's limit there.
+            let extended = want.extended(&c.tables(), &sigma).unwrap();
+            c.prepare(&extended).unwrap();
+            let curve_limit = lsubdiv::end_limit(&c, &sigma, &want).unwrap();
+            let lim = limit_with::<_, f64>(&s, &mesh, &topo, &features, steps, 1).unwrap();
+            let (p, q) = (lim.mesh.positions[12], curve_limit.positions[2 * n]);
+            let off = (0..3).map(|k| (p[k] - q[k]).abs()).fold(0.0, f64::max);
+            assert!(
+                off < 1e-12,
+                "{name} steps={steps}: limit off the curve's by {off:e}"
+            );
+            assert!(lim.approximate.contains(&12), "{name}");
+        }
+    }
+}

@@ -1639,7 +1639,8 @@ pub struct Refined<T = f64> {
     pub mesh: QuadMesh<T>,
     /// The unit limit normal of each vertex ([`SurfaceLimit::normals`]).
     pub normals: Vec<[T; 3]>,
-    /// The vertices whose limit is not derived in closed form ([`SurfaceLimit::approximate`]).
+    /// The vertices whose limit normal (a dart's: and point) is not derived in closed form
+    /// ([`SurfaceLimit::approximate`]).
     pub approximate: Vec<u32>,
 }
 

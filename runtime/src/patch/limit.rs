@@ -20,13 +20,13 @@
 //!   numeric as α is), valid from the step where the EV configuration is stationary;
 //! - a dart: the same smooth weights, as OpenSubdiv's `Sdc` does for its darts;
 //! - a crease with a sector other than two faces: the curve's limit mask along its two sharp
-//!   edges;
+//!   edges (exact: the crease is refined as the scheme's curve, `tests/boundaries.rs`);
 //! - a corner: the vertex itself.
 //!
-//! Darts and those creases are not derived (their neighbours are refined by phantoms that do
-//! not describe the whole 1-ring), nor are the normals of corners with a sector of more than
-//! one face: there the normal is the mean normal of the vertex's limit 1-ring faces, and the
-//! vertex is listed in [`SurfaceLimit::approximate`].
+//! What is not derived is listed in [`SurfaceLimit::approximate`]: a dart's point and normal
+//! (its neighbours are refined by phantoms that do not describe the whole 1-ring), and the
+//! normals of those creases and of corners with a sector of more than one face; there the
+//! normal is the mean normal of the vertex's limit 1-ring faces.
 
 use super::{ring_layout, spoke, sub3, Refiner};
 use crate::curve::rewrite;
@@ -44,8 +44,8 @@ pub struct SurfaceLimit<T = f64> {
     /// The unit normal there, oriented with the face winding (zero where the tangents are
     /// parallel: a degenerate control mesh has no normal).
     pub normals: Vec<[T; 3]>,
-    /// Vertices whose limit is not derived in closed form (see the module documentation),
-    /// ascending.
+    /// Vertices whose limit normal (a dart's: and point) is not derived in closed form (see
+    /// the module documentation), ascending.
     pub approximate: Vec<u32>,
 }
 
