@@ -128,6 +128,32 @@ fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
     }
 }
 
+/// With the limit, smooth values go to the layout's limit surface: on a seamless chart, the
+/// library's `limit_with` of (u, v, 0) with edge-only boundaries.
+#[test]
+fn smooth_uvs_go_to_the_layouts_limit() {
+    use lsubdiv::runtime::patch::limit_with;
+    let (mesh, uv) = grid_with_uv();
+    let (s, _) = surface("fibonacci");
+    let topo = Topology::build(&mesh).unwrap();
+    let f = Features::default();
+    let fine: QuadUv = refine_uv(&s, &mesh, &topo, &f, &uv, (UvRule::Smooth, true), 3, 2).unwrap();
+    let layout = QuadMesh {
+        positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
+        faces: mesh.faces.clone(),
+    };
+    let lt = Topology::build(&layout).unwrap();
+    let edge_only = Features::with_boundary(Boundary::EdgeOnly);
+    let want = limit_with::<_, f64>(&s, &layout, &lt, &edge_only, 3, 1).unwrap();
+    assert_eq!(fine.faces, want.mesh.faces);
+    for (got, w) in fine.values.iter().zip(&want.mesh.positions) {
+        assert_eq!(*got, [w[0], w[1]]);
+    }
+    // And they moved: the limit is not the refined layout.
+    let refined = refine(&s, &mesh, &uv, UvRule::Smooth, 3);
+    assert_ne!(refined.values, fine.values);
+}
+
 /// A tube whose chart is cut along one line of edges (u = 0 on one side, u = 1 on the
 /// other): under both rules every refined vertex on the seam has two values, one from each
 /// side, exactly u = 0 and u = 1 away from the chart's corners (near them the smooth rule's
