@@ -681,43 +681,70 @@ fn creased_hexagon_grid() -> (QuadMesh, Features, Vec<u32>) {
 fn creases_are_the_schemes_curves_between_their_corners() {
     let (mesh, features, line) = creased_hexagon_grid();
     let topo = Topology::build(&mesh).unwrap();
-    let nv = mesh.positions.len();
     for name in SCHEMES {
         let s = surface(name);
         let (mut c, sigma) = curve(name);
         for steps in 1..=3 {
-            let fine = refine_with(&s, &mesh, &features, steps);
-            let n = s.tables().image_len(s.tables().axiom, steps) as usize;
-            // The refined points along each crease edge (numbered from its smaller vertex).
-            let mut walk = vec![line[0]];
-            for w in line.windows(2) {
-                let e = topo.edge_between(w[0], w[1]).unwrap() as usize;
-                let inner: Vec<u32> = (0..n - 1).map(|t| (nv + e * (n - 1) + t) as u32).collect();
-                if w[0] < w[1] {
-                    walk.extend(&inner);
-                } else {
-                    walk.extend(inner.iter().rev());
-                }
-                walk.push(w[1]);
-            }
-            let pts: Vec<[f64; 3]> = line.iter().map(|&v| mesh.positions[v as usize]).collect();
-            let piece = EndCurve::with_axiom(&c.tables(), pts);
-            let extended = piece.extended(&c.tables(), &sigma).unwrap();
-            c.prepare(&extended).unwrap();
-            let want = refine_ends(&c, &sigma, &piece, steps).unwrap();
-            assert_eq!(want.points.len(), walk.len());
-            let got = &fine.positions;
-            let worst = want
-                .points
-                .iter()
-                .zip(&walk)
-                .flat_map(|(w, &g)| (0..3).map(move |k| (w[k] - got[g as usize][k]).abs()))
-                .fold(0.0, f64::max);
+            let crease = Crease {
+                mesh: &mesh,
+                topo: &topo,
+                features: &features,
+                line: &line,
+            };
+            let (_, worst) = crease.against_curve(&s, (&mut c, &sigma), steps);
             assert!(
                 worst < 1e-12,
                 "{name} steps={steps}: crease off by {worst:e}"
             );
         }
+    }
+}
+
+/// A crease line of a featured mesh, to compare with the scheme's curve.
+struct Crease<'m> {
+    mesh: &'m QuadMesh,
+    topo: &'m Topology,
+    features: &'m Features,
+    /// The crease's vertices in order, from corner to corner.
+    line: &'m [u32],
+}
+
+impl Crease<'_> {
+    /// Refines the mesh `steps` times and the crease's polygon as an open curve with
+    /// interpolated ends: that curve, and the largest distance between its points and the
+    /// refined points along the crease (each edge's numbered from its smaller vertex).
+    fn against_curve(
+        &self,
+        s: &GenericSurface,
+        (c, sigma): (&mut GenericScheme, &[u8]),
+        steps: usize,
+    ) -> (EndCurve<3>, f64) {
+        let (mesh, line) = (self.mesh, self.line);
+        let fine = refine_with(s, mesh, self.features, steps);
+        let n = s.tables().image_len(s.tables().axiom, steps) as usize;
+        let nv = mesh.positions.len();
+        let mut walk = vec![line[0]];
+        for w in line.windows(2) {
+            let e = self.topo.edge_between(w[0], w[1]).unwrap() as usize;
+            let inner: Vec<u32> = (0..n - 1).map(|t| (nv + e * (n - 1) + t) as u32).collect();
+            if w[0] < w[1] {
+                walk.extend(&inner);
+            } else {
+                walk.extend(inner.iter().rev());
+            }
+            walk.push(w[1]);
+        }
+        let pts: Vec<[f64; 3]> = line.iter().map(|&v| mesh.positions[v as usize]).collect();
+        let piece = EndCurve::with_axiom(&c.tables(), pts);
+        let extended = piece.extended(&c.tables(), sigma).unwrap();
+        c.prepare(&extended).unwrap();
+        let want = refine_ends(c, sigma, &piece, steps).unwrap();
+        assert_eq!(want.points.len(), walk.len());
+        let got = &fine.positions;
+        let worst = (want.points.iter().zip(&walk))
+            .flat_map(|(w, &g)| (0..3).map(move |k| (w[k] - got[g as usize][k]).abs()))
+            .fold(0.0, f64::max);
+        (want, worst)
     }
 }
 
@@ -874,37 +901,22 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
         features.creases.push(([w[0], w[1]], Sharpness::INFINITE));
     }
     let topo = Topology::build(&mesh).unwrap();
-    let nv = mesh.positions.len();
     for name in SCHEMES {
         let s = surface(name);
         let (mut c, sigma) = curve(name);
         for steps in 1..=3 {
-            let fine = refine_with(&s, &mesh, &features, steps);
-            let n = s.tables().image_len(s.tables().axiom, steps) as usize;
-            let mut walk = vec![line[0]];
-            for w in line.windows(2) {
-                let e = topo.edge_between(w[0], w[1]).unwrap() as usize;
-                let inner: Vec<u32> = (0..n - 1).map(|t| (nv + e * (n - 1) + t) as u32).collect();
-                if w[0] < w[1] {
-                    walk.extend(&inner);
-                } else {
-                    walk.extend(inner.iter().rev());
-                }
-                walk.push(w[1]);
-            }
-            let pts: Vec<[f64; 3]> = line.iter().map(|&v| mesh.positions[v as usize]).collect();
-            let piece = EndCurve::with_axiom(&c.tables(), pts);
-            let extended = piece.extended(&c.tables(), &sigma).unwrap();
-            c.prepare(&extended).unwrap();
-            let want = refine_ends(&c, &sigma, &piece, steps).unwrap();
-            let got = &fine.positions;
-            let worst = (want.points.iter().zip(&walk))
-                .flat_map(|(w, &g)| (0..3).map(move |k| (w[k] - got[g as usize][k]).abs()))
-                .fold(0.0, f64::max);
+            let crease = Crease {
+                mesh: &mesh,
+                topo: &topo,
+                features: &features,
+                line: &line,
+            };
+            let (want, worst) = crease.against_curve(&s, (&mut c, &sigma), steps);
             assert!(
                 worst < 1e-12,
                 "{name} steps={steps}: off the curve by {worst:e}"
             );
+            let n = s.tables().image_len(s.tables().axiom, steps) as usize;
             // The limit at the turning vertex: the refined crease's limit there.
             let extended = want.extended(&c.tables(), &sigma).unwrap();
             c.prepare(&extended).unwrap();
