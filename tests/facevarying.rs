@@ -58,10 +58,7 @@ fn linear_uvs_are_bilinear_at_the_knots() {
         let steps = 2;
         let fine = refine(&s, &mesh, &uv, UvRule::Linear, steps);
         let t = s.tables();
-        let mut word = t.axiom.to_vec();
-        for _ in 0..steps {
-            word = word.iter().flat_map(|&a| t.rule(a).to_vec()).collect();
-        }
+        let word = t.iterate(t.axiom, steps);
         let mut k = vec![0.0];
         for &a in &word {
             k.push(k[k.len() - 1] + lengths[a as usize]);

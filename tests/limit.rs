@@ -371,10 +371,7 @@ fn limit_on_the_torus_is_the_tensor_b_spline_at_the_knots() {
         assert!(lim.approximate.is_empty(), "{name}");
         // W_s and its knots in base-edge units.
         let t = s.tables();
-        let mut word = t.axiom.to_vec();
-        for _ in 0..steps {
-            word = word.iter().flat_map(|&a| t.rule(a).to_vec()).collect();
-        }
+        let word = t.iterate(t.axiom, steps);
         let mut knots = vec![0.0];
         for &a in &word {
             knots.push(knots[knots.len() - 1] + lengths[a as usize]);
@@ -518,10 +515,7 @@ fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
         // (x, y) of a base face is corner 0 of its cell (x, y), and old knot x is new knot
         // Off(x) = Σ_{i<x} |π(W_4[i])|.
         let t = s.tables();
-        let mut word = t.axiom.to_vec();
-        for _ in 0..4 {
-            word = word.iter().flat_map(|&a| t.rule(a).to_vec()).collect();
-        }
+        let word = t.iterate(t.axiom, 4);
         let mut off = vec![0usize];
         for &a in &word {
             off.push(off[off.len() - 1] + t.rule(a).len());

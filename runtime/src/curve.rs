@@ -55,6 +55,16 @@ impl<'a> CurveTables<'a> {
         self.words.chunks_exact(self.degree + 1).zip(0..).collect()
     }
 
+    /// π^steps(word).
+    pub fn iterate(&self, word: &[u8], steps: usize) -> Vec<u8> {
+        let (mut word, mut next) = (word.to_vec(), Vec::new());
+        for _ in 0..steps {
+            rewrite(self, &word, &mut next);
+            std::mem::swap(&mut word, &mut next);
+        }
+        word
+    }
+
     /// π(A).
     pub fn rule(&self, a: u8) -> &[u8] {
         let a = a as usize;

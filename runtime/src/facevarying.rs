@@ -16,7 +16,6 @@
 //! Either way the refined channel's faces are parallel to the refined mesh's faces
 //! ([`crate::patch::Refiner::faces`]) and seams stay seams.
 
-use crate::curve::rewrite;
 use crate::features::{Boundary, FeatureError, Features};
 use crate::grid::{site, Site};
 use crate::mesh::QuadMesh;
@@ -354,12 +353,7 @@ fn linear<S: SurfaceScheme, T: Real>(
     steps: usize,
 ) -> Result<QuadUv<T>, UvError> {
     let t = scheme.tables();
-    let mut word = t.axiom.to_vec();
-    for _ in 0..steps {
-        let mut next = Vec::new();
-        rewrite(&t, &word, &mut next);
-        word = next;
-    }
+    let word = t.iterate(t.axiom, steps);
     let length = |a: u8| t.lengths.get(a as usize).copied().unwrap_or(1.0);
     let mut knots = vec![0.0];
     for &a in &word {

@@ -29,7 +29,6 @@
 //! normal is the mean normal of the vertex's limit 1-ring faces.
 
 use super::{ring_layout, spoke, sub3, Refiner};
-use crate::curve::rewrite;
 use crate::features::{CornerKind, VertexRule};
 use crate::grid::{corner_at, TOWARD_NEXT, TOWARD_PREV};
 use crate::real::Real;
@@ -135,12 +134,7 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
             ));
         }
         // W_s, and the limit mask of every knot of a face's side.
-        let mut word = t.axiom.to_vec();
-        for _ in 0..steps {
-            let mut next = Vec::new();
-            rewrite(&t, &word, &mut next);
-            word = next;
-        }
+        let word = t.iterate(t.axiom, steps);
         let n = word.len() as i64;
         let lookup = t.word_index();
         let masks: Vec<Mask> = (0..=n)
