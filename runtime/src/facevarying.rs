@@ -19,7 +19,7 @@
 use crate::features::{Boundary, FeatureError, Features};
 use crate::grid::{site, Site};
 use crate::mesh::QuadMesh;
-use crate::patch::{limit_with, subdivide_with};
+use crate::patch::{limit_with, renumbering, subdivide_with};
 use crate::polygon::{catmull_clark, PolyMesh, SplitError};
 use crate::real::Real;
 use crate::surface::{SurfaceError, SurfaceScheme};
@@ -171,17 +171,11 @@ fn layout_features<'a>(
 /// The layout as a mesh in the plane z = 0, without the values no corner uses (the topology
 /// refuses unused vertices; the others keep their order), and the corners renumbered to match.
 fn plane(values: &[[f64; 2]], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
-    let mut map = vec![u32::MAX; values.len()];
-    for &i in corners {
-        map[i as usize] = 0;
-    }
-    let mut kept = Vec::new();
-    for (m, &[u, v]) in map.iter_mut().zip(values) {
-        if *m == 0 {
-            *m = kept.len() as u32;
-            kept.push([u, v, 0.0]);
-        }
-    }
+    let map = renumbering(corners.iter().copied(), values.len());
+    let kept = (values.iter().zip(&map))
+        .filter(|(_, &m)| m != u32::MAX)
+        .map(|(&[u, v], _)| [u, v, 0.0])
+        .collect();
     (kept, corners.iter().map(|&i| map[i as usize]).collect())
 }
 

@@ -1684,17 +1684,20 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
 /// With holes, each vertex's index once the vertices no face uses are dropped (`u32::MAX`:
 /// dropped, the others in their order); without, none: every vertex is used.
 fn used(faces: &[[u32; 4]], vertices: usize, holes: bool) -> Option<Vec<u32>> {
-    if !holes {
-        return None;
-    }
-    let mut map = vec![u32::MAX; vertices];
-    for &v in faces.iter().flatten() {
+    holes.then(|| renumbering(faces.iter().flatten().copied(), vertices))
+}
+
+/// Each of `len` items' index among the items `indices` names, in their order (`u32::MAX`:
+/// never named).
+pub(crate) fn renumbering(indices: impl Iterator<Item = u32>, len: usize) -> Vec<u32> {
+    let mut map = vec![u32::MAX; len];
+    for v in indices {
         map[v as usize] = 0;
     }
     for (next, m) in map.iter_mut().filter(|m| **m == 0).enumerate() {
         *m = next as u32;
     }
-    Some(map)
+    map
 }
 
 /// The entries of the vertices [`used`] keeps.
