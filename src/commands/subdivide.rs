@@ -244,41 +244,38 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
                 Error::internal(None, e.to_string())
             }
         })?;
-        // The texture coordinates by the rule they were read with, to the layout's limit where
-        // the positions went to theirs.
-        let uv = match (&input.uv, job.uv) {
-            (Some(uv), Some(rule)) => {
-                let job = RefineUv {
-                    mesh,
-                    topology,
-                    features: &input.features,
-                    uv,
-                    rule: (rule, !fine.normals.is_empty()),
-                    steps,
-                    threads,
-                };
-                let refined = visit(r, implementation, &surface, job)?.map_err(|e| {
-                    let error = Error::in_file(name, format!("texture coordinates: {e}"));
-                    match e {
-                        UvError::Layout(_) => error.with_hint("use --uv linear"),
-                        _ => error,
-                    }
-                })?;
-                Some(refined)
-            }
-            _ => None,
-        };
         let Refined {
             mesh,
             normals,
             approximate,
         } = fine;
-        Ok((
-            (mesh.faces, normals, approximate, refused, uv),
-            mesh.positions,
-        ))
+        Ok(((mesh.faces, normals, approximate, refused), mesh.positions))
     })?;
-    let (faces, normals, approximate, refused, uv) = rest;
+    let (faces, normals, approximate, refused) = rest;
+    // The texture coordinates (which do not scale) by the rule they were read with, to the
+    // layout's limit where the positions went to theirs.
+    let uv = match (&input.uv, job.uv) {
+        (Some(uv), Some(rule)) => {
+            let job = RefineUv {
+                mesh: m,
+                topology,
+                features: &input.features,
+                uv,
+                rule: (rule, !normals.is_empty()),
+                steps,
+                threads,
+            };
+            let refined = visit(r, implementation, &surface, job)?.map_err(|e| {
+                let error = Error::in_file(name, format!("texture coordinates: {e}"));
+                match e {
+                    UvError::Layout(_) => error.with_hint("use --uv linear"),
+                    _ => error,
+                }
+            })?;
+            Some(refined)
+        }
+        _ => None,
+    };
     Ok(RefinedMesh {
         fine: Refined {
             mesh: QuadMesh { positions, faces },
