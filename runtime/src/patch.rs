@@ -52,7 +52,7 @@ use std::collections::HashMap;
 use std::time::Instant;
 
 mod limit;
-pub use limit::SurfaceLimit;
+pub use limit::{limit_available, SurfaceLimit};
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
 /// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept

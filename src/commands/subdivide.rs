@@ -7,7 +7,7 @@ use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::{Checked, Extras};
 use lsubdiv::runtime::facevarying::{QuadUv, RefineUv, UvError, UvRule};
 use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::{Refined, Subdivide};
+use lsubdiv::runtime::patch::{limit_available, Refined, Subdivide};
 use lsubdiv::runtime::surface::SurfaceVisitor;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
@@ -154,7 +154,8 @@ pub enum Limit {
     /// The limit surface, or the runtime's refusal as the error.
     On,
     /// The limit surface where the runtime has it; where it refuses it (too few steps for the
-    /// EVs' limit, a semi-sharp feature still sharp) the refined control points, refined again.
+    /// EVs' limit, a semi-sharp feature still sharp: `patch::limit_available`, asked before
+    /// refining) the refined control points.
     IfAvailable,
 }
 
@@ -206,6 +207,19 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
         job.max_memory,
     )?;
     let implementation = job.path.pick(r, Geometry::Surface)?;
+    // Where the limit is only wanted if available, whether it is, before refining.
+    let (limit, refused) = match job.limit {
+        Limit::Off => (false, None),
+        Limit::On => (true, None),
+        Limit::IfAvailable => {
+            match limit_available(&surface, topology, &input.features, steps) {
+                Ok(()) => (true, None),
+                Err(SurfaceError::Unsupported(why)) => (false, Some(why)),
+                // Anything else the refinement itself reports.
+                Err(_) => (true, None),
+            }
+        }
+    };
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
     let (rest, positions) = lsubdiv_cli::scale::refine_scaled(name, &m.positions, |scaled| {
         let scaled = scaled.map(|positions| QuadMesh {
@@ -224,13 +238,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
             };
             visit(r, implementation, &surface, refine)
         };
-        let mut result = run(job.limit != Limit::Off)?;
-        let mut refused = None;
-        if let (Limit::IfAvailable, Err(SurfaceError::Unsupported(why))) = (job.limit, &result) {
-            refused = Some(why.clone());
-            result = run(false)?;
-        }
-        let fine = result.map_err(|e| match e {
+        let fine = run(limit)?.map_err(|e| match e {
             SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
             SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
             SurfaceError::Features(e) => Error::in_file(name, e.to_string()),

@@ -29,10 +29,11 @@
 //! normal is the mean normal of the vertex's limit 1-ring faces.
 
 use super::{ring_layout, spoke, sub3, Refiner};
-use crate::features::{CornerKind, VertexRule};
+use crate::features::{CornerKind, Features, Resolved, VertexRule};
 use crate::grid::{corner_at, TOWARD_NEXT, TOWARD_PREV};
 use crate::real::Real;
 use crate::surface::{SurfaceError, SurfaceScheme};
+use crate::topology::Topology;
 use std::f64::consts::TAU;
 
 /// Limit positions and unit normals of a refined mesh's vertices, in the output's order.
@@ -76,63 +77,89 @@ fn add(a: &mut V3, b: V3, w: f64) {
 /// The position and derivative weights of one knot's limit mask (on its points −1, 0, 1).
 type Mask = ([f64; 3], [f64; 3]);
 
+/// Whether the limit after `steps` steps of `scheme` on the mesh of topology `topo` with
+/// `features` can be taken ([`Refiner::limit`] refuses the same, with the same reasons):
+/// to decide before refining.
+pub fn limit_available<S: SurfaceScheme>(
+    scheme: &S,
+    topo: &Topology,
+    features: &Features,
+    steps: usize,
+) -> Result<(), SurfaceError> {
+    let resolved = Resolved::new(topo, features).map_err(SurfaceError::Features)?;
+    ruled(scheme, topo, &resolved, steps).map(|_| ())
+}
+
+/// Per base vertex, whether its child is set by a rule at the limit; refused, naming the
+/// reason, for a degree without limit masks, a semi-sharp feature still sharp after the last
+/// step (its limit depends on steps not taken), and interior EVs before their configuration
+/// is stationary.
+fn ruled<S: SurfaceScheme>(
+    scheme: &S,
+    topo: &Topology,
+    features: &Resolved,
+    steps: usize,
+) -> Result<Vec<bool>, SurfaceError> {
+    let (t, st) = (scheme.tables(), scheme.surface());
+    let unsupported = |m: String| Err(SurfaceError::Unsupported(m));
+    if t.limit_mask(0).is_none() {
+        return unsupported(format!(
+            "scheme `{}` has degree {}: no limit masks (they exist for odd degrees)",
+            t.name, t.degree
+        ));
+    }
+    let after = format!("after {steps} step{}", if steps == 1 { "" } else { "s" });
+    if features.changing_steps() > steps {
+        return unsupported(format!(
+            "the limit {after}: a semi-sharp crease or corner of sharpness {} is still \
+             sharp, so the limit depends on steps not taken; refine at least {} steps",
+            features.changing_steps(),
+            features.changing_steps()
+        ));
+    }
+    let special: Vec<bool> = (0..topo.vertex_count() as u32)
+        .map(|v| {
+            if features.is_plain() {
+                topo.valence(v) != 4
+            } else {
+                features.needs_rule(topo, v, steps)
+            }
+        })
+        .collect();
+    let smooth = |v: usize| rule(topo, features, v as u32, steps) == VertexRule::Smooth;
+    if steps < st.stationary_from() && (0..special.len()).any(|v| special[v] && smooth(v)) {
+        return unsupported(format!(
+            "the limit at extraordinary vertices {after} of `{}`: the configuration around \
+             them is stationary from step {} ([G] Lemma 4.6), and their limit weights hold \
+             from there; refine at least {} steps",
+            t.name,
+            st.stationary_from(),
+            st.stationary_from()
+        ));
+    }
+    Ok(special)
+}
+
+/// The rule of vertex v at step k (smooth everywhere on a plain mesh).
+fn rule(topo: &Topology, features: &Resolved, v: u32, k: usize) -> VertexRule {
+    if features.is_plain() {
+        VertexRule::Smooth
+    } else {
+        features.vertex_rule(topo, v, k)
+    }
+}
+
 impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
     /// The limit positions and normals of the last [`Refiner::refine`]'s output vertices (in
-    /// its numbering, holes' points included). Refused, naming the reason, for a degree
-    /// without limit masks, a semi-sharp feature still sharp after the last step (its limit
-    /// depends on steps not taken), and interior EVs before their configuration is stationary.
+    /// its numbering, holes' points included); refused as [`limit_available`] says.
     pub fn limit(&self) -> Result<SurfaceLimit<T>, SurfaceError> {
         let (t, st) = (self.scheme.tables(), self.scheme.surface());
         let (base, topo) = (&self.base, self.base.topo);
         let features = &base.features;
         let steps = self.first + self.plans.len();
-        let unsupported = |m: String| Err(SurfaceError::Unsupported(m));
-        if t.limit_mask(0).is_none() {
-            return unsupported(format!(
-                "scheme `{}` has degree {}: no limit masks (they exist for odd degrees)",
-                t.name, t.degree
-            ));
-        }
-        let after = format!("after {steps} step{}", if steps == 1 { "" } else { "s" });
-        if features.changing_steps() > steps {
-            return unsupported(format!(
-                "the limit {after}: a semi-sharp crease or corner of sharpness {} is still \
-                 sharp, so the limit depends on steps not taken; refine at least {} steps",
-                features.changing_steps(),
-                features.changing_steps()
-            ));
-        }
-        let k = steps;
-        let nv = topo.vertex_count() as u32;
-        let plain = features.is_plain();
-        let rule = |v: u32| {
-            if plain {
-                VertexRule::Smooth
-            } else {
-                features.vertex_rule(topo, v, k)
-            }
-        };
-        let special: Vec<bool> = (0..nv)
-            .map(|v| {
-                if plain {
-                    topo.valence(v) != 4
-                } else {
-                    features.needs_rule(topo, v, k)
-                }
-            })
-            .collect();
-        if steps < st.stationary_from()
-            && (0..nv).any(|v| special[v as usize] && rule(v) == VertexRule::Smooth)
-        {
-            return unsupported(format!(
-                "the limit at extraordinary vertices {after} of `{}`: the \
-                 configuration around them is stationary from step {} ([G] Lemma 4.6), and \
-                 their limit weights hold from there; refine at least {} steps",
-                t.name,
-                st.stationary_from(),
-                st.stationary_from()
-            ));
-        }
+        let special = ruled(self.scheme, topo, features, steps)?;
+        let (k, nv) = (steps, topo.vertex_count() as u32);
+        let rule = |v: u32| rule(topo, features, v, k);
         // W_s, and the limit mask of every knot of a face's side.
         let word = t.iterate(t.axiom, steps);
         let n = word.len() as i64;
