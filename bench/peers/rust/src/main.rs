@@ -52,14 +52,15 @@ fn meshes(a: &Args) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{dir}: {e}"))?;
     let surface = bench::surface(SCHEME)?;
     for (name, spec) in [("torus", "torus:256:256"), ("cube", "cube"), ("star", "star")] {
-        let mesh = bench::mesh(spec, u64::MAX).map_err(|e| e.to_string())?.mesh;
+        let checked = bench::mesh(spec, u64::MAX, None).map_err(|e| e.to_string())?;
+        let mesh = &checked.mesh;
         let path = format!("{dir}/{name}.obj");
-        let text = obj::format(&mesh).map_err(|e| e.to_string())?;
+        let text = obj::format(mesh).map_err(|e| e.to_string())?;
         std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
-        let levels = bench::steps_for(&surface, &mesh, target);
+        let levels = bench::steps_for(&surface, &checked.topology, target);
         println!(
             "MESH {name} {path} {levels} {}",
-            output_vertices(&mesh, 1 << levels)
+            output_vertices(mesh, 1 << levels)
         );
     }
     Ok(())
@@ -98,15 +99,14 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
         levels,
         runs,
     } = a.run()?;
-    let lsubdiv::mesh_file::Checked { mesh, topology, .. } =
-        bench::mesh(obj, u64::MAX).map_err(|e| e.to_string())?;
+    let checked = bench::mesh(obj, u64::MAX, None).map_err(|e| e.to_string())?;
+    let (mesh, topology) = (&checked.mesh, &checked.topology);
     let surface = bench::surface(SCHEME)?;
     if a.get("dump").is_none() || runs > 0 {
         let m = bench::measure::<f64>(
             SCHEME,
             &surface,
-            &mesh,
-            &topology,
+            &checked,
             Implementation::Generated,
             1,
             levels,
@@ -116,8 +116,8 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
     }
     if let Some(path) = a.get("dump") {
         let dump = Dump {
-            mesh: &mesh,
-            topology: &topology,
+            mesh,
+            topology,
             steps: levels,
         };
         let (p, f) = lsubdiv::generated::visit_surface(SCHEME, dump)
