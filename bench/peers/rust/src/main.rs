@@ -19,7 +19,7 @@ mod common;
 use common::{read_dump, report, write_dump, Args, Obj};
 use lsubdiv::obj;
 use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::Refiner;
+use lsubdiv::runtime::patch::{output_counts, Refiner};
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::bench;
@@ -58,20 +58,20 @@ fn meshes(a: &Args) -> Result<(), String> {
         let text = obj::format(mesh).map_err(|e| e.to_string())?;
         std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
         let levels = bench::steps_for(&surface, &checked.topology, target);
-        println!(
-            "MESH {name} {path} {levels} {}",
-            output_vertices(mesh, 1 << levels)
+        let t = &checked.topology;
+        let count = |k: usize| k as u128;
+        let (vertices, _) = output_counts(
+            count(t.vertex_count()),
+            count(t.edge_count()),
+            count(t.face_count()),
+            1 << levels,
         );
+        println!("MESH {name} {path} {levels} {vertices}");
     }
     Ok(())
 }
 
 /// V + E(N−1) + F(N−1)² for a closed quad mesh refined N-fold per edge.
-fn output_vertices(mesh: &QuadMesh, n: usize) -> usize {
-    let (v, f) = (mesh.positions.len(), mesh.faces.len());
-    v + 2 * f * (n - 1) + f * (n - 1) * (n - 1)
-}
-
 /// Refines once with the same Refiner (f64, 1 thread) and returns positions and faces.
 struct Dump<'m> {
     mesh: &'m QuadMesh,
