@@ -51,8 +51,12 @@ use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
 
+mod composed;
 mod limit;
+mod stream;
+use composed::Composed;
 pub use limit::{limit_available, SurfaceLimit};
+use stream::{Stream, STREAM_BYTES};
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
 /// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept
@@ -69,6 +73,8 @@ struct Plan {
     n_new: i64,
     /// Whether every new point −h..=N'+h has all its parents among the old points −1..=N+1.
     complete: bool,
+    /// The instruction set its passes run with.
+    simd: Simd,
 }
 
 impl Plan {
@@ -126,6 +132,7 @@ impl Plan {
             old_side: (n + 3) as usize,
             n_new,
             complete,
+            simd: Simd::detect(),
         })
     }
 
@@ -135,20 +142,29 @@ impl Plan {
     }
 
     /// `dst[X'·len ..][..len] = Σ w · src[x·len ..][..len]` over the parents (x, w) of every new
-    /// point X' (slabs of `len` values: whole rows of k interleaved patches at once). Compiled
-    /// twice on x86-64, for the baseline and for AVX2 (chosen at run time): the same
-    /// operations in the same order, so the same bits, only wider vectors.
+    /// point X' (slabs of `len` values: whole rows of a patch at once). Compiled for the
+    /// baseline, AVX2 and AVX-512 (the plan's [`Simd`]): the same operations in the same
+    /// order, so the same bits, only wider vectors.
     fn pass<T: Real>(&self, src: &[T], len: usize, dst: &mut [T]) {
         self.pass_rows(src, len, 0, dst);
     }
 
     /// [`Plan::pass`] for the new points X' = `first`, `first` + 1, … that `dst` holds.
     fn pass_rows<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
-        #[cfg(target_arch = "x86_64")]
-        if simd_path() == "avx2" {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { self.pass_avx2(src, len, first, dst) };
+        match self.simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `Simd::Avx512` is only handed out where the CPU has AVX-512F.
+            Simd::Avx512 => unsafe { self.pass_avx512(src, len, first, dst) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `Simd::Avx2` is only handed out where the CPU has AVX2.
+            Simd::Avx2 => unsafe { self.pass_avx2(src, len, first, dst) },
+            _ => self.pass_any(src, len, first, dst),
         }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn pass_avx512<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
         self.pass_any(src, len, first, dst);
     }
 
@@ -181,18 +197,6 @@ impl Plan {
                     }
                 }
             }
-        }
-    }
-
-    /// One step of k patches interleaved point by point: `src` ([x][y][patch], side N+3) is
-    /// refined along x (slabs of whole [y][patch] planes), then every new plane along y (slabs
-    /// of [patch] rows), into `dst` ([x'][y'][patch], side `new_side`).
-    fn step_interleaved<T: Real>(&self, k: usize, src: &[T], p: &mut Passes<T>, dst: &mut Vec<T>) {
-        let (m, side, l) = (self.old_side, self.new_side(), k * 3);
-        self.pass(src, m * l, grown(&mut p.a, side * m * l));
-        let dst = grown(dst, side * side * l);
-        for (plane, d) in p.a.chunks_exact(m * l).zip(dst.chunks_exact_mut(side * l)) {
-            self.pass(plane, l, d);
         }
     }
 
@@ -293,17 +297,59 @@ impl Plan {
 /// the L2 cache of this machine's cores.
 const STRIP_BYTES: usize = 512 << 10;
 
-/// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
-/// The instruction set the patch passes run with on this CPU: `avx2` (x86-64 with AVX2,
-/// detected at run time) or `baseline`; the same operations in the same order either way.
-pub fn simd_path() -> &'static str {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        return "avx2";
-    }
-    "baseline"
+/// The instruction sets the patch kernels are compiled for, chosen at run time
+/// (`is_x86_feature_detected!`). Every path runs the same operations in the same order, so
+/// they give the same points; only the vectors' width differs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Simd {
+    /// The target's baseline (SSE2 on x86-64).
+    Baseline,
+    /// AVX2: 256-bit vectors.
+    Avx2,
+    /// AVX-512F: 512-bit vectors.
+    Avx512,
 }
 
+impl Simd {
+    /// The widest path this CPU runs.
+    pub fn detect() -> Simd {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
+            }
+            if std::is_x86_feature_detected!("avx2") {
+                return Simd::Avx2;
+            }
+        }
+        Simd::Baseline
+    }
+
+    /// Every path this CPU runs, narrowest first.
+    pub fn available() -> Vec<Simd> {
+        let best = Simd::detect();
+        [Simd::Baseline, Simd::Avx2, Simd::Avx512]
+            .into_iter()
+            .filter(|&s| s <= best)
+            .collect()
+    }
+
+    /// Its name: `avx512`, `avx2` or `baseline`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Simd::Baseline => "baseline",
+            Simd::Avx2 => "avx2",
+            Simd::Avx512 => "avx512",
+        }
+    }
+}
+
+/// The instruction set the patch kernels run with on this CPU by default ([`Simd::detect`]).
+pub fn simd_path() -> &'static str {
+    Simd::detect().name()
+}
+
+/// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
 fn grown<T: Real>(v: &mut Vec<T>, n: usize) -> &mut [T] {
     if v.len() < n {
         v.resize(n, T::default());
@@ -670,12 +716,11 @@ struct Passes<T> {
     row: Vec<T>,
 }
 
-/// Scratch buffers of one worker: a block's patches at the current and the next level, and
-/// the passes' buffers. Buffers only grow, so a worker touches fresh pages only once.
+/// Scratch buffers of one worker: an ordinary face's, and a fan patch's passes' buffers. Buffers only grow, so a worker touches fresh pages only once.
 #[derive(Default)]
 struct Scratch<T> {
-    ext: Vec<T>,
-    next: Vec<T>,
+    /// An ordinary face's start patch and its rows ([`Composed::scratch_len`]).
+    face: Vec<T>,
     p: Passes<T>,
 }
 
@@ -861,6 +906,10 @@ pub struct Refiner<'s, S, T> {
     first: usize,
     /// One plan per depth-first step.
     plans: Vec<Plan>,
+    /// The plans composed, for the ordinary faces (none without depth-first steps).
+    composed: Option<Composed<T>>,
+    /// The instruction set the kernels run with.
+    simd: Simd,
     alphas: Vec<f64>,
     /// Numbering of the start level (after the reference steps) and of the output.
     start_num: Numbering,
@@ -1010,6 +1059,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
+        let matrix = composed::compose(
+            m.side,
+            plans
+                .iter()
+                .map(|p| p.rows.iter().map(|r| &p.parents[r.clone()]).collect()),
+        );
+        let composed = (!plans.is_empty()).then(|| Composed::new(m.side, &matrix));
         let mut fan_slot = vec![u32::MAX; nf];
         for (i, &f) in fan_faces.iter().enumerate() {
             fan_slot[f as usize] = i as u32;
@@ -1019,6 +1075,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             base,
             first,
             plans,
+            composed,
+            simd: Simd::detect(),
             alphas,
             start_num,
             out_num,
@@ -1048,6 +1106,21 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// The output does not depend on it.
     pub fn set_strip_bytes(&mut self, bytes: usize) {
         self.strip_bytes = bytes;
+    }
+
+    /// Runs the kernels with `simd`, or the widest path this CPU has below it; returns the
+    /// path set. Every path gives the same points ([`Simd`]).
+    pub fn set_simd(&mut self, simd: Simd) -> Simd {
+        self.simd = simd.min(Simd::detect());
+        for plan in &mut self.plans {
+            plan.simd = self.simd;
+        }
+        self.simd
+    }
+
+    /// The instruction set the kernels run with ([`Refiner::set_simd`]).
+    pub fn simd(&self) -> Simd {
+        self.simd
     }
 
     /// Steps run by the reference driver before the depth-first ones (see the module docs).
@@ -1173,69 +1246,88 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         Ok(&self.output)
     }
 
-    /// Every step of the ordinary faces, depth first, in blocks per worker; the last level is
-    /// scattered into the output.
+    /// Every step of the ordinary faces at once ([`composed`]), each worker a run of faces.
+    /// Faces are taken in order, and each owns its interior and the edges it meets first
+    /// (`Numbering`), so a worker's interiors and its edges are two ascending runs of the
+    /// output, written in whole lines ([`Stream`]); corners are written as they come.
     fn ordinary_faces(&mut self) {
+        let Some(composed) = &self.composed else {
+            return;
+        };
+        let streaming = self.output.len() * size_of::<[T; 3]>() >= STREAM_BYTES;
         let out = SharedOut::new(&mut self.output);
-        let (out, plans, start) = (&out, &self.plans, &self.start);
-        let out_num = &self.out_num;
-        let bs = block_size(out_num.n);
-        let (n0, first) = (self.start_num.n, self.first);
+        let (out, start, simd) = (&out, &self.start, self.simd);
+        let num = &self.out_num;
+        let (n0, first, n) = (self.start_num.n, self.first, num.n as usize);
         let m = (n0 + 3) as usize;
+        let k = n - 1;
         let table = &self.start_gather;
         let base = &self.base;
         let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
         let work = self.ordinary.chunks(chunk).zip(&mut self.scratch);
         let times = in_threads(work, |(faces, scratch)| {
-            let mut times = vec![0.0; plans.len()];
-            for block in faces.chunks(bs) {
-                let mut clock = Instant::now();
-                let k = block.len();
-                if scratch.ext.len() < m * k * m * 3 {
-                    scratch.ext.resize(m * k * m * 3, T::default());
-                }
-                for (fi, &f) in block.iter().enumerate() {
-                    let t = &table[f as usize * m * m..][..m * m];
-                    let layout = ring_layout(n0, k, true);
-                    load(t, start, layout, fi, &mut scratch.ext);
-                    base.load_phantoms((f, n0, first), layout, fi, &mut scratch.ext);
-                }
-                for (plan, time) in plans.iter().zip(&mut times) {
-                    let (ext, next) = (&scratch.ext, &mut scratch.next);
-                    plan.step_interleaved(k, ext, &mut scratch.p, next);
-                    std::mem::swap(&mut scratch.ext, &mut scratch.next);
-                    *time += lap(&mut clock);
-                }
-                let layout = Layout {
-                    side: out_num.n as usize + 1,
-                    k,
-                    ring: 0,
-                    a_is_x: true,
+            let clock = Instant::now();
+            let buf = grown(&mut scratch.face, composed.scratch_len());
+            let edges = grown(&mut scratch.p.row, 4 * k * 3);
+            // SAFETY: the interior points and the points of the edges of these faces are written
+            // by this worker only.
+            let (mut interiors, mut runs) = unsafe {
+                let at = out.ptr.cast::<T>();
+                (
+                    Stream::new(at, out.len * 3, streaming),
+                    Stream::new(at, out.len * 3, streaming),
+                )
+            };
+            let layout = ring_layout(n0, 1, false);
+            for &f in faces {
+                let f = f as usize;
+                load(&table[f * m * m..][..m * m], start, layout, 0, buf);
+                base.load_phantoms((f as u32, n0, first), layout, 0, buf);
+                let inner = num.index(f, 1, 1).0 * 3;
+                let owned = num.edges[f];
+                // Point t = 1..N−1 of edge l, where its run holds it.
+                let mut put = |l: usize, t: usize, p: &[T]| {
+                    let (_, forward, owner) = owned[l];
+                    if owner {
+                        let i = (l * k + along_edge(t as i64, n as i64, forward)) * 3;
+                        edges[i..i + 3].copy_from_slice(p);
+                    }
                 };
-                for (j, &f) in block.iter().enumerate() {
-                    let point = |x, y| {
-                        let i = layout.at(j, x, y);
-                        [scratch.ext[i], scratch.ext[i + 1], scratch.ext[i + 2]]
-                    };
-                    scatter_rect(
-                        out_num,
-                        f as usize,
-                        0..=out_num.n,
-                        0..=out_num.n,
-                        point,
-                        out,
-                    );
-                }
-                if let Some(last) = times.last_mut() {
-                    *last += lap(&mut clock);
+                composed.refine(simd, buf, |y, row| {
+                    let p = |x: usize| &row[x * 3..x * 3 + 3];
+                    if y > 0 && y < n {
+                        // SAFETY: face f's interior is written by face f only.
+                        unsafe { interiors.run(inner + (y - 1) * k * 3, &row[3..3 * n]) };
+                        put(1, y, p(n));
+                        put(3, n - y, p(0));
+                        return;
+                    }
+                    let (l, corners) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
+                    for x in 1..n {
+                        put(l, if y == 0 { x } else { n - x }, p(x));
+                    }
+                    for (c, x) in corners.into_iter().zip([0, n]) {
+                        if num.corners[f][c] {
+                            let q = p(x);
+                            // SAFETY: face f is the only writer of a corner it owns.
+                            unsafe { out.write(num.vertex[f][c] as usize, &[q[0], q[1], q[2]]) };
+                        }
+                    }
+                });
+                for (l, &(e, _, owner)) in owned.iter().enumerate() {
+                    if owner {
+                        let at = (num.nv + e as usize * k) * 3;
+                        // SAFETY: face f is the only writer of the points of an edge it owns.
+                        unsafe { runs.run(at, &edges[l * k * 3..(l + 1) * k * 3]) };
+                    }
                 }
             }
-            times
+            interiors.finish();
+            runs.finish();
+            clock.elapsed().as_secs_f64()
         });
-        for t in times {
-            for (level, x) in self.level_seconds.iter_mut().zip(t) {
-                *level += x;
-            }
+        if let Some(last) = self.level_seconds.last_mut() {
+            *last += times.iter().sum::<f64>();
         }
     }
 
@@ -1401,6 +1493,23 @@ fn scatter_rect<T: Real>(
             unsafe { out.write(row + (x - 1) as usize, &point(x, y)) };
         }
     }
+    scatter_border(num, f, &xs, &ys, point, out);
+}
+
+/// The part of [`scatter_rect`] on the border of face f: points of owned edges, owned corners.
+#[inline(always)]
+fn scatter_border<T: Real>(
+    num: &Numbering,
+    f: usize,
+    xs: &std::ops::RangeInclusive<i64>,
+    ys: &std::ops::RangeInclusive<i64>,
+    point: impl Fn(i64, i64) -> [T; 3],
+    out: &SharedOut<T>,
+) {
+    let n = num.n;
+    let k = (n - 1) as usize;
+    let inner = |r: &std::ops::RangeInclusive<i64>| (*r.start()).max(1)..(*r.end()).min(n - 1) + 1;
+    let (ix, iy) = (inner(xs), inner(ys));
     for (l, &(dx, dy)) in TOWARD_NEXT.iter().enumerate() {
         let (e, forward, owner) = num.edges[f][l];
         let (cx, cy) = corner_at(l as u8, n, n);
@@ -2075,10 +2184,12 @@ fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// `dst` in `layout`.
 fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, fi: usize, dst: &mut [T]) {
     let m = layout.side;
-    for (j, &i) in table.iter().enumerate() {
-        let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
-        let d = layout.at(fi, (j / m) as i64 - 1, (j % m) as i64 - 1);
-        dst[d..d + 3].copy_from_slice(&p);
+    for (x, column) in table.chunks_exact(m).enumerate() {
+        for (y, &i) in column.iter().enumerate() {
+            let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
+            let d = layout.at(fi, x as i64 - 1, y as i64 - 1);
+            dst[d..d + 3].copy_from_slice(&p);
+        }
     }
 }
 
@@ -2205,11 +2316,4 @@ fn ev_child<T: Real>(
         level.point(w.face, x, y).map(|c| c.to_f64())
     });
     child.map(T::from_f64)
-}
-
-/// Patches per block: enough to make slabs long, few enough that the last level of the block
-/// (side N'+1, its parents with their ring) stays in cache.
-fn block_size(n: i64) -> usize {
-    let m = (n + 3) as usize;
-    (8192 / (m * m)).clamp(1, 256)
 }

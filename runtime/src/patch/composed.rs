@@ -1,0 +1,207 @@
+//! Composed patches: every depth-first step of an ordinary face at once.
+//!
+//! The steps of a face whose corners are all ordinary apply the same 1D plans along both axes
+//! (every face's rows and columns are labelled by the same W_s, \[G\] Cor. 4.4), and a step
+//! refines the patch's ring with it. So the s plans compose into one matrix M = P_s ⋯ P_1
+//! from the start row with its ring (side m = N₀ + 3) to the final points 0..=N', and the
+//! face's final patch is the tensor product M · P · Mᵀ of its start patch P (\[G\] §2.2: the
+//! bivariate scheme is the tensor product of the univariate one on regular regions). Phantoms
+//! are set in P once: refining keeps them phantoms. M is multiplied out in f64 from the emitted
+//! masks; rows are banded (at most d + 1 start points reach a final point, Boehm's knot
+//! insertion), and every row sums to 1 to rounding, as the masks do.
+//!
+//! The kernel is two passes of broadcast weights and per-lane weights over rows of points
+//! kept interleaved (x y z x y z …), so that a refined row comes out in the output's order:
+//! - along x, each start row i: `A[i][v] = Σ_j Mx[j][v] · P[i][j][c(v)]`, v = 3x' + c, with
+//!   the weights of column j laid out per value (`Mx[j][v] = M[x'][j]`) and the point P[i][j]
+//!   repeated in the lanes' coordinate pattern;
+//! - along y, each final row y': `Q[y'] = Σ_i M[y'][i] · A[i]`, a sum of whole rows.
+//!
+//! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
+//! is compiled for AVX-512, AVX2 and the baseline, chosen at run time ([`Simd`]). The
+//! operations and their order are the same on every path (no fused multiply-add), so every
+//! path gives the same bits.
+
+use super::Simd;
+use crate::real::Real;
+
+/// The composed 1D matrix of a chunk of depth-first steps, laid out for the kernel.
+pub(super) struct Composed<T> {
+    /// Start side with its ring, N₀ + 3.
+    m: usize,
+    /// Values of a refined row, padded to whole tiles.
+    width: usize,
+    /// Per final point y' = 0..=N': its first start point.
+    first: Vec<usize>,
+    /// Per final point: its weights on the `band` start points from its first (zero-padded).
+    weights: Vec<T>,
+    band: usize,
+    /// Per start point j: `width` weights, M[x'][j] at every value v = 3x' + c.
+    columns: Vec<T>,
+    /// Per start point j: the values v its column reaches (nonzero weights).
+    reach: Vec<std::ops::Range<usize>>,
+}
+
+/// Values the kernel sums at once: its independent accumulators (four AVX-512 vectors of f64,
+/// eight AVX2 ones), so that the sums' latency overlaps.
+const TILE: usize = 32;
+
+impl<T: Real> Composed<T> {
+    /// Lays out M (rows 0..=N', each `m` weights).
+    pub(super) fn new(m: usize, matrix: &[Vec<f64>]) -> Composed<T> {
+        let values = matrix.len() * 3;
+        let width = values.div_ceil(TILE) * TILE;
+        let mut columns = vec![T::default(); m * width];
+        let mut reach = vec![0..0; m];
+        for (j, reach) in reach.iter_mut().enumerate() {
+            let col = &mut columns[j * width..][..width];
+            let mut vs = (0..values).filter(|&v| matrix[v / 3][j] != 0.0);
+            let first = vs.next().unwrap_or(0);
+            let last = vs.last().unwrap_or(first);
+            for (v, w) in col.iter_mut().enumerate().take(values) {
+                *w = T::from_f64(matrix[v / 3][j]);
+            }
+            *reach = first..last + 1;
+        }
+        // Each row's nonzero weights, as a band of one width starting where the row's do (or
+        // earlier, at the end of the start row).
+        let span = |r: &Vec<f64>| {
+            let lo = r.iter().position(|&w| w != 0.0).unwrap_or(0);
+            let hi = r.iter().rposition(|&w| w != 0.0).map_or(lo, |h| h + 1);
+            (lo, hi)
+        };
+        let band = matrix.iter().map(|r| span(r).1 - span(r).0).max().unwrap_or(0);
+        let first: Vec<usize> = matrix.iter().map(|r| span(r).0.min(m - band)).collect();
+        let weights = matrix
+            .iter()
+            .zip(&first)
+            .flat_map(|(r, &lo)| r[lo..lo + band].iter().map(|&w| T::from_f64(w)))
+            .collect();
+        Composed {
+            m,
+            width,
+            first,
+            weights,
+            band,
+            columns,
+            reach,
+        }
+    }
+
+    /// Scratch values one face needs: the start patch, the rows refined along x, one row.
+    pub(super) fn scratch_len(&self) -> usize {
+        self.m * self.m * 3 + (self.m + 1) * self.width
+    }
+
+    /// Refines the start patch at the front of `scratch` (rows y = −1..=N₀+1 of m points
+    /// each, interleaved) and hands every final row y' = 0..=N', interleaved, to `each`,
+    /// with the vectors of `simd`.
+    #[inline(always)]
+    pub(super) fn refine(&self, simd: Simd, scratch: &mut [T], each: impl FnMut(usize, &[T])) {
+        match simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `Simd::Avx512` is only handed out where the CPU has AVX-512F.
+            Simd::Avx512 => unsafe { self.refine_avx512(scratch, each) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `Simd::Avx2` is only handed out where the CPU has AVX2.
+            Simd::Avx2 => unsafe { self.refine_avx2(scratch, each) },
+            _ => self.refine_any(scratch, each),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn refine_avx512(&self, scratch: &mut [T], each: impl FnMut(usize, &[T])) {
+        self.refine_any(scratch, each);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn refine_avx2(&self, scratch: &mut [T], each: impl FnMut(usize, &[T])) {
+        self.refine_any(scratch, each);
+    }
+
+    #[inline(always)]
+    fn refine_any(&self, scratch: &mut [T], mut each: impl FnMut(usize, &[T])) {
+        let (m, width, band) = (self.m, self.width, self.band);
+        let (p, rest) = scratch.split_at_mut(m * m * 3);
+        let (a, row) = rest.split_at_mut(m * width);
+        let row = &mut row[..width];
+        // Along x: each start row into a refined row of N' + 1 points.
+        for (pi, ai) in p.chunks_exact(m * 3).zip(a.chunks_exact_mut(width)) {
+            for (q, out) in ai.chunks_exact_mut(TILE).enumerate() {
+                let v0 = q * TILE;
+                let mut acc = [T::default(); TILE];
+                for (j, reach) in self.reach.iter().enumerate() {
+                    if reach.end <= v0 || v0 + TILE <= reach.start {
+                        continue;
+                    }
+                    let w = tile(&self.columns[j * width + v0..]);
+                    let r = repeated(&pi[j * 3..j * 3 + 3], v0 % 3);
+                    for l in 0..TILE {
+                        acc[l] += w[l] * r[l];
+                    }
+                }
+                out.copy_from_slice(&acc);
+            }
+        }
+        // Along y: each final row, a sum of whole refined rows.
+        for (y, (&lo, ws)) in self.first.iter().zip(self.weights.chunks_exact(band)).enumerate() {
+            let a = &a[lo * width..];
+            for (q, out) in row.chunks_exact_mut(TILE).enumerate() {
+                let mut acc = [T::default(); TILE];
+                for (i, &w) in ws.iter().enumerate() {
+                    let s = tile(&a[i * width + q * TILE..]);
+                    for l in 0..TILE {
+                        acc[l] += w * s[l];
+                    }
+                }
+                out.copy_from_slice(&acc);
+            }
+            each(y, row);
+        }
+    }
+}
+
+/// The first values of `s` as a tile.
+#[inline(always)]
+fn tile<T>(s: &[T]) -> &[T; TILE] {
+    s[..TILE].try_into().expect("a whole tile")
+}
+
+/// Point `p` (x, y, z) repeated over a tile whose first value is coordinate `phase`.
+#[inline(always)]
+fn repeated<T: Real>(p: &[T], phase: usize) -> [T; TILE] {
+    let p: [T; 3] = p.try_into().expect("three coordinates");
+    match phase {
+        0 => std::array::from_fn(|l| p[l % 3]),
+        1 => std::array::from_fn(|l| p[(l + 1) % 3]),
+        _ => std::array::from_fn(|l| p[(l + 2) % 3]),
+    }
+}
+
+/// The product of the plans' matrices, from the start row with its ring to the final points:
+/// `matrix[x'][j]`. Each plan is given as its rows of (old point, weight).
+pub(super) fn compose<'a>(
+    m: usize,
+    plans: impl IntoIterator<Item = Vec<&'a [(usize, f64)]>>,
+) -> Vec<Vec<f64>> {
+    let mut cur: Vec<Vec<f64>> = (0..m)
+        .map(|i| (0..m).map(|j| f64::from(u8::from(i == j))).collect())
+        .collect();
+    for plan in plans {
+        cur = plan
+            .iter()
+            .map(|parents| {
+                let mut row = vec![0.0; m];
+                for &(x, w) in *parents {
+                    for (r, c) in row.iter_mut().zip(&cur[x]) {
+                        *r += w * c;
+                    }
+                }
+                row
+            })
+            .collect();
+    }
+    cur
+}

@@ -1,0 +1,142 @@
+//! Writing runs of the output in whole cache lines.
+//!
+//! A worker writes its faces' interior points in one long ascending run (consecutive faces
+//! own consecutive interiors, row by row: `Numbering`). `Stream` holds the part of a 64-byte
+//! line not yet complete and writes each line the run fills whole with a non-temporal store
+//! (past the caches, without reading the line first); lines the run only partly covers are
+//! written with plain stores, so no byte outside the run is touched. Non-temporal stores pay
+//! only when the output is far larger than the caches: below [`STREAM_BYTES`] every line is a
+//! plain store.
+
+use std::marker::PhantomData;
+
+/// Output size from which whole lines are written non-temporally.
+pub(super) const STREAM_BYTES: usize = 32 << 20;
+
+const LINE: usize = 64;
+
+/// Writes runs of values into a buffer that several workers share at disjoint indices.
+pub(super) struct Stream<'a, T> {
+    base: *mut T,
+    len: usize,
+    /// Index after the last value handed.
+    next: usize,
+    /// The values handed that end at `next`, not yet written: all in the line of `next − 1`
+    /// (a line holds at most 16 values of a 4-byte scalar).
+    held: [T; 16],
+    count: usize,
+    streaming: bool,
+    out: PhantomData<&'a mut [T]>,
+}
+
+impl<'a, T: Copy + Default> Stream<'a, T> {
+    /// A writer into `len` values at `base` (non-temporal where `streaming`).
+    ///
+    /// # Safety
+    /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
+    /// this writer is handed until [`Stream::finish`].
+    pub(super) unsafe fn new(base: *mut T, len: usize, streaming: bool) -> Stream<'a, T> {
+        Stream {
+            base,
+            len,
+            next: 0,
+            held: [T::default(); 16],
+            count: 0,
+            streaming,
+            out: PhantomData,
+        }
+    }
+
+    /// Values per line.
+    fn per_line() -> usize {
+        LINE / size_of::<T>()
+    }
+
+    /// Position of index i in its line.
+    fn in_line(&self, i: usize) -> usize {
+        (self.base as usize + i * size_of::<T>()) % LINE / size_of::<T>()
+    }
+
+    /// Hands `values` for the indices `at..`.
+    ///
+    /// # Safety
+    /// The indices are this writer's (see [`Stream::new`]).
+    #[inline(always)]
+    pub(super) unsafe fn run(&mut self, at: usize, mut values: &[T]) {
+        assert!(at + values.len() <= self.len, "output index in range");
+        let per = Self::per_line();
+        if at != self.next {
+            // SAFETY: the held values are this writer's (the function's contract).
+            unsafe { self.flush() };
+            self.next = at;
+        }
+        while !values.is_empty() {
+            let off = self.in_line(self.next);
+            if self.count == 0 && off == 0 && values.len() >= per {
+                // SAFETY: a whole line of this writer's indices, aligned.
+                unsafe { self.line(self.next, values) };
+                self.next += per;
+                values = &values[per..];
+                continue;
+            }
+            let take = (per - off).min(values.len());
+            self.held[self.count..self.count + take].copy_from_slice(&values[..take]);
+            self.count += take;
+            self.next += take;
+            values = &values[take..];
+            if off + take == per {
+                if self.count == per {
+                    let line = self.held;
+                    // SAFETY: as above; the line's values were all handed.
+                    unsafe { self.line(self.next - per, &line) };
+                    self.count = 0;
+                } else {
+                    // SAFETY: the held values are this writer's.
+                    unsafe { self.flush() };
+                }
+            }
+        }
+    }
+
+    /// Writes the held values with plain stores.
+    unsafe fn flush(&mut self) {
+        let at = self.next - self.count;
+        for (i, v) in self.held[..self.count].iter().enumerate() {
+            // SAFETY: in range (checked when handed) and this writer's.
+            unsafe { self.base.add(at + i).write(*v) };
+        }
+        self.count = 0;
+    }
+
+    /// Writes one whole aligned line at index `at` from the first values of `values`.
+    #[inline(always)]
+    unsafe fn line(&mut self, at: usize, values: &[T]) {
+        let per = Self::per_line();
+        // SAFETY: `at..at + per` is in range and this writer's (the caller's contract), and the
+        // line is aligned to 64 bytes, so every 16 bytes of it are aligned.
+        unsafe {
+            let dst = self.base.add(at);
+            #[cfg(target_arch = "x86_64")]
+            if self.streaming {
+                use std::arch::x86_64::{__m128i, _mm_loadu_si128, _mm_stream_si128};
+                let (d, s) = (dst.cast::<__m128i>(), values.as_ptr().cast::<__m128i>());
+                for k in 0..LINE / 16 {
+                    _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
+                }
+                return;
+            }
+            std::ptr::copy_nonoverlapping(values.as_ptr(), dst, per);
+        }
+    }
+
+    /// Writes what is held, and orders the non-temporal stores before anything that follows.
+    pub(super) fn finish(mut self) {
+        // SAFETY: the held values are this writer's.
+        unsafe { self.flush() };
+        #[cfg(target_arch = "x86_64")]
+        if self.streaming {
+            // SAFETY: SSE2 is part of x86-64.
+            unsafe { std::arch::x86_64::_mm_sfence() };
+        }
+    }
+}
