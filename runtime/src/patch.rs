@@ -928,6 +928,8 @@ pub struct Refiner<'s, S, T> {
     threads: usize,
     /// Scratch per strip of a large patch's step ([`Refiner::set_strip_bytes`]).
     strip_bytes: usize,
+    /// Output size from which whole lines go out non-temporally ([`Refiner::set_stream_bytes`]).
+    stream_bytes: usize,
     start: Vec<[T; 3]>,
     output: Vec<[T; 3]>,
     /// The fans' patches at the current and the next level.
@@ -1087,6 +1089,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             fan_slot,
             threads: threads.max(1),
             strip_bytes: STRIP_BYTES,
+            stream_bytes: STREAM_BYTES,
             start: Vec::new(),
             output: Vec::new(),
             fans: [Vec::new(), Vec::new()],
@@ -1106,6 +1109,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// The output does not depend on it.
     pub fn set_strip_bytes(&mut self, bytes: usize) {
         self.strip_bytes = bytes;
+    }
+
+    /// Output size in bytes from which the ordinary faces write whole cache lines with
+    /// non-temporal stores (default 32 MiB: far larger than the caches, where reading a line
+    /// before writing it costs as much as writing it). The output does not depend on it.
+    pub fn set_stream_bytes(&mut self, bytes: usize) {
+        self.stream_bytes = bytes;
     }
 
     /// Runs the kernels with `simd`, or the widest path this CPU has below it; returns the
@@ -1254,7 +1264,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let Some(composed) = &self.composed else {
             return;
         };
-        let streaming = self.output.len() * size_of::<[T; 3]>() >= STREAM_BYTES;
+        let streaming = self.output.len() * size_of::<[T; 3]>() >= self.stream_bytes;
         let out = SharedOut::new(&mut self.output);
         let (out, start, simd) = (&out, &self.start, self.simd);
         let num = &self.out_num;

@@ -70,7 +70,11 @@ impl<T: Real> Composed<T> {
             let hi = r.iter().rposition(|&w| w != 0.0).map_or(lo, |h| h + 1);
             (lo, hi)
         };
-        let band = matrix.iter().map(|r| span(r).1 - span(r).0).max().unwrap_or(0);
+        let band = matrix
+            .iter()
+            .map(|r| span(r).1 - span(r).0)
+            .max()
+            .unwrap_or(0);
         let first: Vec<usize> = matrix.iter().map(|r| span(r).0.min(m - band)).collect();
         let weights = matrix
             .iter()
@@ -146,7 +150,12 @@ impl<T: Real> Composed<T> {
             }
         }
         // Along y: each final row, a sum of whole refined rows.
-        for (y, (&lo, ws)) in self.first.iter().zip(self.weights.chunks_exact(band)).enumerate() {
+        for (y, (&lo, ws)) in self
+            .first
+            .iter()
+            .zip(self.weights.chunks_exact(band))
+            .enumerate()
+        {
             let a = &a[lo * width..];
             for (q, out) in row.chunks_exact_mut(TILE).enumerate() {
                 let mut acc = [T::default(); TILE];
