@@ -54,7 +54,7 @@ use std::time::Instant;
 mod composed;
 mod limit;
 mod stream;
-use composed::Composed;
+use composed::{Composed, Faces};
 pub use limit::{limit_available, SurfaceLimit};
 use stream::{Stream, STREAM_BYTES};
 
@@ -293,20 +293,24 @@ impl Plan {
     }
 }
 
+/// Values of an ordinary face's interior staged before they are written (64 KiB of f64).
+const STAGE: usize = 8192;
+
 /// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]): half
 /// the L2 cache of this machine's cores.
 const STRIP_BYTES: usize = 512 << 10;
 
 /// The instruction sets the patch kernels are compiled for, chosen at run time
-/// (`is_x86_feature_detected!`). Every path runs the same operations in the same order, so
-/// they give the same points; only the vectors' width differs.
+/// (`is_x86_feature_detected!`). Every path runs the same operations in the same order; the
+/// composed patches' sums ([`composed`]) are fused multiply-adds on AVX2 and AVX-512, so those
+/// two give the same bits and differ from the baseline by rounding only (≤ 1e-14 relative).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Simd {
     /// The target's baseline (SSE2 on x86-64).
     Baseline,
-    /// AVX2: 256-bit vectors.
+    /// AVX2 and FMA: 256-bit vectors.
     Avx2,
-    /// AVX-512F: 512-bit vectors.
+    /// AVX-512F (with FMA): 512-bit vectors.
     Avx512,
 }
 
@@ -318,7 +322,7 @@ impl Simd {
             if std::is_x86_feature_detected!("avx512f") {
                 return Simd::Avx512;
             }
-            if std::is_x86_feature_detected!("avx2") {
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
                 return Simd::Avx2;
             }
         }
@@ -721,6 +725,9 @@ struct Passes<T> {
 struct Scratch<T> {
     /// An ordinary face's start patch and its rows ([`Composed::scratch_len`]).
     face: Vec<T>,
+    /// An ordinary face's interior rows, staged, and its edges' points.
+    interior: Vec<T>,
+    edges: Vec<T>,
     p: Passes<T>,
 }
 
@@ -1269,7 +1276,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let (out, start, simd) = (&out, &self.start, self.simd);
         let num = &self.out_num;
         let (n0, first, n) = (self.start_num.n, self.first, num.n as usize);
-        let m = (n0 + 3) as usize;
         let k = n - 1;
         let table = &self.start_gather;
         let base = &self.base;
@@ -1278,62 +1284,36 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let times = in_threads(work, |(faces, scratch)| {
             let clock = Instant::now();
             let buf = grown(&mut scratch.face, composed.scratch_len());
-            let edges = grown(&mut scratch.p.row, 4 * k * 3);
+            let rows = (STAGE / (k * 3)).clamp(1, k.max(1));
             // SAFETY: the interior points and the points of the edges of these faces are written
             // by this worker only.
-            let (mut interiors, mut runs) = unsafe {
+            let (interiors, edges) = unsafe {
                 let at = out.ptr.cast::<T>();
                 (
                     Stream::new(at, out.len * 3, streaming),
                     Stream::new(at, out.len * 3, streaming),
                 )
             };
-            let layout = ring_layout(n0, 1, false);
-            for &f in faces {
-                let f = f as usize;
-                load(&table[f * m * m..][..m * m], start, layout, 0, buf);
-                base.load_phantoms((f as u32, n0, first), layout, 0, buf);
-                let inner = num.index(f, 1, 1).0 * 3;
-                let owned = num.edges[f];
-                // Point t = 1..N−1 of edge l, where its run holds it.
-                let mut put = |l: usize, t: usize, p: &[T]| {
-                    let (_, forward, owner) = owned[l];
-                    if owner {
-                        let i = (l * k + along_edge(t as i64, n as i64, forward)) * 3;
-                        edges[i..i + 3].copy_from_slice(p);
-                    }
-                };
-                composed.refine(simd, buf, |y, row| {
-                    let p = |x: usize| &row[x * 3..x * 3 + 3];
-                    if y > 0 && y < n {
-                        // SAFETY: face f's interior is written by face f only.
-                        unsafe { interiors.run(inner + (y - 1) * k * 3, &row[3..3 * n]) };
-                        put(1, y, p(n));
-                        put(3, n - y, p(0));
-                        return;
-                    }
-                    let (l, corners) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
-                    for x in 1..n {
-                        put(l, if y == 0 { x } else { n - x }, p(x));
-                    }
-                    for (c, x) in corners.into_iter().zip([0, n]) {
-                        if num.corners[f][c] {
-                            let q = p(x);
-                            // SAFETY: face f is the only writer of a corner it owns.
-                            unsafe { out.write(num.vertex[f][c] as usize, &[q[0], q[1], q[2]]) };
-                        }
-                    }
-                });
-                for (l, &(e, _, owner)) in owned.iter().enumerate() {
-                    if owner {
-                        let at = (num.nv + e as usize * k) * 3;
-                        // SAFETY: face f is the only writer of the points of an edge it owns.
-                        unsafe { runs.run(at, &edges[l * k * 3..(l + 1) * k * 3]) };
-                    }
-                }
-            }
-            interiors.finish();
-            runs.finish();
+            let mut w = Ordinary {
+                faces,
+                table,
+                start,
+                base,
+                num,
+                out,
+                layout: ring_layout(n0, 1, false),
+                first,
+                f: 0,
+                rows,
+                stage: grown(&mut scratch.interior, rows * k * 3),
+                y0: 1,
+                points: grown(&mut scratch.edges, 4 * k * 3),
+                interiors,
+                edges,
+            };
+            composed.run(simd, buf, &mut w);
+            w.interiors.finish();
+            w.edges.finish();
             clock.elapsed().as_secs_f64()
         });
         if let Some(last) = self.level_seconds.last_mut() {
@@ -1478,6 +1458,114 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             }
         }
         faces
+    }
+}
+
+/// A worker's run of ordinary faces for [`Composed::run`]: where their start patches are and
+/// where their points go. Each face owns its interior and the edges it meets first
+/// (`Numbering`), and faces are taken in order, so a worker's interiors and its edges are two
+/// ascending runs of the output ([`Stream`]); corners are written as they come.
+struct Ordinary<'a, 'w, T> {
+    faces: &'a [u32],
+    table: &'a [u32],
+    start: &'a [[T; 3]],
+    base: &'a Base<'a>,
+    num: &'a Numbering,
+    out: &'a SharedOut<T>,
+    layout: Layout,
+    /// The start step (for the phantoms).
+    first: usize,
+    /// The face loaded last.
+    f: usize,
+    /// Interior rows y0.. of face f, staged (at most `rows`), and its edges' points, each
+    /// edge's in the order of its run.
+    rows: usize,
+    stage: &'w mut [T],
+    y0: usize,
+    points: &'w mut [T],
+    interiors: Stream<'a, T>,
+    edges: Stream<'a, T>,
+}
+
+impl<T: Real> Ordinary<'_, '_, T> {
+    /// Point t = 1..N−1 of local edge l of face f, kept where its run holds it (if f owns the
+    /// edge).
+    #[inline(always)]
+    fn put(&mut self, l: usize, t: usize, p: &[T]) {
+        let (_, forward, owner) = self.num.edges[self.f][l];
+        if owner {
+            let (n, k) = (self.num.n, self.num.n as usize - 1);
+            let i = (l * k + along_edge(t as i64, n, forward)) * 3;
+            self.points[i..i + 3].copy_from_slice(&p[..3]);
+        }
+    }
+
+    /// Writes the staged interior rows y0..y of face f.
+    #[inline(always)]
+    fn write_rows(&mut self, y: usize) {
+        let k = self.num.n as usize - 1;
+        let at = (self.num.index(self.f, 1, 1).0 + (self.y0 - 1) * k) * 3;
+        // SAFETY: face f's interior is written by face f only.
+        unsafe { self.interiors.run(at, &self.stage[..(y - self.y0) * k * 3]) };
+        self.y0 = y;
+    }
+}
+
+impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
+    fn count(&self) -> usize {
+        self.faces.len()
+    }
+
+    #[inline(always)]
+    fn load(&mut self, i: usize, patch: &mut [T]) {
+        let f = self.faces[i];
+        let m = self.layout.side;
+        load(&self.table[f as usize * m * m..][..m * m], self.start, self.layout, 0, patch);
+        let n0 = self.layout.side as i64 - 3;
+        self.base
+            .load_phantoms((f, n0, self.first), self.layout, 0, patch);
+        self.f = f as usize;
+        self.y0 = 1;
+    }
+
+    #[inline(always)]
+    fn row(&mut self, y: usize, row: &[T]) {
+        let n = self.num.n as usize;
+        let k = n - 1;
+        if y > 0 && y < n {
+            if y - self.y0 == self.rows {
+                self.write_rows(y);
+            }
+            stream::copy(&mut self.stage[(y - self.y0) * k * 3..][..k * 3], &row[3..3 * n]);
+            self.put(1, y, &row[3 * n..]);
+            self.put(3, n - y, row);
+            return;
+        }
+        let (l, corners) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
+        for x in 1..n {
+            self.put(l, if y == 0 { x } else { n - x }, &row[x * 3..]);
+        }
+        for (c, x) in corners.into_iter().zip([0, n]) {
+            if self.num.corners[self.f][c] {
+                let p = [row[x * 3], row[x * 3 + 1], row[x * 3 + 2]];
+                // SAFETY: face f is the only writer of a corner it owns.
+                unsafe { self.out.write(self.num.vertex[self.f][c] as usize, &p) };
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn done(&mut self) {
+        let n = self.num.n as usize;
+        self.write_rows(n);
+        let k = n - 1;
+        for (l, &(e, _, owner)) in self.num.edges[self.f].iter().enumerate() {
+            if owner {
+                let at = (self.num.nv + e as usize * k) * 3;
+                // SAFETY: face f is the only writer of the points of an edge it owns.
+                unsafe { self.edges.run(at, &self.points[l * k * 3..(l + 1) * k * 3]) };
+            }
+        }
     }
 }
 

@@ -22,6 +22,9 @@ pub trait Real:
     fn from_f64(x: f64) -> Self;
     /// Widening (or identity) conversion.
     fn to_f64(self) -> f64;
+    /// `self · a + b` with one rounding. Only where the CPU fuses it (the FMA paths of
+    /// `patch`): elsewhere it is a slow library call.
+    fn mul_add(self, a: Self, b: Self) -> Self;
 }
 
 impl Real for f64 {
@@ -33,6 +36,10 @@ impl Real for f64 {
     fn to_f64(self) -> f64 {
         self
     }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        f64::mul_add(self, a, b)
+    }
 }
 
 impl Real for f32 {
@@ -43,6 +50,10 @@ impl Real for f32 {
     #[inline(always)]
     fn to_f64(self) -> f64 {
         self as f64
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        f32::mul_add(self, a, b)
     }
 }
 

@@ -18,9 +18,10 @@
 //! - along y, each final row y': `Q[y'] = Σ_i M[y'][i] · A[i]`, a sum of whole rows.
 //!
 //! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
-//! is compiled for AVX-512, AVX2 and the baseline, chosen at run time ([`Simd`]). The
-//! operations and their order are the same on every path (no fused multiply-add), so every
-//! path gives the same bits.
+//! is compiled for AVX-512, AVX2 (both with fused multiply-add) and the baseline, chosen at
+//! run time ([`Simd`]). The operations and their order are the same on every path; the FMA
+//! paths round each product-and-sum once, so they differ from the baseline by rounding only
+//! (and AVX2 and AVX-512 give the same bits).
 
 use super::Simd;
 use crate::real::Real;
@@ -97,36 +98,49 @@ impl<T: Real> Composed<T> {
         self.m * self.m * 3 + (self.m + 1) * self.width
     }
 
-    /// Refines the start patch at the front of `scratch` (rows y = −1..=N₀+1 of m points
-    /// each, interleaved) and hands every final row y' = 0..=N', interleaved, to `each`,
-    /// with the vectors of `simd`.
+    /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
+    /// start patch is loaded by [`Faces::load`] (rows y = −1..=N₀+1 of m points each,
+    /// interleaved, at the front of `scratch`), and each final row y' = 0..=N' handed to
+    /// [`Faces::row`], interleaved. The whole loop, `faces`' methods inlined, is compiled for
+    /// the path.
     #[inline(always)]
-    pub(super) fn refine(&self, simd: Simd, scratch: &mut [T], each: impl FnMut(usize, &[T])) {
+    pub(super) fn run(&self, simd: Simd, scratch: &mut [T], faces: &mut impl Faces<T>) {
         match simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `Simd::Avx512` is only handed out where the CPU has AVX-512F.
-            Simd::Avx512 => unsafe { self.refine_avx512(scratch, each) },
+            Simd::Avx512 => unsafe { self.run_avx512(scratch, faces) },
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: `Simd::Avx2` is only handed out where the CPU has AVX2.
-            Simd::Avx2 => unsafe { self.refine_avx2(scratch, each) },
-            _ => self.refine_any(scratch, each),
+            // SAFETY: `Simd::Avx2` is only handed out where the CPU has AVX2 and FMA.
+            Simd::Avx2 => unsafe { self.run_avx2(scratch, faces) },
+            _ => self.run_any::<false>(scratch, faces),
         }
     }
 
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn refine_avx512(&self, scratch: &mut [T], each: impl FnMut(usize, &[T])) {
-        self.refine_any(scratch, each);
+    #[target_feature(enable = "avx512f,fma")]
+    unsafe fn run_avx512(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
+        self.run_any::<true>(scratch, faces);
     }
 
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn refine_avx2(&self, scratch: &mut [T], each: impl FnMut(usize, &[T])) {
-        self.refine_any(scratch, each);
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn run_avx2(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
+        self.run_any::<true>(scratch, faces);
     }
 
     #[inline(always)]
-    fn refine_any(&self, scratch: &mut [T], mut each: impl FnMut(usize, &[T])) {
+    fn run_any<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
+        for i in 0..faces.count() {
+            faces.load(i, &mut scratch[..self.m * self.m * 3]);
+            self.refine::<FUSED>(scratch, |y, row| faces.row(y, row));
+            faces.done();
+        }
+    }
+
+    /// One face: the start patch at the front of `scratch` to its final rows, handed to
+    /// `each`; `FUSED`: each product is added with one rounding (FMA).
+    #[inline(always)]
+    fn refine<const FUSED: bool>(&self, scratch: &mut [T], mut each: impl FnMut(usize, &[T])) {
         let (m, width, band) = (self.m, self.width, self.band);
         let (p, rest) = scratch.split_at_mut(m * m * 3);
         let (a, row) = rest.split_at_mut(m * width);
@@ -143,7 +157,7 @@ impl<T: Real> Composed<T> {
                     let w = tile(&self.columns[j * width + v0..]);
                     let r = repeated(&pi[j * 3..j * 3 + 3], v0 % 3);
                     for l in 0..TILE {
-                        acc[l] += w[l] * r[l];
+                        acc[l] = madd::<T, FUSED>(w[l], r[l], acc[l]);
                     }
                 }
                 out.copy_from_slice(&acc);
@@ -162,13 +176,35 @@ impl<T: Real> Composed<T> {
                 for (i, &w) in ws.iter().enumerate() {
                     let s = tile(&a[i * width + q * TILE..]);
                     for l in 0..TILE {
-                        acc[l] += w * s[l];
+                        acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
                     }
                 }
                 out.copy_from_slice(&acc);
             }
             each(y, row);
         }
+    }
+}
+
+/// The faces [`Composed::run`] refines, and where their points go.
+pub(super) trait Faces<T> {
+    /// How many.
+    fn count(&self) -> usize;
+    /// Loads the i-th face's start patch.
+    fn load(&mut self, i: usize, patch: &mut [T]);
+    /// Takes final row y of the face loaded last.
+    fn row(&mut self, y: usize, row: &[T]);
+    /// After the last row of a face.
+    fn done(&mut self);
+}
+
+/// `a · b + c`, rounded once if `FUSED`.
+#[inline(always)]
+fn madd<T: Real, const FUSED: bool>(a: T, b: T, c: T) -> T {
+    if FUSED {
+        a.mul_add(b, c)
+    } else {
+        c + a * b
     }
 }
 

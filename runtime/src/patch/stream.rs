@@ -80,7 +80,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
                 continue;
             }
             let take = (per - off).min(values.len());
-            self.held[self.count..self.count + take].copy_from_slice(&values[..take]);
+            copy(&mut self.held[self.count..self.count + take], &values[..take]);
             self.count += take;
             self.next += take;
             values = &values[take..];
@@ -138,5 +138,21 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             // SAFETY: SSE2 is part of x86-64.
             unsafe { std::arch::x86_64::_mm_sfence() };
         }
+    }
+}
+
+/// `dst.copy_from_slice(src)` in whole 8-value moves and single values: short runs of a
+/// length known only at run time, without a call to the library's `memcpy`.
+#[inline(always)]
+pub(super) fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
+    let mut d = dst.chunks_exact_mut(8);
+    let mut s = src.chunks_exact(8);
+    for (d, s) in (&mut d).zip(&mut s) {
+        let s: &[T; 8] = s.try_into().expect("8 values");
+        let d: &mut [T; 8] = d.try_into().expect("8 values");
+        *d = *s;
+    }
+    for (d, s) in d.into_remainder().iter_mut().zip(s.remainder()) {
+        *d = *s;
     }
 }
