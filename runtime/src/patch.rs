@@ -1307,7 +1307,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 rows,
                 stage: grown(&mut scratch.interior, rows * k * 3),
                 y0: 1,
-                points: grown(&mut scratch.edges, 4 * k * 3),
+                border: grown(&mut scratch.edges, 5 * (n + 1) * 3),
                 interiors,
                 edges,
             };
@@ -1477,29 +1477,18 @@ struct Ordinary<'a, 'w, T> {
     first: usize,
     /// The face loaded last.
     f: usize,
-    /// Interior rows y0.. of face f, staged (at most `rows`), and its edges' points, each
-    /// edge's in the order of its run.
+    /// Interior rows y0.. of face f, staged (at most `rows`).
     rows: usize,
     stage: &'w mut [T],
     y0: usize,
-    points: &'w mut [T],
+    /// Face f's border: rows 0 and N', and columns 0 and N' (rows 1..N'−1), in the order of
+    /// increasing x or y; then room for one edge's run reversed.
+    border: &'w mut [T],
     interiors: Stream<'a, T>,
     edges: Stream<'a, T>,
 }
 
 impl<T: Real> Ordinary<'_, '_, T> {
-    /// Point t = 1..N−1 of local edge l of face f, kept where its run holds it (if f owns the
-    /// edge).
-    #[inline(always)]
-    fn put(&mut self, l: usize, t: usize, p: &[T]) {
-        let (_, forward, owner) = self.num.edges[self.f][l];
-        if owner {
-            let (n, k) = (self.num.n, self.num.n as usize - 1);
-            let i = (l * k + along_edge(t as i64, n, forward)) * 3;
-            self.points[i..i + 3].copy_from_slice(&p[..3]);
-        }
-    }
-
     /// Writes the staged interior rows y0..y of face f.
     #[inline(always)]
     fn write_rows(&mut self, y: usize) {
@@ -1520,7 +1509,13 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     fn load(&mut self, i: usize, patch: &mut [T]) {
         let f = self.faces[i];
         let m = self.layout.side;
-        load(&self.table[f as usize * m * m..][..m * m], self.start, self.layout, 0, patch);
+        load(
+            &self.table[f as usize * m * m..][..m * m],
+            self.start,
+            self.layout,
+            0,
+            patch,
+        );
         let n0 = self.layout.side as i64 - 3;
         self.base
             .load_phantoms((f, n0, self.first), self.layout, 0, patch);
@@ -1531,26 +1526,21 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     #[inline(always)]
     fn row(&mut self, y: usize, row: &[T]) {
         let n = self.num.n as usize;
-        let k = n - 1;
+        let (k, side) = (n - 1, (n + 1) * 3);
         if y > 0 && y < n {
             if y - self.y0 == self.rows {
                 self.write_rows(y);
             }
-            stream::copy(&mut self.stage[(y - self.y0) * k * 3..][..k * 3], &row[3..3 * n]);
-            self.put(1, y, &row[3 * n..]);
-            self.put(3, n - y, row);
-            return;
-        }
-        let (l, corners) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
-        for x in 1..n {
-            self.put(l, if y == 0 { x } else { n - x }, &row[x * 3..]);
-        }
-        for (c, x) in corners.into_iter().zip([0, n]) {
-            if self.num.corners[self.f][c] {
-                let p = [row[x * 3], row[x * 3 + 1], row[x * 3 + 2]];
-                // SAFETY: face f is the only writer of a corner it owns.
-                unsafe { self.out.write(self.num.vertex[self.f][c] as usize, &p) };
-            }
+            stream::copy(
+                &mut self.stage[(y - self.y0) * k * 3..][..k * 3],
+                &row[3..3 * n],
+            );
+            let (first, last) = (&row[..3], &row[3 * n..3 * n + 3]);
+            self.border[2 * side + y * 3..][..3].copy_from_slice(first);
+            self.border[3 * side + y * 3..][..3].copy_from_slice(last);
+        } else {
+            let at = if y == 0 { 0 } else { side };
+            stream::copy(&mut self.border[at..at + side], &row[..side]);
         }
     }
 
@@ -1558,13 +1548,38 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     fn done(&mut self) {
         let n = self.num.n as usize;
         self.write_rows(n);
-        let k = n - 1;
-        for (l, &(e, _, owner)) in self.num.edges[self.f].iter().enumerate() {
-            if owner {
-                let at = (self.num.nv + e as usize * k) * 3;
-                // SAFETY: face f is the only writer of the points of an edge it owns.
-                unsafe { self.edges.run(at, &self.points[l * k * 3..(l + 1) * k * 3]) };
+        let (k, side, f) = (n - 1, (n + 1) * 3, self.f);
+        // Corners: c = 0..4 at (0, 0), (N', 0), (N', N'), (0, N').
+        for (c, at) in [0, 3 * n, side + 3 * n, side].into_iter().enumerate() {
+            if self.num.corners[f][c] {
+                let b = &self.border[at..at + 3];
+                // SAFETY: face f is the only writer of a corner it owns.
+                unsafe {
+                    self.out
+                        .write(self.num.vertex[f][c] as usize, &[b[0], b[1], b[2]])
+                };
             }
+        }
+        // Edge l's points t = 1..N'−1 from corner l: along row 0 (x = t), column N' (y = t),
+        // row N' (x = N' − t) and column 0 (y = N' − t); its run starts at its smaller
+        // vertex.
+        let (border, spare) = self.border.split_at_mut(4 * side);
+        for (l, &(e, forward, owner)) in self.num.edges[f].iter().enumerate() {
+            if !owner {
+                continue;
+            }
+            let line = &border[[0, 3 * side, side, 2 * side][l] + 3..][..k * 3];
+            let run = if forward == (l < 2) {
+                line
+            } else {
+                for (d, s) in spare.chunks_exact_mut(3).zip(line.chunks_exact(3).rev()) {
+                    d.copy_from_slice(s);
+                }
+                &spare[..k * 3]
+            };
+            let at = (self.num.nv + e as usize * k) * 3;
+            // SAFETY: face f is the only writer of the points of an edge it owns.
+            unsafe { self.edges.run(at, run) };
         }
     }
 }

@@ -80,7 +80,10 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
                 continue;
             }
             let take = (per - off).min(values.len());
-            copy(&mut self.held[self.count..self.count + take], &values[..take]);
+            copy(
+                &mut self.held[self.count..self.count + take],
+                &values[..take],
+            );
             self.count += take;
             self.next += take;
             values = &values[take..];
