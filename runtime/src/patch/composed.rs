@@ -132,15 +132,15 @@ impl<T: Real> Composed<T> {
     fn run_any<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
         for i in 0..faces.count() {
             faces.load(i, &mut scratch[..self.m * self.m * 3]);
-            self.refine::<FUSED>(scratch, |y, row| faces.row(y, row));
+            self.refine::<FUSED>(scratch, faces);
             faces.done();
         }
     }
 
     /// One face: the start patch at the front of `scratch` to its final rows, handed to
-    /// `each`; `FUSED`: each product is added with one rounding (FMA).
+    /// `faces`; `FUSED`: each product is added with one rounding (FMA).
     #[inline(always)]
-    fn refine<const FUSED: bool>(&self, scratch: &mut [T], mut each: impl FnMut(usize, &[T])) {
+    fn refine<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
         let (m, width, band) = (self.m, self.width, self.band);
         let (p, rest) = scratch.split_at_mut(m * m * 3);
         let (a, row) = rest.split_at_mut(m * width);
@@ -181,7 +181,7 @@ impl<T: Real> Composed<T> {
                 }
                 out.copy_from_slice(&acc);
             }
-            each(y, row);
+            faces.row(y, row);
         }
     }
 }

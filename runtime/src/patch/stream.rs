@@ -70,35 +70,37 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             unsafe { self.flush() };
             self.next = at;
         }
-        while !values.is_empty() {
-            let off = self.in_line(self.next);
-            if self.count == 0 && off == 0 && values.len() >= per {
-                // SAFETY: a whole line of this writer's indices, aligned.
-                unsafe { self.line(self.next, values) };
-                self.next += per;
-                values = &values[per..];
-                continue;
-            }
+        // The line of `next`, if the run does not start it: complete it from the values.
+        let off = self.in_line(self.next);
+        if off != 0 || self.count != 0 {
             let take = (per - off).min(values.len());
-            copy(
-                &mut self.held[self.count..self.count + take],
-                &values[..take],
-            );
+            copy(&mut self.held[self.count..self.count + take], &values[..take]);
             self.count += take;
             self.next += take;
             values = &values[take..];
-            if off + take == per {
-                if self.count == per {
-                    let line = self.held;
-                    // SAFETY: as above; the line's values were all handed.
-                    unsafe { self.line(self.next - per, &line) };
-                    self.count = 0;
-                } else {
-                    // SAFETY: the held values are this writer's.
-                    unsafe { self.flush() };
-                }
+            if off + take < per {
+                return;
+            }
+            if self.count == per {
+                // SAFETY: a whole aligned line of this writer's indices, all handed.
+                unsafe { self.line(self.next - per, self.held.as_ptr()) };
+                self.count = 0;
+            } else {
+                // SAFETY: the held values are this writer's.
+                unsafe { self.flush() };
             }
         }
+        // Whole lines, then the start of the next one, held.
+        let whole = values.len() / per * per;
+        for line in values[..whole].chunks_exact(per) {
+            // SAFETY: a whole aligned line of this writer's indices.
+            unsafe { self.line(self.next, line.as_ptr()) };
+            self.next += per;
+        }
+        let tail = &values[whole..];
+        copy(&mut self.held[..tail.len()], tail);
+        self.count = tail.len();
+        self.next += tail.len();
     }
 
     /// Writes the held values with plain stores.
@@ -111,9 +113,9 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         self.count = 0;
     }
 
-    /// Writes one whole aligned line at index `at` from the first values of `values`.
+    /// Writes one whole aligned line at index `at` from the line's values at `values`.
     #[inline(always)]
-    unsafe fn line(&mut self, at: usize, values: &[T]) {
+    unsafe fn line(&self, at: usize, values: *const T) {
         let per = Self::per_line();
         // SAFETY: `at..at + per` is in range and this writer's (the caller's contract), and the
         // line is aligned to 64 bytes, so every 16 bytes of it are aligned.
@@ -122,13 +124,13 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             #[cfg(target_arch = "x86_64")]
             if self.streaming {
                 use std::arch::x86_64::{__m128i, _mm_loadu_si128, _mm_stream_si128};
-                let (d, s) = (dst.cast::<__m128i>(), values.as_ptr().cast::<__m128i>());
+                let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
                 for k in 0..LINE / 16 {
                     _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
                 }
                 return;
             }
-            std::ptr::copy_nonoverlapping(values.as_ptr(), dst, per);
+            std::ptr::copy_nonoverlapping(values, dst, per);
         }
     }
 
