@@ -37,7 +37,7 @@ pub(super) struct Composed<T> {
     /// Per final point: its weights on the `band` start points from its first (zero-padded).
     weights: Vec<T>,
     band: usize,
-    /// Per start point j: `width` weights, M[x'][j] at every value v = 3x' + c.
+    /// Per start point j: `width` weights, M[x'][j] at every value v = 3x' + c (at PAD + v).
     columns: Vec<T>,
     /// Per start point j: the values v its column reaches (nonzero weights).
     reach: Vec<std::ops::Range<usize>>,
@@ -47,11 +47,16 @@ pub(super) struct Composed<T> {
 /// eight AVX2 ones), so that the sums' latency overlaps.
 const TILE: usize = 32;
 
+/// Values before a refined row's point 0, so that its point 1 starts a vector of 8 values:
+/// the interior of a row is then read back from the very vectors it was stored in (a load
+/// straddling two stores would wait for both to retire).
+const PAD: usize = 5;
+
 impl<T: Real> Composed<T> {
     /// Lays out M (rows 0..=N', each `m` weights).
     pub(super) fn new(m: usize, matrix: &[Vec<f64>]) -> Composed<T> {
         let values = matrix.len() * 3;
-        let width = values.div_ceil(TILE) * TILE;
+        let width = (PAD + values).div_ceil(TILE) * TILE;
         let mut columns = vec![T::default(); m * width];
         let mut reach = vec![0..0; m];
         for (j, reach) in reach.iter_mut().enumerate() {
@@ -59,10 +64,10 @@ impl<T: Real> Composed<T> {
             let mut vs = (0..values).filter(|&v| matrix[v / 3][j] != 0.0);
             let first = vs.next().unwrap_or(0);
             let last = vs.last().unwrap_or(first);
-            for (v, w) in col.iter_mut().enumerate().take(values) {
+            for (v, w) in col[PAD..].iter_mut().enumerate().take(values) {
                 *w = T::from_f64(matrix[v / 3][j]);
             }
-            *reach = first..last + 1;
+            *reach = PAD + first..PAD + last + 1;
         }
         // Each row's nonzero weights, as a band of one width starting where the row's do (or
         // earlier, at the end of the start row).
@@ -155,7 +160,7 @@ impl<T: Real> Composed<T> {
                         continue;
                     }
                     let w = tile(&self.columns[j * width + v0..]);
-                    let r = repeated(&pi[j * 3..j * 3 + 3], v0 % 3);
+                    let r = repeated(&pi[j * 3..j * 3 + 3], (v0 + 3 - PAD % 3) % 3);
                     for l in 0..TILE {
                         acc[l] = madd::<T, FUSED>(w[l], r[l], acc[l]);
                     }
@@ -181,7 +186,7 @@ impl<T: Real> Composed<T> {
                 }
                 out.copy_from_slice(&acc);
             }
-            faces.row(y, row);
+            faces.row(y, &row[PAD..]);
         }
     }
 }
