@@ -1290,8 +1290,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let (interiors, edges) = unsafe {
                 let at = out.ptr.cast::<T>();
                 (
-                    Stream::new(at, out.len * 3, streaming),
-                    Stream::new(at, out.len * 3, streaming),
+                    Stream::new(at, out.len * 3, streaming, simd),
+                    Stream::new(at, out.len * 3, streaming, simd),
                 )
             };
             let mut w = Ordinary {

@@ -8,6 +8,7 @@
 //! only when the output is far larger than the caches: below [`STREAM_BYTES`] every line is a
 //! plain store.
 
+use super::Simd;
 use std::marker::PhantomData;
 
 /// Output size from which whole lines are written non-temporally.
@@ -26,6 +27,8 @@ pub(super) struct Stream<'a, T> {
     held: [T; 16],
     count: usize,
     streaming: bool,
+    /// The widest stores the CPU has.
+    simd: Simd,
     out: PhantomData<&'a mut [T]>,
 }
 
@@ -35,7 +38,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     /// # Safety
     /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
     /// this writer is handed until [`Stream::finish`].
-    pub(super) unsafe fn new(base: *mut T, len: usize, streaming: bool) -> Stream<'a, T> {
+    pub(super) unsafe fn new(base: *mut T, len: usize, streaming: bool, simd: Simd) -> Stream<'a, T> {
         Stream {
             base,
             len,
@@ -43,6 +46,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             held: [T::default(); 16],
             count: 0,
             streaming,
+            simd,
             out: PhantomData,
         }
     }
@@ -123,10 +127,20 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             let dst = self.base.add(at);
             #[cfg(target_arch = "x86_64")]
             if self.streaming {
-                use std::arch::x86_64::{__m128i, _mm_loadu_si128, _mm_stream_si128};
-                let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
-                for k in 0..LINE / 16 {
-                    _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
+                use std::arch::x86_64::*;
+                match self.simd {
+                    // One 64-byte store where the CPU has it (`Simd::Avx512` only where it
+                    // has AVX-512F), else four of 16 bytes (SSE2: every x86-64).
+                    Simd::Avx512 => {
+                        let v = _mm512_loadu_si512(values.cast());
+                        _mm512_stream_si512(dst.cast(), v);
+                    }
+                    _ => {
+                        let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
+                        for k in 0..LINE / 16 {
+                            _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
+                        }
+                    }
                 }
                 return;
             }
