@@ -12,9 +12,10 @@
 //! gathered once from the start level, every step runs in cache, and only the last level is
 //! written, in its final numbering (`Numbering`: base vertices, edge points, face interiors).
 //! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
-//! and go through all steps at once, in blocks interleaved point by point so that a slab spans
-//! the block; faces around EVs are large patches, refined one at a time (pass, transpose, pass,
-//! in strips that stay in cache; the last step hands its rows straight to the output).
+//! and go through all steps at once: the plans compose into one matrix M and the face's last
+//! level is M · P · Mᵀ of its start patch P ([`composed`]), written in whole cache lines
+//! ([`stream`]); faces around EVs are large patches, refined one at a time (pass, transpose,
+//! pass, in strips that stay in cache; the last step hands its rows straight to the output).
 //!
 //! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
 //! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
@@ -1606,23 +1607,6 @@ fn scatter_rect<T: Real>(
             unsafe { out.write(row + (x - 1) as usize, &point(x, y)) };
         }
     }
-    scatter_border(num, f, &xs, &ys, point, out);
-}
-
-/// The part of [`scatter_rect`] on the border of face f: points of owned edges, owned corners.
-#[inline(always)]
-fn scatter_border<T: Real>(
-    num: &Numbering,
-    f: usize,
-    xs: &std::ops::RangeInclusive<i64>,
-    ys: &std::ops::RangeInclusive<i64>,
-    point: impl Fn(i64, i64) -> [T; 3],
-    out: &SharedOut<T>,
-) {
-    let n = num.n;
-    let k = (n - 1) as usize;
-    let inner = |r: &std::ops::RangeInclusive<i64>| (*r.start()).max(1)..(*r.end()).min(n - 1) + 1;
-    let (ix, iy) = (inner(xs), inner(ys));
     for (l, &(dx, dy)) in TOWARD_NEXT.iter().enumerate() {
         let (e, forward, owner) = num.edges[f][l];
         let (cx, cy) = corner_at(l as u8, n, n);
@@ -1725,7 +1709,7 @@ pub struct Footprint {
 /// `scalar_bytes` bytes, predicted from the label words before anything is built (saturating).
 /// It follows the refiner's plan: the steps before masks are contained run on the whole mesh
 /// when it has EVs, faces with an EV corner are refined as whole patches level by level, the
-/// others depth first in blocks per worker.
+/// others composed ([`composed`]), with a face's scratch per worker.
 pub fn footprint(
     t: &CurveTables<'_>,
     contained_from: usize,

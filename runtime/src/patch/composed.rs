@@ -63,7 +63,7 @@ impl<T: Real> Composed<T> {
             let col = &mut columns[j * width..][..width];
             let mut vs = (0..values).filter(|&v| matrix[v / 3][j] != 0.0);
             let first = vs.next().unwrap_or(0);
-            let last = vs.last().unwrap_or(first);
+            let last = vs.next_back().unwrap_or(first);
             for (v, w) in col[PAD..].iter_mut().enumerate().take(values) {
                 *w = T::from_f64(matrix[v / 3][j]);
             }

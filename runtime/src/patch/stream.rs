@@ -38,7 +38,12 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     /// # Safety
     /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
     /// this writer is handed until [`Stream::finish`].
-    pub(super) unsafe fn new(base: *mut T, len: usize, streaming: bool, simd: Simd) -> Stream<'a, T> {
+    pub(super) unsafe fn new(
+        base: *mut T,
+        len: usize,
+        streaming: bool,
+        simd: Simd,
+    ) -> Stream<'a, T> {
         Stream {
             base,
             len,
@@ -78,7 +83,10 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         let off = self.in_line(self.next);
         if off != 0 || self.count != 0 {
             let take = (per - off).min(values.len());
-            copy(&mut self.held[self.count..self.count + take], &values[..take]);
+            copy(
+                &mut self.held[self.count..self.count + take],
+                &values[..take],
+            );
             self.count += take;
             self.next += take;
             values = &values[take..];
