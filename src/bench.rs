@@ -10,7 +10,7 @@ use lsubdiv::runtime::generators::{
     creased_cube, cube, grid_with_hole, open_grid, pentagon_star, polygon_prism, star, torus, tube,
 };
 use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::{output_counts, Refiner};
+use lsubdiv::runtime::patch::{output_counts, Refiner, Simd};
 use lsubdiv::runtime::polygon::catmull_clark;
 use lsubdiv::runtime::polygon::PolyMesh;
 use lsubdiv::runtime::real::Real;
@@ -135,6 +135,8 @@ pub struct Measurement {
     /// Bytes of the input positions (f64), the output, and the largest intermediate level as
     /// unique vertices: the memory a level-by-level refinement cannot do without.
     pub essential_bytes: usize,
+    /// The instruction set the kernels ran with.
+    pub simd: Simd,
 }
 
 impl Measurement {
@@ -153,6 +155,7 @@ struct Timed<'m, T> {
     threads: usize,
     steps: usize,
     runs: usize,
+    simd: Simd,
     _scalar: std::marker::PhantomData<T>,
 }
 
@@ -167,6 +170,7 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             self.threads,
         )
         .map_err(|e| e.to_string())?;
+        let simd = r.set_simd(self.simd);
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
         let mut phases: Vec<[f64; 3]> = Vec::new();
@@ -194,6 +198,7 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             phase_seconds,
             level_seconds,
             essential_bytes: 0,
+            simd,
         })
     }
 }
@@ -208,6 +213,7 @@ pub fn measure<T: Real>(
     threads: usize,
     steps: usize,
     runs: usize,
+    simd: Simd,
 ) -> Result<Measurement, String> {
     let (mesh, topology) = (&input.mesh, &input.topology);
     let timed = Timed::<T> {
@@ -217,6 +223,7 @@ pub fn measure<T: Real>(
         threads,
         steps,
         runs,
+        simd,
         _scalar: std::marker::PhantomData,
     };
     let mut m = match path {

@@ -384,6 +384,20 @@ fn bench_json_has_the_documented_fields() {
     for phase in ["start", "ordinary", "fans"] {
         assert!(v["phase_seconds"][phase].as_f64().unwrap() >= 0.0);
     }
+    assert!(["avx512", "avx2", "baseline"].contains(&v["simd"].as_str().unwrap()));
+    // `--simd` picks the kernels' instruction set, and the JSON says which ran.
+    let o = lsubdiv(&[
+        "bench",
+        "--mesh",
+        "torus:8:8",
+        "--runs",
+        "1",
+        "--simd",
+        "baseline",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["simd"], "baseline");
 }
 
 /// Long runs show their stages on a terminal (here a pseudo-terminal made by `script`, from

@@ -144,8 +144,8 @@ impl Plan {
 
     /// `dst[X'·len ..][..len] = Σ w · src[x·len ..][..len]` over the parents (x, w) of every new
     /// point X' (slabs of `len` values: whole rows of a patch at once). Compiled for the
-    /// baseline, AVX2 and AVX-512 (the plan's [`Simd`]): the same operations in the same
-    /// order, so the same bits, only wider vectors.
+    /// baseline and AVX2 (the plan's [`Simd`]): the same operations in the same order, so the
+    /// same bits, only wider vectors.
     fn pass<T: Real>(&self, src: &[T], len: usize, dst: &mut [T]) {
         self.pass_rows(src, len, 0, dst);
     }
@@ -153,20 +153,13 @@ impl Plan {
     /// [`Plan::pass`] for the new points X' = `first`, `first` + 1, … that `dst` holds.
     fn pass_rows<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
         match self.simd {
+            // AVX-512 runs the AVX2 pass: compiled for AVX-512 it was slower on the cube
+            // (98–101 against 107 M vertices/s, docs/benchmarks.md).
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: `Simd::Avx512` is only handed out where the CPU has AVX-512F.
-            Simd::Avx512 => unsafe { self.pass_avx512(src, len, first, dst) },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `Simd::Avx2` is only handed out where the CPU has AVX2.
-            Simd::Avx2 => unsafe { self.pass_avx2(src, len, first, dst) },
+            // SAFETY: `Simd::Avx2` and `Simd::Avx512` are only handed out where the CPU has AVX2.
+            Simd::Avx2 | Simd::Avx512 => unsafe { self.pass_avx2(src, len, first, dst) },
             _ => self.pass_any(src, len, first, dst),
         }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn pass_avx512<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
-        self.pass_any(src, len, first, dst);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -347,11 +340,6 @@ impl Simd {
             Simd::Avx512 => "avx512",
         }
     }
-}
-
-/// The instruction set the patch kernels run with on this CPU by default ([`Simd::detect`]).
-pub fn simd_path() -> &'static str {
-    Simd::detect().name()
 }
 
 /// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
@@ -1152,9 +1140,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 
     /// Time of each depth-first step of the last `refine` (after [`Refiner::reference_steps`]),
-    /// summed over the workers, so with several threads it exceeds the wall time: reading the
-    /// start patches counts in the first step, writing the output in the last, the EV fix-up
-    /// after a fan step in that step.
+    /// summed over the workers, so with several threads it exceeds the wall time: the fans'
+    /// steps each in its own (the EV fix-up after a step in that step), the ordinary faces'
+    /// composed steps all in the last.
     pub fn level_seconds(&self) -> &[f64] {
         &self.level_seconds
     }
@@ -1290,9 +1278,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             // by this worker only.
             let (interiors, edges) = unsafe {
                 let at = out.ptr.cast::<T>();
+                let wide = simd == Simd::Avx512;
                 (
-                    Stream::new(at, out.len * 3, streaming, simd),
-                    Stream::new(at, out.len * 3, streaming, simd),
+                    Stream::new(at, out.len * 3, streaming, wide),
+                    Stream::new(at, out.len * 3, streaming, wide),
                 )
             };
             let mut w = Ordinary {
@@ -1347,11 +1336,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .load_phantoms((f, self.start_num.n, self.first), layout, 0, patch);
         }
         let mut n = self.start_num.n;
+        let streaming = self.output.len() * size_of::<[T; 3]>() >= self.stream_bytes;
         let out = SharedOut::new(&mut self.output);
         for (s, plan) in self.plans.iter().enumerate() {
             let last = s + 1 == self.plans.len();
             let chunk = self.fan_faces.len().div_ceil(self.threads).max(1);
             let (out, out_num, strip_bytes) = (&out, &self.out_num, self.strip_bytes);
+            let streaming = last && streaming;
             let work = self
                 .fan_faces
                 .chunks(chunk)
@@ -1360,9 +1351,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .zip(&mut self.scratch);
             let times = in_threads(work, |(((faces, old), new), scratch)| {
                 let mut clock = Instant::now();
+                // SAFETY: the interior points of these faces are written by this worker only.
+                let mut interiors =
+                    unsafe { Stream::new(out.ptr.cast::<T>(), out.len * 3, streaming, false) };
                 for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                     if last {
-                        // Strips of rows y (the parity chosen above), x from a0.
+                        // Strips of rows y (the parity chosen above), x from a0: the interior
+                        // points as a run, the border by ownership.
                         let each = |a0: usize, y: usize, row: &[T]| {
                             let point = |x: i64, _| {
                                 let i = (x as usize - a0) * 3;
@@ -1370,13 +1365,22 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                             };
                             let (x0, y) = (a0 as i64, y as i64);
                             let xs = x0..=x0 + (row.len() / 3) as i64 - 1;
-                            scatter_rect(out_num, f as usize, xs, y..=y, point, out);
+                            let n = out_num.n;
+                            let (lo, hi) = ((*xs.start()).max(1), (*xs.end()).min(n - 1));
+                            if (1..n).contains(&y) && lo <= hi {
+                                let (first, _) = out_num.index(f as usize, lo, y);
+                                let (a, b) = ((lo - x0) as usize * 3, (hi - x0 + 1) as usize * 3);
+                                // SAFETY: face f's interior is written by face f only.
+                                unsafe { interiors.run(first * 3, &row[a..b]) };
+                            }
+                            scatter_border(out_num, f as usize, &xs, &(y..=y), point, out);
                         };
                         plan.step_strips(src, &mut scratch.p, strip_bytes, each);
                     } else {
                         plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                     }
                 }
+                interiors.finish();
                 lap(&mut clock)
             });
             let mut clock = Instant::now();
@@ -1585,28 +1589,20 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     }
 }
 
-/// Writes the points (x, y) ∈ `xs` × `ys` of face f's final patch (`point(x, y)`) that face f
-/// owns: interior points, points of owned edges, owned corners.
-fn scatter_rect<T: Real>(
+/// Writes the points (x, y) ∈ `xs` × `ys` of face f's final patch (`point(x, y)`) on the
+/// border of the face that face f owns: points of owned edges, owned corners.
+fn scatter_border<T: Real>(
     num: &Numbering,
     f: usize,
-    xs: std::ops::RangeInclusive<i64>,
-    ys: std::ops::RangeInclusive<i64>,
+    xs: &std::ops::RangeInclusive<i64>,
+    ys: &std::ops::RangeInclusive<i64>,
     point: impl Fn(i64, i64) -> [T; 3],
     out: &SharedOut<T>,
 ) {
     let n = num.n;
     let k = (n - 1) as usize;
     let inner = |r: &std::ops::RangeInclusive<i64>| (*r.start()).max(1)..(*r.end()).min(n - 1) + 1;
-    let (ix, iy) = (inner(&xs), inner(&ys));
-    let (first, _) = num.index(f, 1, 1);
-    for y in iy.clone() {
-        let row = first + (y - 1) as usize * k;
-        for x in ix.clone() {
-            // SAFETY: interior points of face f are written by face f only.
-            unsafe { out.write(row + (x - 1) as usize, &point(x, y)) };
-        }
-    }
+    let (ix, iy) = (inner(xs), inner(ys));
     for (l, &(dx, dy)) in TOWARD_NEXT.iter().enumerate() {
         let (e, forward, owner) = num.edges[f][l];
         let (cx, cy) = corner_at(l as u8, n, n);

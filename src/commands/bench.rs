@@ -4,6 +4,7 @@ use crate::commands::args::{BoundaryArgs, MemoryLimit};
 use crate::commands::{build, load};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
+use lsubdiv::runtime::patch::Simd;
 use lsubdiv::runtime::surface::SurfaceScheme;
 use lsubdiv_cli::bench;
 use lsubdiv_cli::implementation::{Geometry, PathChoice};
@@ -31,10 +32,31 @@ pub struct BenchArgs {
     /// Timed runs (median reported).
     #[arg(long, default_value_t = 5)]
     runs: usize,
+    /// Instruction set of the kernels (default: the widest this CPU has).
+    #[arg(long, value_enum)]
+    simd: Option<SimdArg>,
     #[command(flatten)]
     limit: MemoryLimit,
     #[command(flatten)]
     boundary: BoundaryArgs,
+}
+
+/// `--simd`: the kernels' instruction set ([`Simd`]).
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SimdArg {
+    Avx512,
+    Avx2,
+    Baseline,
+}
+
+impl SimdArg {
+    fn simd(self) -> Simd {
+        match self {
+            SimdArg::Avx512 => Simd::Avx512,
+            SimdArg::Avx2 => Simd::Avx2,
+            SimdArg::Baseline => Simd::Baseline,
+        }
+    }
 }
 
 /// One JSON line per configuration.
@@ -47,9 +69,21 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         path,
         f32,
         runs,
+        simd,
         limit,
         boundary,
     } = a;
+    let best = Simd::detect();
+    let simd = match simd.map(SimdArg::simd) {
+        Some(s) if s > best => {
+            return Err(Error::input(format!(
+                "--simd {}: this CPU runs {} at most",
+                s.name(),
+                best.name()
+            )))
+        }
+        s => s.unwrap_or(best),
+    };
     let input = bench::mesh(&mesh, limit.bytes(), boundary.rule())?;
     let (topology, features) = (&input.topology, &input.features);
     let r = load(&scheme, None)?;
@@ -85,6 +119,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         threads,
         steps,
         runs,
+        simd,
     )
     .map_err(Error::input)?;
     println!(
@@ -92,7 +127,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         serde_json::json!({
             "mesh": mesh, "scheme": scheme, "path": implementation.name(),
             "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
-            "simd": lsubdiv::runtime::patch::simd_path(),
+            "simd": r.simd.name(),
             "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
             "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
             "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]},

@@ -8,7 +8,6 @@
 //! only when the output is far larger than the caches: below [`STREAM_BYTES`] every line is a
 //! plain store.
 
-use super::Simd;
 use std::marker::PhantomData;
 
 /// Output size from which whole lines are written non-temporally.
@@ -27,22 +26,25 @@ pub(super) struct Stream<'a, T> {
     held: [T; 16],
     count: usize,
     streaming: bool,
-    /// The widest stores the CPU has.
-    simd: Simd,
+    /// Whether lines go out in one 64-byte store (the code calling [`Stream::run`] is compiled
+    /// for AVX-512F) or four of 16 bytes.
+    wide: bool,
     out: PhantomData<&'a mut [T]>,
 }
 
 impl<'a, T: Copy + Default> Stream<'a, T> {
-    /// A writer into `len` values at `base` (non-temporal where `streaming`).
+    /// A writer into `len` values at `base` (non-temporal where `streaming`, in 64-byte stores
+    /// where `wide`).
     ///
     /// # Safety
     /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
-    /// this writer is handed until [`Stream::finish`].
+    /// this writer is handed until [`Stream::finish`]; `wide` only where the code calling
+    /// [`Stream::run`] is compiled for AVX-512F (and so the CPU has it).
     pub(super) unsafe fn new(
         base: *mut T,
         len: usize,
         streaming: bool,
-        simd: Simd,
+        wide: bool,
     ) -> Stream<'a, T> {
         Stream {
             base,
@@ -51,7 +53,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             held: [T::default(); 16],
             count: 0,
             streaming,
-            simd,
+            wide,
             out: PhantomData,
         }
     }
@@ -136,18 +138,15 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             #[cfg(target_arch = "x86_64")]
             if self.streaming {
                 use std::arch::x86_64::*;
-                match self.simd {
-                    // One 64-byte store where the CPU has it (`Simd::Avx512` only where it
-                    // has AVX-512F), else four of 16 bytes (SSE2: every x86-64).
-                    Simd::Avx512 => {
-                        let v = _mm512_loadu_si512(values.cast());
-                        _mm512_stream_si512(dst.cast(), v);
-                    }
-                    _ => {
-                        let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
-                        for k in 0..LINE / 16 {
-                            _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
-                        }
+                if self.wide {
+                    // The caller's contract (`wide` only in code compiled for AVX-512F).
+                    let v = _mm512_loadu_si512(values.cast());
+                    _mm512_stream_si512(dst.cast(), v);
+                } else {
+                    // SSE2: every x86-64.
+                    let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
+                    for k in 0..LINE / 16 {
+                        _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
                     }
                 }
                 return;

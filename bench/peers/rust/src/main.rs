@@ -111,6 +111,7 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
             1,
             levels,
             runs,
+            lsubdiv::runtime::patch::Simd::detect(),
         )?;
         report("lsubdiv", name, levels, m.output_vertices, m.median_seconds);
     }
