@@ -120,6 +120,20 @@ fn checked(spec: &str, mesh: QuadMesh, split: bool, features: Features) -> Resul
     })
 }
 
+/// How to run a measurement: workers, steps, timed runs (the median is reported) and the
+/// kernels' instruction set.
+#[derive(Clone, Copy, Debug)]
+pub struct Run {
+    /// Workers.
+    pub threads: usize,
+    /// Steps of the scheme.
+    pub steps: usize,
+    /// Timed runs after one warm-up.
+    pub runs: usize,
+    /// The kernels' instruction set (`Refiner::set_simd`).
+    pub simd: Simd,
+}
+
 /// One measurement.
 #[derive(Clone, Debug)]
 pub struct Measurement {
@@ -210,20 +224,17 @@ pub fn measure<T: Real>(
     surface: &GenericSurface,
     input: &Checked,
     path: Implementation,
-    threads: usize,
-    steps: usize,
-    runs: usize,
-    simd: Simd,
+    run: Run,
 ) -> Result<Measurement, String> {
     let (mesh, topology) = (&input.mesh, &input.topology);
     let timed = Timed::<T> {
         mesh,
         topology,
         features: &input.features,
-        threads,
-        steps,
-        runs,
-        simd,
+        threads: run.threads,
+        steps: run.steps,
+        runs: run.runs,
+        simd: run.simd,
         _scalar: std::marker::PhantomData,
     };
     let mut m = match path {
@@ -236,7 +247,7 @@ pub fn measure<T: Real>(
     let count = |n| unique_vertices(topology, n);
     let mut word = ls.axiom.clone();
     let mut prev = v;
-    for _ in 0..steps.saturating_sub(1) {
+    for _ in 0..run.steps.saturating_sub(1) {
         word = ls.rewrite(&word);
         prev = count(word.len());
     }

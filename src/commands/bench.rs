@@ -116,10 +116,12 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         &surface,
         &input,
         implementation,
-        threads,
-        steps,
-        runs,
-        simd,
+        bench::Run {
+            threads,
+            steps,
+            runs,
+            simd,
+        },
     )
     .map_err(Error::input)?;
     println!(

@@ -41,13 +41,17 @@ impl Args {
     pub fn usize(&self, key: &str, default: usize) -> Result<usize, String> {
         match self.get(key) {
             None => Ok(default),
-            Some(v) => v.parse().map_err(|_| format!("--{key}: `{v}` is not a count")),
+            Some(v) => v
+                .parse()
+                .map_err(|_| format!("--{key}: `{v}` is not a count")),
         }
     }
     pub fn f64(&self, key: &str, default: f64) -> Result<f64, String> {
         match self.get(key) {
             None => Ok(default),
-            Some(v) => v.parse().map_err(|_| format!("--{key}: `{v}` is not a number")),
+            Some(v) => v
+                .parse()
+                .map_err(|_| format!("--{key}: `{v}` is not a number")),
         }
     }
     /// The options of every harness's timed run.

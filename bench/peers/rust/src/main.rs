@@ -51,7 +51,11 @@ fn meshes(a: &Args) -> Result<(), String> {
     let target = a.usize("target", 4_200_000)?;
     std::fs::create_dir_all(dir).map_err(|e| format!("{dir}: {e}"))?;
     let surface = bench::surface(SCHEME)?;
-    for (name, spec) in [("torus", "torus:256:256"), ("cube", "cube"), ("star", "star")] {
+    for (name, spec) in [
+        ("torus", "torus:256:256"),
+        ("cube", "cube"),
+        ("star", "star"),
+    ] {
         let checked = bench::mesh(spec, u64::MAX, None).map_err(|e| e.to_string())?;
         let mesh = &checked.mesh;
         let path = format!("{dir}/{name}.obj");
@@ -108,10 +112,12 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
             &surface,
             &checked,
             Implementation::Generated,
-            1,
-            levels,
-            runs,
-            lsubdiv::runtime::patch::Simd::detect(),
+            bench::Run {
+                threads: 1,
+                steps: levels,
+                runs,
+                simd: lsubdiv::runtime::patch::Simd::detect(),
+            },
         )?;
         report("lsubdiv", name, levels, m.output_vertices, m.median_seconds);
     }
@@ -274,7 +280,8 @@ fn table(a: &Args) -> Result<(), String> {
                 row.mvps.push(v);
             }
         } else {
-            row.failed.push(field(line, "reason").unwrap_or("failed").into());
+            row.failed
+                .push(field(line, "reason").unwrap_or("failed").into());
         }
     }
     println!(
