@@ -321,6 +321,32 @@ fn patch_path_matches_the_reference_driver() {
     }
 }
 
+/// A scheme whose axiom refines to one symbol (ω → A, A → AA: uniform binary delayed by a
+/// step) makes faces of N' = 1 after its first step, with no interior points: the fast path
+/// still gives the reference driver's points, closed and open.
+#[test]
+fn one_symbol_images_refine_by_the_patches() {
+    use lsubdiv::compiler::exact::scheme::parse;
+    use lsubdiv::runtime::generators::open_grid;
+    use lsubdiv::runtime::patch::subdivide;
+    let text = "name = \"delayed\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"A\"\nA = \"AA\"\n";
+    let s =
+        GenericSurface::new(Scheme::build(parse("delayed.toml", text).unwrap()).unwrap()).unwrap();
+    for steps in 1..=3 {
+        let mesh = torus(3, 4);
+        let (reference, _) = refine(&s, mesh.clone(), steps);
+        for threads in [1, 2] {
+            let fast = subdivide::<_, f64>(&s, &mesh, steps, threads).unwrap();
+            let d = same_points(&fast.positions, &reference.positions);
+            assert!(d < 1e-12, "{steps} steps: {d:e}");
+        }
+        let grid = open_grid(2, 3);
+        let fast = subdivide::<_, f64>(&s, &grid, steps, 1).unwrap();
+        assert!(fast.positions.iter().flatten().all(|x| x.is_finite()));
+        Topology::build(&fast).unwrap();
+    }
+}
+
 #[test]
 fn every_contained_step_runs_depth_first() {
     use lsubdiv::runtime::patch::Refiner;

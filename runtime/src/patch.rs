@@ -1273,7 +1273,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let times = in_threads(work, |(faces, scratch)| {
             let clock = Instant::now();
             let buf = grown(&mut scratch.face, composed.scratch_len());
-            let rows = (STAGE / (k * 3)).clamp(1, k.max(1));
+            // (N' = 1: no interior; a scheme whose ω → one symbol, after one step.)
+            let rows = (STAGE / (k * 3).max(1)).clamp(1, k.max(1));
             // SAFETY: the interior points and the points of the edges of these faces are written
             // by this worker only.
             let (interiors, edges) = unsafe {
