@@ -937,8 +937,9 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
 /// two threads give the same points: the kernels run the same operations in the same order
 /// on every path ([`lsubdiv::runtime::patch::Simd`]); the fused multiply-adds of AVX2 and
 /// AVX-512 give those two the same bits, within 1e-14 of the baseline's (relative to the
-/// mesh's size); on closed meshes (ordinary faces and fans), open ones and every featured
-/// mesh, for every shipped surface scheme.
+/// mesh's size); in f64 and f32 (the latter within f32 rounding of the former); on closed
+/// meshes (ordinary faces and fans), open ones and every featured mesh, for every shipped
+/// surface scheme.
 #[test]
 fn every_simd_path_and_writer_gives_the_same_points() {
     use lsubdiv::generated;
@@ -989,6 +990,23 @@ fn every_simd_path_and_writer_gives_the_same_points() {
                     let fused = fused.get_or_insert_with(|| first.clone());
                     assert!(*fused == first, "{name} {what}: {simd:?} against AVX2");
                 }
+                // f32 (16 values to a cache line): the writer and the threads change no bit.
+                let single = |stream, threads| {
+                    let mut r =
+                        Refiner::<_, f32>::with_features(&s, &topo, features, steps, threads)
+                            .unwrap();
+                    r.set_simd(simd);
+                    r.set_stream_bytes(stream);
+                    r.refine(&mesh.positions).unwrap().to_vec()
+                };
+                let plain = single(usize::MAX, 1);
+                assert!(single(0, 2) == plain, "{name} {what}: {simd:?} f32");
+                let d = plain
+                    .iter()
+                    .flatten()
+                    .zip(first.iter().flatten())
+                    .fold(0.0f64, |m, (&a, b)| m.max((f64::from(a) - b).abs()));
+                assert!(d <= 1e-5 * size, "{name} {what}: {simd:?} f32 off by {d:e}");
             }
         }
     }
