@@ -3,7 +3,7 @@
 //   osd_bench --obj MESH.obj --name NAME --levels L [--runs R] [--dump OUT.bin]
 //
 // Builds a Far::TopologyRefiner from the OBJ's quads (Far::TopologyDescriptor, Catmull-Clark,
-// closed meshes so the boundary rule is irrelevant), refines it uniformly L levels, allocates
+// boundaries edge-and-corner as lsubdiv's default), refines it uniformly L levels, allocates
 // the primvar buffer for all levels once, and times only Far::PrimvarRefiner::Interpolate of
 // levels 1..L on double-precision positions: one warm-up, then the median of R runs (R >= 7).
 // Prints `RESULT impl=opensubdiv-c++ ...` like the Rust harnesses. With --dump, writes the final
@@ -126,7 +126,8 @@ int main(int argc, char **argv) {
 
     typedef Far::TopologyDescriptor Descriptor;
     Sdc::Options options;
-    options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);  // closed: unused
+    // lsubdiv's default boundary rule (the open grid; unused on closed meshes).
+    options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
 
     int nFaces = (int)(obj.faceVerts.size() / 4);
     std::vector<int> vertsPerFace(nFaces, 4);

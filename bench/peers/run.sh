@@ -174,12 +174,13 @@ for ((r = 1; r <= ROUNDS; r++)); do
     for mesh in "${MESHES[@]}"; do
         for peer in "${PEERS[@]}"; do
             dump=()
-            # Round 1 on the torus also writes the refined meshes for the accuracy check
-            # (after timing, untimed).
-            [ "$r" = 1 ] && [ "$mesh" = torus ] && dump=(--dump "$WORK/torus-lsubdiv.bin")
+            # Round 1 on the torus and the open grid also writes the refined meshes for the
+            # accuracy check (after timing, untimed).
+            checked() { [ "$r" = 1 ] && { [ "$mesh" = torus ] || [ "$mesh" = grid ]; }; }
+            checked && dump=(--dump "$WORK/$mesh-lsubdiv.bin")
             run_one lsubdiv "$mesh" "$r" "${dump[@]}"
             dump=()
-            [ "$r" = 1 ] && [ "$mesh" = torus ] && dump=(--dump "$WORK/torus-$peer.bin")
+            checked && dump=(--dump "$WORK/$mesh-$peer.bin")
             run_one "$peer" "$mesh" "$r" "${dump[@]}"
         done
         [ ${#PEERS[@]} = 0 ] && run_one lsubdiv "$mesh" "$r"
@@ -188,20 +189,22 @@ done
 
 # --- accuracy --------------------------------------------------------------------------------
 say
-say "### accuracy (torus, ${LEVELS[torus]:-3} levels; vertices matched by position, tolerance 1e-9; required <= 1e-12 vs OpenSubdiv)"
+say "### accuracy (torus ${LEVELS[torus]:-3} levels, open grid ${LEVELS[grid]:-8} levels; vertices matched by position, tolerance 1e-9; required <= 1e-12 vs OpenSubdiv)"
 ACC="$WORK/accuracy.txt"
 : >"$ACC"
 [ ${#PEERS[@]} = 0 ] && say "(no peer was built: nothing to compare)"
-for peer in "${PEERS[@]}"; do
-    if [ -f "$WORK/torus-lsubdiv.bin" ] && [ -f "$WORK/torus-$peer.bin" ]; then
-        "$LS" compare --a "$WORK/torus-lsubdiv.bin" --b "$WORK/torus-$peer.bin" \
-            --label "torus:lsubdiv-vs-$peer" 2>&1 | tee -a "$ACC"
-    else
-        say "torus:lsubdiv-vs-$peer: no dump (run failed)" | tee -a "$ACC"
-    fi
-    rm -f "$WORK/torus-$peer.bin"
+for mesh in torus grid; do
+    for peer in "${PEERS[@]}"; do
+        if [ -f "$WORK/$mesh-lsubdiv.bin" ] && [ -f "$WORK/$mesh-$peer.bin" ]; then
+            "$LS" compare --a "$WORK/$mesh-lsubdiv.bin" --b "$WORK/$mesh-$peer.bin" \
+                --label "$mesh:lsubdiv-vs-$peer" 2>&1 | tee -a "$ACC"
+        else
+            say "$mesh:lsubdiv-vs-$peer: no dump (run failed)" | tee -a "$ACC"
+        fi
+        rm -f "$WORK/$mesh-$peer.bin"
+    done
+    rm -f "$WORK/$mesh-lsubdiv.bin"
 done
-rm -f "$WORK/torus-lsubdiv.bin"
 if [[ " ${PEERS[*]} " == *" opensubdiv-c++ "* ]]; then
     say
     say "informational, meshes with extraordinary vertices (3 levels, tolerance 1e-2): lsubdiv's"

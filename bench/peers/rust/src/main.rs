@@ -1,7 +1,8 @@
 //! lsubdiv side of the peer comparison (see bench/peers/README.md).
 //!
 //! Subcommands (all driven by bench/peers/run.sh):
-//! - `meshes --dir D [--target N]`: writes torus.obj (torus:256:256), cube.obj and star.obj with
+//! - `meshes --dir D [--target N]`: writes torus.obj (torus:256:256), cube.obj, star.obj and
+//!   grid.obj (open 8 × 8) with
 //!   `lsubdiv::bench::mesh` + `to_obj`, and prints `MESH name path levels out_vertices` with the
 //!   level count `lsubdiv bench` would use for N output vertices (default 4,200,000).
 //! - `bench --obj P --name N --levels L [--runs R] [--dump F]`: times lsubdiv exactly as
@@ -55,6 +56,7 @@ fn meshes(a: &Args) -> Result<(), String> {
         ("torus", "torus:256:256"),
         ("cube", "cube"),
         ("star", "star"),
+        ("grid", "grid"),
     ] {
         let checked = bench::mesh(spec, u64::MAX, None).map_err(|e| e.to_string())?;
         let mesh = &checked.mesh;
@@ -75,7 +77,6 @@ fn meshes(a: &Args) -> Result<(), String> {
     Ok(())
 }
 
-/// V + E(N−1) + F(N−1)² for a closed quad mesh refined N-fold per edge.
 /// Refines once with the same Refiner (f64, 1 thread) and returns positions and faces.
 struct Dump<'m> {
     mesh: &'m QuadMesh,
