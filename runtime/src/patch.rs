@@ -524,21 +524,15 @@ impl<'t> Base<'t> {
 
 impl Base<'_> {
     /// Sets the phantom points of face f's start patch (side N, for step k, the first the
-    /// patches take), the fi-th in `buf`; nothing on a plain mesh.
-    fn load_phantoms<T: Real>(
-        &self,
-        (f, n, k): (u32, i64, usize),
-        layout: Layout,
-        fi: usize,
-        buf: &mut [T],
-    ) {
+    /// patches take) in `buf`; nothing on a plain mesh.
+    fn load_phantoms<T: Real>(&self, (f, n, k): (u32, i64, usize), layout: Layout, buf: &mut [T]) {
         if self.features.is_plain() {
             return;
         }
         let mut phantoms = Vec::new();
         self.phantoms(f, n, k, &mut phantoms);
         for p in &phantoms {
-            p.apply(layout, fi, buf);
+            p.apply(layout, buf);
         }
     }
 
@@ -559,7 +553,7 @@ impl Base<'_> {
         let mut copies: Vec<((i64, i64), [T; 3])> = Vec::new();
         let read = |g: u32, x: i64, y: i64| -> Option<[T; 3]> {
             let p = patches.get(*slot.get(g as usize)? as usize)?;
-            let i = layout.at(0, x, y);
+            let i = layout.at(x, y);
             Some([p[i], p[i + 1], p[i + 2]])
         };
         for l in 0..4u8 {
@@ -593,7 +587,7 @@ impl Base<'_> {
         }
         let patch = &mut patches[slot[f as usize] as usize];
         for ((x, y), p) in copies {
-            let i = layout.at(0, x, y);
+            let i = layout.at(x, y);
             patch[i..i + 3].copy_from_slice(&p);
         }
     }
@@ -623,16 +617,16 @@ impl Phantom {
         }
     }
 
-    /// Sets the point in the fi-th patch of `buf` (in `layout`).
-    fn apply<T: Real>(&self, layout: Layout, fi: usize, buf: &mut [T]) {
+    /// Sets the point in the patch `buf` (in `layout`).
+    fn apply<T: Real>(&self, layout: Layout, buf: &mut [T]) {
         let mut p = [T::default(); 3];
         for &((x, y), w) in &self.terms[..self.len as usize] {
-            let i = layout.at(fi, x, y);
+            let i = layout.at(x, y);
             for (o, q) in p.iter_mut().zip(&buf[i..i + 3]) {
                 *o += T::from_f64(w) * *q;
             }
         }
-        let i = layout.at(fi, self.at.0, self.at.1);
+        let i = layout.at(self.at.0, self.at.1);
         buf[i..i + 3].copy_from_slice(&p);
     }
 }
@@ -648,31 +642,26 @@ fn inward_xy(gl: u8, u: i64, inward: i64, n: i64) -> (i64, i64) {
     }
 }
 
-/// Where k patches of side `side` (ring of width `ring` included) keep their points: the
-/// fi-th patch's point (x, y), x, y = −ring..=side−1−ring, is at `3 · (((a·side + b)·k + fi)`
-/// with (a, b) the shifted (x, y), or (y, x) when the patch is stored transposed.
+/// Where a patch of side `side` (its ring included) keeps its points: point (x, y),
+/// x, y = −1..=side−2, is at `3 · (a·side + b)` with (a, b) = (x + 1, y + 1), or (y + 1, x + 1)
+/// when the patch is stored transposed.
 #[derive(Clone, Copy)]
 struct Layout {
     side: usize,
-    k: usize,
-    ring: i64,
     a_is_x: bool,
 }
 
 impl Layout {
-    fn at(self, fi: usize, x: i64, y: i64) -> usize {
+    fn at(self, x: i64, y: i64) -> usize {
         let (a, b) = if self.a_is_x { (x, y) } else { (y, x) };
-        let (a, b) = ((a + self.ring) as usize, (b + self.ring) as usize);
-        ((a * self.side + b) * self.k + fi) * 3
+        (((a + 1) as usize) * self.side + (b + 1) as usize) * 3
     }
 }
 
-/// The layout of k patches of side N with their ring.
-fn ring_layout(n: i64, k: usize, a_is_x: bool) -> Layout {
+/// The layout of a patch of side N with its ring.
+fn ring_layout(n: i64, a_is_x: bool) -> Layout {
     Layout {
         side: (n + 3) as usize,
-        k,
-        ring: 1,
         a_is_x,
     }
 }
@@ -688,7 +677,7 @@ struct Fans<'a, T> {
 
 impl<T> Fans<'_, T> {
     fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
-        let i = ring_layout(self.n, 1, self.a_is_x).at(0, x, y);
+        let i = ring_layout(self.n, self.a_is_x).at(x, y);
         let p = &self.patches[self.slot[f as usize] as usize];
         p[i..i + 3].try_into().expect("three coordinates")
     }
@@ -709,14 +698,15 @@ struct Passes<T> {
     row: Vec<T>,
 }
 
-/// Scratch buffers of one worker: an ordinary face's, and a fan patch's passes' buffers. Buffers only grow, so a worker touches fresh pages only once.
+/// Scratch buffers of one worker: an ordinary face's, and a fan patch's passes' buffers.
+/// Buffers only grow, so a worker touches fresh pages only once.
 #[derive(Default)]
 struct Scratch<T> {
     /// An ordinary face's start patch and its rows ([`Composed::scratch_len`]).
     face: Vec<T>,
-    /// An ordinary face's interior rows, staged, and its edges' points.
+    /// An ordinary face's interior rows, staged, and its border (`Ordinary`).
     interior: Vec<T>,
-    edges: Vec<T>,
+    border: Vec<T>,
     p: Passes<T>,
 }
 
@@ -1039,11 +1029,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let start_num = Numbering::new(base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
         // Every face's start patch as indices, x-major ([`load`]).
-        let m = ring_layout(start_num.n, 1, true);
+        let m = ring_layout(start_num.n, true);
         let nf = topo.face_count();
         let mut start_gather = vec![u32::MAX; nf * m.side * m.side];
         for (f, t) in start_gather.chunks_exact_mut(m.side * m.side).enumerate() {
-            start_num.gather(&base, f as u32, |x, y, i| t[m.at(0, x, y) / 3] = i as u32);
+            start_num.gather(&base, f as u32, |x, y, i| t[m.at(x, y) / 3] = i as u32);
         }
         // α for the special vertices that are interior and extraordinary (unused otherwise).
         let alphas = base
@@ -1107,8 +1097,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.strip_bytes = bytes;
     }
 
-    /// Output size in bytes from which the ordinary faces write whole cache lines with
-    /// non-temporal stores (default 32 MiB: far larger than the caches, where reading a line
+    /// Output size in bytes from which the faces' interiors (and an ordinary face's edges) go
+    /// out in whole cache lines with non-temporal stores (default 32 MiB: far larger than the caches, where reading a line
     /// before writing it costs as much as writing it). The output does not depend on it.
     pub fn set_stream_bytes(&mut self, bytes: usize) {
         self.stream_bytes = bytes;
@@ -1292,13 +1282,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 base,
                 num,
                 out,
-                layout: ring_layout(n0, 1, false),
+                layout: ring_layout(n0, false),
                 first,
                 f: 0,
                 rows,
                 stage: grown(&mut scratch.interior, rows * k * 3),
                 y0: 1,
-                border: grown(&mut scratch.edges, 5 * (n + 1) * 3),
+                border: grown(&mut scratch.border, 5 * (n + 1) * 3),
                 interiors,
                 edges,
             };
@@ -1331,10 +1321,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 patch.resize(m * m * 3, T::default());
             }
             let t = &self.start_gather[f as usize * m * m..][..m * m];
-            let layout = ring_layout(self.start_num.n, 1, a_is_x);
-            load(t, &self.start, layout, 0, patch);
+            let layout = ring_layout(self.start_num.n, a_is_x);
+            load(t, &self.start, layout, patch);
             self.base
-                .load_phantoms((f, self.start_num.n, self.first), layout, 0, patch);
+                .load_phantoms((f, self.start_num.n, self.first), layout, patch);
         }
         let mut n = self.start_num.n;
         let streaming = self.output.len() * size_of::<[T; 3]>() >= self.stream_bytes;
@@ -1420,12 +1410,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     }
                 }
             } else {
-                let layout = ring_layout(n_new, 1, new_a_is_x);
+                let layout = ring_layout(n_new, new_a_is_x);
                 for (&v, child) in self.base.special.iter().zip(&children) {
                     let Some(child) = child else { continue };
                     for w in self.base.topo.rotation(v) {
                         let (cx, cy) = corner_at(w.corner, n_new, n_new);
-                        let i = layout.at(0, cx, cy);
+                        let i = layout.at(cx, cy);
                         new[self.fan_slot[w.face as usize] as usize][i..i + 3]
                             .copy_from_slice(child);
                     }
@@ -1438,7 +1428,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     self.base.phantoms(f, n_new, k + 1, &mut phantoms);
                     let patch = &mut new[self.fan_slot[f as usize] as usize];
                     for p in &phantoms {
-                        p.apply(layout, 0, patch);
+                        p.apply(layout, patch);
                     }
                 }
             }
@@ -1519,12 +1509,11 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
             &self.table[f as usize * m * m..][..m * m],
             self.start,
             self.layout,
-            0,
             patch,
         );
         let n0 = self.layout.side as i64 - 3;
         self.base
-            .load_phantoms((f, n0, self.first), self.layout, 0, patch);
+            .load_phantoms((f, n0, self.first), self.layout, patch);
         self.f = f as usize;
         self.y0 = 1;
     }
@@ -1776,7 +1765,8 @@ pub fn footprint(
         .saturating_mul(point)
         .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
     // The fans' two levels (the last step writes straight to the output), and each worker's
-    // patch of the last level.
+    // scratch: bounded by two patches of the last level (a fan step's strips, an ordinary
+    // face's rows, staged interior and border; at least 8192 points).
     let fans = if steps > first {
         let before = |k: usize| side(steps.saturating_sub(k).max(first));
         fan_faces
@@ -2274,14 +2264,13 @@ fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// Copies a start patch (`table`: its indices into `start`, x-major with side m, `u32::MAX`
-/// for the missing diagonal at an EV corner, which reads as zero) into the fi-th patch of
-/// `dst` in `layout`.
-fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, fi: usize, dst: &mut [T]) {
+/// for the missing diagonal at an EV corner, which reads as zero) into `dst` in `layout`.
+fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T]) {
     let m = layout.side;
     for (x, column) in table.chunks_exact(m).enumerate() {
         for (y, &i) in column.iter().enumerate() {
             let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
-            let d = layout.at(fi, x as i64 - 1, y as i64 - 1);
+            let d = layout.at(x as i64 - 1, y as i64 - 1);
             dst[d..d + 3].copy_from_slice(&p);
         }
     }

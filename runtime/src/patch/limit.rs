@@ -187,17 +187,17 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
         let exact_corner = |v: u32, f: u32, c: u8| {
             rule(v) == VertexRule::Corner && features.corner_kind(topo, f, c, k) == CornerKind::Both
         };
-        let layout = ring_layout(n, 1, true);
+        let layout = ring_layout(n, true);
         let mut patch = vec![0.0f64; layout.side * layout.side * 3];
         for f in 0..topo.face_count() as u32 {
             patch.fill(0.0);
             num.gather(base, f, |x, y, i| {
-                let j = layout.at(0, x, y);
+                let j = layout.at(x, y);
                 patch[j..j + 3].copy_from_slice(&at(i));
             });
-            base.load_phantoms((f, n, k), layout, 0, &mut patch);
+            base.load_phantoms((f, n, k), layout, &mut patch);
             let p = |x: i64, y: i64| -> V3 {
-                let j = layout.at(0, x, y);
+                let j = layout.at(x, y);
                 [patch[j], patch[j + 1], patch[j + 2]]
             };
             for y in 0..=n {
