@@ -934,7 +934,8 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
 }
 
 /// Every instruction set this CPU has, the non-temporal writer forced on or off, and one or
-/// two threads give the same points: the kernels run the same operations in the same order
+/// two threads, wide or one-point strips give the same points: the kernels run the same
+/// operations in the same order
 /// on every path ([`lsubdiv::runtime::patch::Simd`]); the fused multiply-adds of AVX2 and
 /// AVX-512 give those two the same bits, within 1e-14 of the baseline's (relative to the
 /// mesh's size); in f64 and f32 (the latter within f32 rounding of the former); on closed
@@ -953,7 +954,8 @@ fn every_simd_path_and_writer_gives_the_same_points() {
         let steps = if *name == "binary-ternary" { 2 } else { 3 };
         for (what, mesh, features) in &meshes {
             let topo = Topology::build(mesh).unwrap();
-            let refiner = |simd, stream, threads| {
+            // Strips of 1 byte: every fan row in one-point strips, each continuing the last.
+            let refiner = |simd, stream, threads, strips| {
                 let mut r = Refiner::<_, f64>::with_features(&s, &topo, features, steps, threads)
                     .unwrap_or_else(|e| panic!("{name} {what}: {e}"));
                 assert_eq!(
@@ -962,9 +964,11 @@ fn every_simd_path_and_writer_gives_the_same_points() {
                     "{name} {what}: {simd:?} is available"
                 );
                 r.set_stream_bytes(stream);
+                r.set_strip_bytes(strips);
                 r.refine(&mesh.positions).unwrap().to_vec()
             };
-            let baseline = refiner(Simd::Baseline, usize::MAX, 1);
+            let wide = 512 << 10;
+            let baseline = refiner(Simd::Baseline, usize::MAX, 1, wide);
             assert!(baseline.iter().flatten().all(|x| x.is_finite()));
             let size = baseline
                 .iter()
@@ -972,12 +976,14 @@ fn every_simd_path_and_writer_gives_the_same_points() {
                 .fold(1.0f64, |m, x| m.max(x.abs()));
             let mut fused = None;
             for simd in Simd::available() {
-                let first = refiner(simd, usize::MAX, 1);
-                for (stream, threads) in [(0, 1), (0, 2), (usize::MAX, 2)] {
-                    let other = refiner(simd, stream, threads);
+                let first = refiner(simd, usize::MAX, 1, wide);
+                let runs = [(0, 1, wide), (0, 2, wide), (usize::MAX, 2, 1), (0, 1, 1)];
+                for (stream, threads, strips) in runs {
+                    let other = refiner(simd, stream, threads, strips);
                     assert!(
                         other == first,
-                        "{name} {what}: {simd:?}, stream from {stream} bytes, {threads} threads"
+                        "{name} {what}: {simd:?}, stream from {stream} bytes, {threads} threads, \
+                         strips of {strips} bytes"
                     );
                 }
                 let d = first

@@ -1342,11 +1342,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .zip(&mut self.scratch);
             let times = in_threads(work, |(((faces, old), new), scratch)| {
                 let mut clock = Instant::now();
-                // SAFETY: the interior points of these faces are written by this worker only.
-                let mut interiors =
-                    unsafe { Stream::new(out.ptr.cast::<T>(), out.len * 3, streaming, false) };
+                // One writer per row of the last level: a row's strips continue each other, so
+                // only a row's two ends are partial lines.
+                let mut rows = Vec::new();
                 for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                     if last {
+                        rows.extend((0..=out_num.n).map(|_| {
+                            // SAFETY: the interior points of these faces are written by this
+                            // worker only, each row by its own writer.
+                            unsafe {
+                                Stream::new(out.ptr.cast::<T>(), out.len * 3, streaming, false)
+                            }
+                        }));
                         // Strips of rows y (the parity chosen above), x from a0: the interior
                         // points as a run, the border by ownership.
                         let each = |a0: usize, y: usize, row: &[T]| {
@@ -1362,16 +1369,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                 let (first, _) = out_num.index(f as usize, lo, y);
                                 let (a, b) = ((lo - x0) as usize * 3, (hi - x0 + 1) as usize * 3);
                                 // SAFETY: face f's interior is written by face f only.
-                                unsafe { interiors.run(first * 3, &row[a..b]) };
+                                unsafe { rows[y as usize].run(first * 3, &row[a..b]) };
                             }
                             scatter_border(out_num, f as usize, &xs, &(y..=y), point, out);
                         };
                         plan.step_strips(src, &mut scratch.p, strip_bytes, each);
+                        rows.drain(..).for_each(Stream::finish);
                     } else {
                         plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                     }
                 }
-                interiors.finish();
                 lap(&mut clock)
             });
             let mut clock = Instant::now();
