@@ -1,7 +1,8 @@
 //! Writing runs of the output in whole cache lines.
 //!
-//! A worker writes its faces' interior points in one long ascending run (consecutive faces
-//! own consecutive interiors, row by row: `Numbering`). `Stream` holds the part of a 64-byte
+//! A worker writes its ordinary faces' interior points in one long ascending run (consecutive
+//! faces own consecutive interiors, row by row: `Numbering`), their edges in another, and a fan
+//! face's last level one run per row (strip after strip). `Stream` holds the part of a 64-byte
 //! line not yet complete and writes each line the run fills whole with a non-temporal store
 //! (past the caches, without reading the line first); lines the run only partly covers are
 //! written with plain stores, so no byte outside the run is touched. Non-temporal stores pay
@@ -26,8 +27,7 @@ pub(super) struct Stream<'a, T> {
     held: [T; 16],
     count: usize,
     streaming: bool,
-    /// Whether lines go out in one 64-byte store (the code calling [`Stream::run`] is compiled
-    /// for AVX-512F) or four of 16 bytes.
+    /// Whether lines go out in one 64-byte store (AVX-512F) or four of 16 bytes (SSE2).
     wide: bool,
     out: PhantomData<&'a mut [T]>,
 }
@@ -38,8 +38,8 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     ///
     /// # Safety
     /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
-    /// this writer is handed until [`Stream::finish`]; `wide` only where the code calling
-    /// [`Stream::run`] is compiled for AVX-512F (and so the CPU has it).
+    /// this writer is handed until [`Stream::finish`]; `wide` only where the CPU has AVX-512F
+    /// (it pays where the code calling [`Stream::run`] is compiled for it).
     pub(super) unsafe fn new(
         base: *mut T,
         len: usize,
@@ -139,7 +139,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             if self.streaming {
                 use std::arch::x86_64::*;
                 if self.wide {
-                    // The caller's contract (`wide` only in code compiled for AVX-512F).
+                    // The CPU has AVX-512F (`Stream::new`'s contract).
                     let v = _mm512_loadu_si512(values.cast());
                     _mm512_stream_si512(dst.cast(), v);
                 } else {
