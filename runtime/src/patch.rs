@@ -1525,6 +1525,18 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         self.y0 = 1;
     }
 
+    /// Rows 0 and N' hold edge 0 and edge 2 and the corners: only if face f owns one of them.
+    #[inline(always)]
+    fn wants(&self, y: usize) -> bool {
+        let n = self.num.n as usize;
+        let (edge, corners) = match y {
+            0 => (0, [0, 1]),
+            y if y == n => (2, [3, 2]),
+            _ => return true,
+        };
+        self.num.edges[self.f][edge].2 || corners.iter().any(|&c| self.num.corners[self.f][c])
+    }
+
     #[inline(always)]
     fn row(&mut self, y: usize, row: &[T]) {
         let n = self.num.n as usize;

@@ -175,6 +175,9 @@ impl<T: Real> Composed<T> {
             .zip(self.weights.chunks_exact(band))
             .enumerate()
         {
+            if !faces.wants(y) {
+                continue;
+            }
             let a = &a[lo * width..];
             for (q, out) in row.chunks_exact_mut(TILE).enumerate() {
                 let mut acc = [T::default(); TILE];
@@ -197,6 +200,8 @@ pub(super) trait Faces<T> {
     fn count(&self) -> usize;
     /// Loads the i-th face's start patch.
     fn load(&mut self, i: usize, patch: &mut [T]);
+    /// Whether final row y of the face loaded last is wanted (else it is not computed).
+    fn wants(&self, y: usize) -> bool;
     /// Takes final row y of the face loaded last.
     fn row(&mut self, y: usize, row: &[T]);
     /// After the last row of a face.
