@@ -207,7 +207,7 @@ impl PolyUv {
     /// The channel after the first Catmull–Clark step of `mesh` (with `features`), quads in
     /// [`catmull_clark`]'s order (per face, per corner: the corner, the point of the edge
     /// after it, the centroid, the point of the edge before). Linear: corner values, edge
-    /// midpoints, centroids; smooth: that step on the layout ([`layout_features`]).
+    /// midpoints, centroids; smooth: that step on the layout (`layout_features`).
     pub fn split(
         &self,
         mesh: &PolyMesh,

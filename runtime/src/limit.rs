@@ -18,7 +18,7 @@ pub struct CurveLimit<const D: usize> {
 
 /// The limit of every control point whose neighbours the mask needs exist: all of a closed
 /// curve's, the points (d−1)/2 ..= m − 1 − (d−1)/2 of an open one (its ends have no limit
-/// point of their own, as they have no full mask: [N] §2.3).
+/// point of their own, as they have no full mask: \[N\] §2.3).
 pub fn curve_limit<S: CurveScheme, const D: usize>(
     scheme: &S,
     curve: &Curve<D>,

@@ -13,8 +13,8 @@
 //! written, in its final numbering (`Numbering`: base vertices, edge points, face interiors).
 //! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
 //! and go through all steps at once: the plans compose into one matrix M and the face's last
-//! level is M · P · Mᵀ of its start patch P ([`composed`]), written in whole cache lines
-//! ([`stream`]); faces around EVs are large patches, refined one at a time (pass, transpose,
+//! level is M · P · Mᵀ of its start patch P (`patch/composed.rs`), written in whole cache
+//! lines (`patch/stream.rs`); faces around EVs are large patches, refined one at a time (pass, transpose,
 //! pass, in strips that stay in cache; the last step hands its rows straight to the output).
 //!
 //! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
@@ -37,7 +37,7 @@
 //! children are set by their rule and the rings refreshed from the neighbours' new patches and
 //! from the next step's phantoms. A step the reference driver must take (masks not contained
 //! where a corner has no diagonal) runs, on a mesh with features, on the mesh cut open along
-//! its sharp edges and extended by ghost faces ([`Cut`], [`ghosted`]); a scheme that needs
+//! its sharp edges and extended by ghost faces (`Cut`, `ghosted`); a scheme that needs
 //! more than one such step is refused there with that reason.
 
 use crate::curve::{rewrite, CurveTables};
@@ -296,7 +296,7 @@ const STRIP_BYTES: usize = 512 << 10;
 
 /// The instruction sets the patch kernels are compiled for, chosen at run time
 /// (`is_x86_feature_detected!`). Every path runs the same operations in the same order; the
-/// composed patches' sums ([`composed`]) are fused multiply-adds on AVX2 and AVX-512, so those
+/// composed patches' sums (`patch/composed.rs`) are fused multiply-adds on AVX2 and AVX-512, so those
 /// two give the same bits and differ from the baseline by rounding only (≤ 1e-14 relative).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Simd {
@@ -1714,7 +1714,7 @@ pub struct Footprint {
 /// `scalar_bytes` bytes, predicted from the label words before anything is built (saturating).
 /// It follows the refiner's plan: the steps before masks are contained run on the whole mesh
 /// when it has EVs, faces with an EV corner are refined as whole patches level by level, the
-/// others composed ([`composed`]), with a face's scratch per worker.
+/// others composed (`patch/composed.rs`), with a face's scratch per worker.
 pub fn footprint(
     t: &CurveTables<'_>,
     contained_from: usize,
