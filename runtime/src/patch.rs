@@ -879,6 +879,21 @@ impl<T: Copy> SharedOut<T> {
         // SAFETY: in range (checked); exclusive to this caller (the function's contract).
         unsafe { self.ptr.add(i).write(*p) };
     }
+
+    /// A writer of runs of the output's values ([`Stream::new`]: non-temporal where
+    /// `streaming`, 64-byte stores where `wide`).
+    ///
+    /// # Safety
+    /// No other thread or writer reads or writes the indices it is handed until
+    /// [`Stream::finish`]; `wide` only where the CPU has AVX-512F.
+    unsafe fn stream(&self, streaming: bool, wide: bool) -> Stream<'_, T>
+    where
+        T: Default,
+    {
+        // SAFETY: the buffer holds `len` points of three values and outlives `self`; the rest
+        // is the caller's contract.
+        unsafe { Stream::new(self.ptr.cast::<T>(), self.len * 3, streaming, wide) }
+    }
 }
 
 /// Refines one quad mesh topology (closed or open, with its features) again and again (new
@@ -1047,13 +1062,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
-        let matrix = composed::compose(
-            m.side,
-            plans
+        let composed = (!plans.is_empty()).then(|| {
+            let rows = plans
                 .iter()
-                .map(|p| p.rows.iter().map(|r| &p.parents[r.clone()]).collect()),
-        );
-        let composed = (!plans.is_empty()).then(|| Composed::new(m.side, &matrix));
+                .map(|p| p.rows.iter().map(|r| &p.parents[r.clone()]).collect());
+            Composed::new(m.side, &composed::compose(m.side, rows))
+        });
         let mut fan_slot = vec![u32::MAX; nf];
         for (i, &f) in fan_faces.iter().enumerate() {
             fan_slot[f as usize] = i as u32;
@@ -1102,6 +1116,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// before writing it costs as much as writing it). The output does not depend on it.
     pub fn set_stream_bytes(&mut self, bytes: usize) {
         self.stream_bytes = bytes;
+    }
+
+    /// Whether the output is large enough for whole lines to go out non-temporally
+    /// ([`Refiner::set_stream_bytes`]).
+    fn streams_output(&self) -> bool {
+        self.output.len() * size_of::<[T; 3]>() >= self.stream_bytes
     }
 
     /// Runs the kernels with `simd`, or the widest path this CPU has below it; returns the
@@ -1250,7 +1270,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let Some(composed) = &self.composed else {
             return;
         };
-        let streaming = self.output.len() * size_of::<[T; 3]>() >= self.stream_bytes;
+        let streaming = self.streams_output();
         let out = SharedOut::new(&mut self.output);
         let (out, start, simd) = (&out, &self.start, self.simd);
         let num = &self.out_num;
@@ -1267,14 +1287,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let rows = (STAGE / (k * 3).max(1)).clamp(1, k.max(1));
             // SAFETY: the interior points and the points of the edges of these faces are written
             // by this worker only.
-            let (interiors, edges) = unsafe {
-                let at = out.ptr.cast::<T>();
-                let wide = simd == Simd::Avx512;
-                (
-                    Stream::new(at, out.len * 3, streaming, wide),
-                    Stream::new(at, out.len * 3, streaming, wide),
-                )
-            };
+            let wide = simd == Simd::Avx512;
+            let (interiors, edges) =
+                unsafe { (out.stream(streaming, wide), out.stream(streaming, wide)) };
             let mut w = Ordinary {
                 faces,
                 table,
@@ -1313,6 +1328,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         // the scatter reads best.
         let mut a_is_x = self.plans.len() % 2 == 1;
         let m = (self.start_num.n + 3) as usize;
+        let streaming = self.streams_output();
         let [old, new] = &mut self.fans;
         old.resize_with(self.fan_faces.len(), Vec::new);
         new.resize_with(self.fan_faces.len(), Vec::new);
@@ -1327,7 +1343,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .load_phantoms((f, self.start_num.n, self.first), layout, patch);
         }
         let mut n = self.start_num.n;
-        let streaming = self.output.len() * size_of::<[T; 3]>() >= self.stream_bytes;
         let out = SharedOut::new(&mut self.output);
         for (s, plan) in self.plans.iter().enumerate() {
             let last = s + 1 == self.plans.len();
@@ -1350,9 +1365,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         rows.extend((0..=out_num.n).map(|_| {
                             // SAFETY: the interior points of these faces are written by this
                             // worker only, each row by its own writer.
-                            unsafe {
-                                Stream::new(out.ptr.cast::<T>(), out.len * 3, streaming, false)
-                            }
+                            unsafe { out.stream(streaming, false) }
                         }));
                         // Strips of rows y (the parity chosen above), x from a0: the interior
                         // points as a run, the border by ownership.

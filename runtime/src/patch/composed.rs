@@ -71,17 +71,16 @@ impl<T: Real> Composed<T> {
         }
         // Each row's nonzero weights, as a band of one width starting where the row's do (or
         // earlier, at the end of the start row).
-        let span = |r: &Vec<f64>| {
-            let lo = r.iter().position(|&w| w != 0.0).unwrap_or(0);
-            let hi = r.iter().rposition(|&w| w != 0.0).map_or(lo, |h| h + 1);
-            (lo, hi)
-        };
-        let band = matrix
+        let spans: Vec<(usize, usize)> = matrix
             .iter()
-            .map(|r| span(r).1 - span(r).0)
-            .max()
-            .unwrap_or(0);
-        let first: Vec<usize> = matrix.iter().map(|r| span(r).0.min(m - band)).collect();
+            .map(|r| {
+                let lo = r.iter().position(|&w| w != 0.0).unwrap_or(0);
+                let hi = r.iter().rposition(|&w| w != 0.0).map_or(lo, |h| h + 1);
+                (lo, hi)
+            })
+            .collect();
+        let band = spans.iter().map(|&(lo, hi)| hi - lo).max().unwrap_or(0);
+        let first: Vec<usize> = spans.iter().map(|&(lo, _)| lo.min(m - band)).collect();
         let weights = matrix
             .iter()
             .zip(&first)
