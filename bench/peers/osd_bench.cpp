@@ -44,6 +44,8 @@ struct Vertex {
 struct Obj {
     std::vector<Vertex> positions;
     std::vector<int> faceVerts;  // 4 per face, 0-based
+    std::vector<int> creasePairs;  // from `t crease 2/1/0 a b s` (0-based, OpenSubdiv's shapes)
+    std::vector<float> creaseWeights;
 };
 
 bool readObj(const std::string &path, Obj &obj, std::string &err) {
@@ -77,6 +79,18 @@ bool readObj(const std::string &path, Obj &obj, std::string &err) {
                 err = path + ":" + std::to_string(lineNo) + ": face is not a quad";
                 return false;
             }
+        } else if (tag == "t") {
+            std::string name, counts;
+            int a, b;
+            float w;
+            if (!(s >> name) || name != "crease") continue;
+            if (!(s >> counts >> a >> b >> w) || counts.compare(0, 3, "2/1") != 0) {
+                err = path + ":" + std::to_string(lineNo) + ": only `t crease 2/1/0 a b s` is read";
+                return false;
+            }
+            obj.creasePairs.push_back(a);
+            obj.creasePairs.push_back(b);
+            obj.creaseWeights.push_back(w);
         }
     }
     return true;
@@ -136,6 +150,9 @@ int main(int argc, char **argv) {
     desc.numFaces = nFaces;
     desc.numVertsPerFace = vertsPerFace.data();
     desc.vertIndicesPerFace = obj.faceVerts.data();
+    desc.numCreases = (int)obj.creaseWeights.size();
+    desc.creaseVertexIndexPairs = obj.creasePairs.data();
+    desc.creaseWeights = obj.creaseWeights.data();
 
     auto t0 = std::chrono::steady_clock::now();
     Far::TopologyRefiner *refiner = Far::TopologyRefinerFactory<Descriptor>::Create(

@@ -378,6 +378,26 @@ struct Base<'t> {
     /// Some face corner has no diagonal ring point at some step ([`CornerKind::Ev`]): the
     /// depth-first steps need masks contained there (\[G\] Prop. 4.8).
     needs_containment: bool,
+    /// Per step k < `decided` (the rules of the last hold for every later step), per face:
+    /// its [`FaceRules`], at `k · F + f`. Resolved once here, so that setting a patch's
+    /// phantoms reads eight bytes instead of walking the corners' rotations.
+    rules: Vec<FaceRules>,
+    decided: usize,
+}
+
+/// What a face's phantom points at a step are made from: which of its edges are sharp, and
+/// what holds the ring point diagonal to each corner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct FaceRules {
+    sharp: [bool; 4],
+    corners: [CornerKind; 4],
+}
+
+impl FaceRules {
+    /// No phantom: no edge sharp, every diagonal a real point.
+    fn is_plain(&self) -> bool {
+        self.sharp == [false; 4] && self.corners == [CornerKind::Real; 4]
+    }
 }
 
 impl<'t> Base<'t> {
@@ -423,15 +443,20 @@ impl<'t> Base<'t> {
                 lockstep[v as usize] = true;
             }
         }
+        let rules: Vec<FaceRules> = (0..decided)
+            .flat_map(|k| {
+                let features = &features;
+                (0..topo.face_count() as u32).map(move |f| FaceRules {
+                    sharp: [0, 1, 2, 3].map(|l| features.edge_sharp(topo.edge_of(f, l), k)),
+                    corners: [0, 1, 2, 3].map(|c| features.corner_kind(topo, f, c, k)),
+                })
+            })
+            .collect();
         // A plain mesh's corners lack their diagonal exactly at its EVs.
         let needs_containment = if plain {
             !special.is_empty()
         } else {
-            (0..topo.face_count() as u32).any(|f| {
-                (0..4).any(|c| {
-                    (0..decided).any(|k| features.corner_kind(topo, f, c, k) == CornerKind::Ev)
-                })
-            })
+            rules.iter().any(|r| r.corners.contains(&CornerKind::Ev))
         };
         Ok(Base {
             topo,
@@ -440,7 +465,15 @@ impl<'t> Base<'t> {
             special,
             lockstep,
             needs_containment,
+            rules,
+            decided,
         })
+    }
+
+    /// Face f's rules at step k.
+    fn rules(&self, f: u32, k: usize) -> FaceRules {
+        let k = k.min(self.decided - 1);
+        self.rules[k * self.topo.face_count() + f as usize]
     }
 
     /// The face across local edge l of face f, its local edge, and whether the parameter runs
@@ -486,9 +519,13 @@ impl<'t> Base<'t> {
     /// The phantom points of face f's patch (side N) at step k, in the order they must be
     /// computed: the ring across every edge sharp at step k is the odd reflection of the
     /// face (2P − Q, P on the edge), then each corner's diagonal by its [`CornerKind`].
-    fn phantoms(&self, f: u32, n: i64, k: usize, out: &mut Vec<Phantom>) {
+    fn phantoms(&self, f: u32, n: i64, k: usize, mut each: impl FnMut(Phantom)) {
+        let rules = self.rules(f, k);
+        if rules.is_plain() {
+            return;
+        }
         for l in 0..4u8 {
-            if !self.sharp(f, l, k) {
+            if !rules.sharp[l as usize] {
                 continue;
             }
             let (ix, iy) = TOWARD_PREV[l as usize];
@@ -496,14 +533,14 @@ impl<'t> Base<'t> {
                 let ((x, y), _) = self.ring_point(f, l, t, n);
                 let on = (x + ix, y + iy);
                 let inside = (on.0 + ix, on.1 + iy);
-                out.push(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
+                each(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
             }
         }
         for c in 0..4u8 {
             let (cx, cy) = corner_at(c, n, n);
             let (a, b) = (TOWARD_NEXT[c as usize], TOWARD_PREV[c as usize]);
             let at = |i: i64, j: i64| (cx + i * a.0 + j * b.0, cy + i * a.1 + j * b.1);
-            let terms: &[((i64, i64), f64)] = match self.features.corner_kind(self.topo, f, c, k) {
+            let terms: &[((i64, i64), f64)] = match rules.corners[c as usize] {
                 CornerKind::Real => continue,
                 CornerKind::Ev => &[],
                 CornerKind::Both => &[
@@ -517,7 +554,7 @@ impl<'t> Base<'t> {
                 CornerKind::OneSide(true) => &[(at(0, -1), 2.0), (at(1, -1), -1.0)],
                 CornerKind::OneSide(false) => &[(at(-1, 0), 2.0), (at(-1, 1), -1.0)],
             };
-            out.push(Phantom::new(at(-1, -1), terms));
+            each(Phantom::new(at(-1, -1), terms));
         }
     }
 }
@@ -526,14 +563,7 @@ impl Base<'_> {
     /// Sets the phantom points of face f's start patch (side N, for step k, the first the
     /// patches take) in `buf`; nothing on a plain mesh.
     fn load_phantoms<T: Real>(&self, (f, n, k): (u32, i64, usize), layout: Layout, buf: &mut [T]) {
-        if self.features.is_plain() {
-            return;
-        }
-        let mut phantoms = Vec::new();
-        self.phantoms(f, n, k, &mut phantoms);
-        for p in &phantoms {
-            p.apply(layout, buf);
-        }
+        self.phantoms(f, n, k, |p| p.apply(layout, buf));
     }
 
     /// After a step, the ring of lock-step face f (side N, `layout`) from its lock-step
@@ -1440,16 +1470,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                             .copy_from_slice(child);
                     }
                 }
-                let mut phantoms = Vec::new();
                 for &f in &self.fan_faces {
                     self.base
                         .refresh_ring(f, n_new, k + 1, layout, &self.fan_slot, new);
-                    phantoms.clear();
-                    self.base.phantoms(f, n_new, k + 1, &mut phantoms);
                     let patch = &mut new[self.fan_slot[f as usize] as usize];
-                    for p in &phantoms {
-                        p.apply(layout, patch);
-                    }
+                    self.base.load_phantoms((f, n_new, k + 1), layout, patch);
                 }
             }
             std::mem::swap(old, new);
@@ -1770,7 +1795,7 @@ pub fn footprint(
         m.saturating_mul(m)
     };
     let input = v0 * 24 + f0 * 16 + f0 * 160;
-    // The start level, and every face's start patch as u32 indices.
+    // The start level, every face's start patch as u32 indices, and the faces' rules.
     // An open mesh's reference step runs on it with its ghost layers ([`ghosted`]): two
     // vertices and two faces per boundary vertex and edge, six and four more per corner.
     // A reference step on a mesh with features runs on it cut along its sharp edges, with its
@@ -1791,11 +1816,16 @@ pub fn footprint(
         }
         _ => 0,
     };
+    // Each face's rules per step until they settle (`Base::rules`).
+    let rules = base.as_ref().map_or(0, |b| {
+        (b.rules.len() as u128).saturating_mul(size_of::<FaceRules>() as u128)
+    });
     let start = output_counts(v0, e0, f0, n(first))
         .0
         .saturating_add(ghosts)
         .saturating_mul(point)
-        .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4));
+        .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4))
+        .saturating_add(rules);
     // The fans' two levels (the last step writes straight to the output), and each worker's
     // scratch: bounded by two patches of the last level (a fan step's strips, an ordinary
     // face's rows, staged interior and border; at least 8192 points).

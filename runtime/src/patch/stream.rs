@@ -105,12 +105,16 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             }
         }
         // Whole lines, then the start of the next one, held.
+        // (The loop keeps its index in a local: a store through the output pointer may alias
+        // `self` as far as the compiler knows, which would reload every field per line.)
         let whole = values.len() / per * per;
+        let mut next = self.next;
         for line in values[..whole].chunks_exact(per) {
             // SAFETY: a whole aligned line of this writer's indices.
-            unsafe { self.line(self.next, line.as_ptr()) };
-            self.next += per;
+            unsafe { self.line(next, line.as_ptr()) };
+            next += per;
         }
+        self.next = next;
         let tail = &values[whole..];
         copy(&mut self.held[..tail.len()], tail);
         self.count = tail.len();

@@ -2,8 +2,8 @@
 //!
 //! Subcommands (all driven by bench/peers/run.sh):
 //! - `meshes --dir D [--target N]`: writes torus.obj (torus:256:256), cube.obj, star.obj and
-//!   grid.obj (open 8 × 8) with
-//!   `lsubdiv::bench::mesh` + `to_obj`, and prints `MESH name path levels out_vertices` with the
+//!   grid.obj (open 8 × 8) with `lsubdiv::bench::mesh` + `obj::format`, and creased.obj (the
+//!   torus with OpenSubdiv's crease tags: `crease_tags`), and prints `MESH name path levels out_vertices` with the
 //!   level count `lsubdiv bench` would use for N output vertices (default 4,200,000).
 //! - `bench --obj P --name N --levels L [--runs R] [--dump F]`: times lsubdiv exactly as
 //!   `lsubdiv bench` does (`lsubdiv::bench::measure`: uniform-binary, generated path, f64,
@@ -19,6 +19,7 @@ mod common;
 
 use common::{read_dump, report, write_dump, Args, Obj};
 use lsubdiv::obj;
+use lsubdiv::runtime::features::Features;
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner};
 use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
@@ -57,11 +58,15 @@ fn meshes(a: &Args) -> Result<(), String> {
         ("cube", "cube"),
         ("star", "star"),
         ("grid", "grid"),
+        ("creased", "torus:256:256"),
     ] {
         let checked = bench::mesh(spec, u64::MAX, None).map_err(|e| e.to_string())?;
         let mesh = &checked.mesh;
         let path = format!("{dir}/{name}.obj");
-        let text = obj::format(mesh).map_err(|e| e.to_string())?;
+        let mut text = obj::format(mesh).map_err(|e| e.to_string())?;
+        if name == "creased" {
+            text.push_str(&crease_tags(256, 256));
+        }
         std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
         let levels = bench::steps_for(&surface, &checked.topology, target);
         let t = &checked.topology;
@@ -77,17 +82,38 @@ fn meshes(a: &Args) -> Result<(), String> {
     Ok(())
 }
 
+/// OpenSubdiv's crease tags (`t crease 2/1/0 a b s`, vertices from 0) for crease loops on the
+/// `rows` × `cols` torus (`runtime::generators::torus`, vertex i·cols + j): an infinitely sharp
+/// loop around row 0 and a loop of sharpness 2 (sharp for two steps) along each of the
+/// columns 0, 64, 128 and 192, so that the mesh has infinitely sharp crease vertices,
+/// semi-sharp ones, and crossings of four sharp edges (corners for two steps).
+fn crease_tags(rows: usize, cols: usize) -> String {
+    let id = |i: usize, j: usize| (i % rows) * cols + j % cols;
+    let mut t = String::new();
+    for j in 0..cols {
+        t += &format!("t crease 2/1/0 {} {} 10\n", id(0, j), id(0, j + 1));
+    }
+    for j in (0..cols).step_by(cols / 4) {
+        for i in 0..rows {
+            t += &format!("t crease 2/1/0 {} {} 2\n", id(i, j), id(i + 1, j));
+        }
+    }
+    t
+}
+
 /// Refines once with the same Refiner (f64, 1 thread) and returns positions and faces.
 struct Dump<'m> {
     mesh: &'m QuadMesh,
     topology: &'m Topology,
+    features: &'m Features,
     steps: usize,
 }
 
 impl SurfaceVisitor for Dump<'_> {
     type Output = Result<(Vec<[f64; 3]>, Vec<[u32; 4]>), String>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
-        let mut r = Refiner::<S, f64>::new(scheme, self.topology, self.steps, 1)
+        let mut r =
+            Refiner::<S, f64>::with_features(scheme, self.topology, self.features, self.steps, 1)
             .map_err(|e| e.to_string())?;
         let p = r
             .refine(&self.mesh.positions)
@@ -126,6 +152,7 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
         let dump = Dump {
             mesh,
             topology,
+            features: &checked.features,
             steps: levels,
         };
         let (p, f) = lsubdiv::generated::visit_surface(SCHEME, dump)
