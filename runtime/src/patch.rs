@@ -382,6 +382,9 @@ struct Base<'t> {
     /// its [`FaceRules`], at `k · F + f`. Resolved once here, so that setting a patch's
     /// phantoms reads eight bytes instead of walking the corners' rotations.
     rules: Vec<FaceRules>,
+    /// Per step k < `decided`, per special vertex (at `k · special.len() + i`): its vertex
+    /// rule if its child needs it after step k.
+    vertex_rules: Vec<Option<VertexRule>>,
     decided: usize,
 }
 
@@ -452,6 +455,16 @@ impl<'t> Base<'t> {
                 })
             })
             .collect();
+        let vertex_rules = (0..decided)
+            .flat_map(|k| {
+                let features = &features;
+                special.iter().map(move |&v| {
+                    features
+                        .needs_rule(topo, v, k)
+                        .then(|| features.vertex_rule(topo, v, k))
+                })
+            })
+            .collect();
         // A plain mesh's corners lack their diagonal exactly at its EVs.
         let needs_containment = if plain {
             !special.is_empty()
@@ -466,8 +479,15 @@ impl<'t> Base<'t> {
             lockstep,
             needs_containment,
             rules,
+            vertex_rules,
             decided,
         })
+    }
+
+    /// The rule of each special vertex whose child needs it after step k.
+    fn vertex_rules(&self, k: usize) -> &[Option<VertexRule>] {
+        let k = k.min(self.decided - 1);
+        &self.vertex_rules[k * self.special.len()..][..self.special.len()]
     }
 
     /// Face f's rules at step k.
@@ -495,25 +515,23 @@ impl<'t> Base<'t> {
         (0..4).all(|c| !self.lockstep[self.topo.vertex(f, c) as usize])
     }
 
-    /// Whether edge l of face f is sharp at step k.
-    fn sharp(&self, f: u32, l: u8, k: usize) -> bool {
-        self.features.edge_sharp(self.topo.edge_of(f, l), k)
-    }
-
-    /// Point t = 0..=N of face f's ring across its local edge l (which runs from corner l to
-    /// l+1; side N): its place in f's frame, and the (face, x, y) that owns it, one step
-    /// inside the neighbour (none across a boundary edge).
-    fn ring_point(&self, f: u32, l: u8, t: i64, n: i64) -> RingPoint {
+    /// Points t = 0..=N of face f's ring across its local edge l (which runs from corner l to
+    /// l+1; side N): each one's place in f's frame, and the (face, x, y) that owns it, one
+    /// step inside the neighbour (none across a boundary edge).
+    fn ring(&self, f: u32, l: u8, n: i64) -> impl Iterator<Item = RingPoint> {
         let (cx, cy) = corner_at(l, n, n);
         let (dx, dy) = TOWARD_NEXT[l as usize];
         // Outward normal of edge l: the opposite of the step toward corner l−1.
         let (ox, oy) = TOWARD_PREV[l as usize];
-        let owner = self.across(f, l).map(|(g, gl, back)| {
-            let u = if back { n - t } else { t };
-            let (gx, gy) = inward_xy(gl, u, 1, n);
-            (g, gx, gy)
-        });
-        ((cx + t * dx - ox, cy + t * dy - oy), owner)
+        let across = self.across(f, l);
+        (0..=n).map(move |t| {
+            let owner = across.map(|(g, gl, back)| {
+                let u = if back { n - t } else { t };
+                let (gx, gy) = inward_xy(gl, u, 1, n);
+                (g, gx, gy)
+            });
+            ((cx + t * dx - ox, cy + t * dy - oy), owner)
+        })
     }
 
     /// The phantom points of face f's patch (side N) at step k, in the order they must be
@@ -529,8 +547,7 @@ impl<'t> Base<'t> {
                 continue;
             }
             let (ix, iy) = TOWARD_PREV[l as usize];
-            for t in 0..=n {
-                let ((x, y), _) = self.ring_point(f, l, t, n);
+            for ((x, y), _) in self.ring(f, l, n) {
                 let on = (x + ix, y + iy);
                 let inside = (on.0 + ix, on.1 + iy);
                 each(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
@@ -586,23 +603,21 @@ impl Base<'_> {
             let i = layout.at(x, y);
             Some([p[i], p[i + 1], p[i + 2]])
         };
+        let rules = self.rules(f, k);
         for l in 0..4u8 {
-            if self.sharp(f, l, k) {
+            if rules.sharp[l as usize] {
                 continue;
             }
-            for t in 0..=n {
-                if let (at, Some((g, gx, gy))) = self.ring_point(f, l, t, n) {
-                    if let Some(p) = read(g, gx, gy) {
-                        copies.push((at, p));
-                    }
+            for (at, owner) in self.ring(f, l, n) {
+                if let Some(p) = owner.and_then(|(g, gx, gy)| read(g, gx, gy)) {
+                    copies.push((at, p));
                 }
             }
         }
         for c in 0..4u8 {
-            let (Some((g, gc)), CornerKind::Real) = (
-                self.diagonal(f, c),
-                self.features.corner_kind(self.topo, f, c, k),
-            ) else {
+            let (Some((g, gc)), CornerKind::Real) =
+                (self.diagonal(f, c), rules.corners[c as usize])
+            else {
                 continue;
             };
             let (gx, gy) = corner_at(gc, n, n);
@@ -823,8 +838,16 @@ impl Numbering {
                 let (e, forward, owner) = self.edges[f][l as usize];
                 (self.nv + e as usize * k + along_edge(t, n, forward), owner)
             }
-            Site::Inside(i) => (self.nv + self.ne * k + f * k * k + i, true),
+            Site::Inside(i) => (self.interior(f) + i, true),
         }
+    }
+
+    /// The index of face f's first interior point (x, y) = (1, 1); the others follow row by
+    /// row.
+    #[inline(always)]
+    fn interior(&self, f: usize) -> usize {
+        let k = (self.n - 1) as usize;
+        self.nv + self.ne * k + f * k * k
     }
 }
 
@@ -859,8 +882,8 @@ impl Numbering {
         }
         // The ring along the four edges (none across a boundary: phantoms, set after loading).
         for l in 0..4u8 {
-            for t in 0..=n {
-                if let ((x, y), Some((g, gx, gy))) = base.ring_point(f, l, t, n) {
+            for ((x, y), owner) in base.ring(f, l, n) {
+                if let Some((g, gx, gy)) = owner {
                     put(x, y, self.index(g as usize, gx, gy).0);
                 }
             }
@@ -915,7 +938,8 @@ impl<T: Copy> SharedOut<T> {
     ///
     /// # Safety
     /// No other thread or writer reads or writes the indices it is handed until
-    /// [`Stream::finish`]; `wide` only where the CPU has AVX-512F.
+    /// [`Stream::finish`] and a `stream::fence` on this thread; `wide` only where the CPU has
+    /// AVX-512F.
     unsafe fn stream(&self, streaming: bool, wide: bool) -> Stream<'_, T>
     where
         T: Default,
@@ -1340,6 +1364,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             composed.run(simd, buf, &mut w);
             w.interiors.finish();
             w.edges.finish();
+            if streaming {
+                stream::fence();
+            }
             clock.elapsed().as_secs_f64()
         });
         if let Some(last) = self.level_seconds.last_mut() {
@@ -1422,6 +1449,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                     }
                 }
+                if streaming {
+                    stream::fence();
+                }
                 lap(&mut clock)
             });
             let mut clock = Instant::now();
@@ -1438,10 +1468,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .special
                 .iter()
                 .zip(&self.alphas)
-                .map(|(&v, &alpha)| {
-                    let rule = self.base.features.vertex_rule(self.base.topo, v, k);
-                    let needs = self.base.features.needs_rule(self.base.topo, v, k);
-                    needs.then(|| match rule {
+                .zip(self.base.vertex_rules(k))
+                .map(|((&v, &alpha), rule)| {
+                    rule.map(|rule| match rule {
                         VertexRule::Corner => *fans.point_of(&self.base, v, 0),
                         VertexRule::Crease => crease_child(&self.base, &fans, plan, v, k),
                         VertexRule::Smooth if self.base.topo.valence(v) == 4 => {
@@ -1534,7 +1563,7 @@ impl<T: Real> Ordinary<'_, '_, T> {
     #[inline(always)]
     fn write_rows(&mut self, y: usize) {
         let k = self.num.n as usize - 1;
-        let at = (self.num.index(self.f, 1, 1).0 + (self.y0 - 1) * k) * 3;
+        let at = (self.num.interior(self.f) + (self.y0 - 1) * k) * 3;
         // SAFETY: face f's interior is written by face f only.
         unsafe { self.interiors.run(at, &self.stage[..(y - self.y0) * k * 3]) };
         self.y0 = y;
@@ -1816,9 +1845,10 @@ pub fn footprint(
         }
         _ => 0,
     };
-    // Each face's rules per step until they settle (`Base::rules`).
+    // Each face's and special vertex's rules per step until they settle (`Base::rules`).
     let rules = base.as_ref().map_or(0, |b| {
-        (b.rules.len() as u128).saturating_mul(size_of::<FaceRules>() as u128)
+        let faces = (b.rules.len() * size_of::<FaceRules>()) as u128;
+        faces.saturating_add((b.vertex_rules.len() * size_of::<Option<VertexRule>>()) as u128)
     });
     let start = output_counts(v0, e0, f0, n(first))
         .0
@@ -2327,6 +2357,7 @@ fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 
 /// Copies a start patch (`table`: its indices into `start`, x-major with side m, `u32::MAX`
 /// for the missing diagonal at an EV corner, which reads as zero) into `dst` in `layout`.
+#[inline(always)]
 fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T]) {
     let m = layout.side;
     for (x, column) in table.chunks_exact(m).enumerate() {

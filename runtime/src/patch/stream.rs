@@ -38,8 +38,9 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     ///
     /// # Safety
     /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
-    /// this writer is handed until [`Stream::finish`]; `wide` only where the CPU has AVX-512F
-    /// (it pays where the code calling [`Stream::run`] is compiled for it).
+    /// this writer is handed until [`Stream::finish`] and then [`fence`] on this thread; `wide`
+    /// only where the CPU has AVX-512F (it pays where the code calling [`Stream::run`] is
+    /// compiled for it).
     pub(super) unsafe fn new(
         base: *mut T,
         len: usize,
@@ -159,16 +160,23 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         }
     }
 
-    /// Writes what is held, and orders the non-temporal stores before anything that follows.
+    /// Writes what is held. The worker calls [`fence`] once after its last writer: the
+    /// fence waits for every line in flight, so one per row of a small face would cost more
+    /// than the face's rows (each fence drains the write-combining buffers).
     pub(super) fn finish(mut self) {
         // SAFETY: the held values are this writer's.
         unsafe { self.flush() };
-        #[cfg(target_arch = "x86_64")]
-        if self.streaming {
-            // SAFETY: SSE2 is part of x86-64.
-            unsafe { std::arch::x86_64::_mm_sfence() };
-        }
     }
+}
+
+/// Orders the non-temporal stores of this thread's writers before anything that follows (a
+/// thread that reads the output after joining this one sees them).
+pub(super) fn fence() {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: SSE2 is part of x86-64.
+    unsafe {
+        std::arch::x86_64::_mm_sfence()
+    };
 }
 
 /// `dst.copy_from_slice(src)` in whole 8-value moves and single values: short runs of a
