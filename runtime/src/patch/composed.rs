@@ -132,11 +132,26 @@ impl<T: Real> Composed<T> {
         self.run_any::<true>(scratch, faces);
     }
 
+    /// The face loop, its sizes made constants where they are the common ones
+    /// ([`Sizes`]) so that the compiler unrolls the loops over them.
     #[inline(always)]
     fn run_any<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
+        let sizes = Sizes {
+            m: self.m,
+            band: self.band,
+            width: self.width,
+        };
+        match (sizes.m, sizes.band, sizes.width) {
+            (4, 4, 32) => self.faces::<FUSED>(Sizes::new(4, 4, 32), scratch, faces),
+            _ => self.faces::<FUSED>(sizes, scratch, faces),
+        }
+    }
+
+    #[inline(always)]
+    fn faces<const FUSED: bool>(&self, sizes: Sizes, scratch: &mut [T], faces: &mut impl Faces<T>) {
         for i in 0..faces.count() {
-            faces.load(i, &mut scratch[..self.m * self.m * 3]);
-            self.refine::<FUSED>(scratch, faces);
+            faces.load(i, &mut scratch[..sizes.m * sizes.m * 3]);
+            self.refine::<FUSED>(sizes, scratch, faces);
             faces.done();
         }
     }
@@ -144,8 +159,13 @@ impl<T: Real> Composed<T> {
     /// One face: the start patch at the front of `scratch` to its final rows, handed to
     /// `faces`; `FUSED`: each product is added with one rounding (FMA).
     #[inline(always)]
-    fn refine<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
-        let (m, width, band) = (self.m, self.width, self.band);
+    fn refine<const FUSED: bool>(
+        &self,
+        sizes: Sizes,
+        scratch: &mut [T],
+        faces: &mut impl Faces<T>,
+    ) {
+        let Sizes { m, band, width } = sizes;
         let (p, rest) = scratch.split_at_mut(m * m * 3);
         let (a, row) = rest.split_at_mut(m * width);
         let row = &mut row[..width];
@@ -154,7 +174,7 @@ impl<T: Real> Composed<T> {
             for (q, out) in ai.chunks_exact_mut(TILE).enumerate() {
                 let v0 = q * TILE;
                 let mut acc = [T::default(); TILE];
-                for (j, reach) in self.reach.iter().enumerate() {
+                for (j, reach) in self.reach[..m].iter().enumerate() {
                     if reach.end <= v0 || v0 + TILE <= reach.start {
                         continue;
                     }
@@ -190,6 +210,21 @@ impl<T: Real> Composed<T> {
             }
             faces.row(y, &row[PAD..]);
         }
+    }
+}
+
+/// The sizes the kernel's loops run over: start side, band, values of a refined row.
+#[derive(Clone, Copy)]
+struct Sizes {
+    m: usize,
+    band: usize,
+    width: usize,
+}
+
+impl Sizes {
+    #[inline(always)]
+    const fn new(m: usize, band: usize, width: usize) -> Sizes {
+        Sizes { m, band, width }
     }
 }
 
