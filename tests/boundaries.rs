@@ -934,7 +934,8 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
 }
 
 /// Every instruction set this CPU has, the non-temporal writer forced on or off, one or two
-/// threads, and wide or one-point strips give the same points: the kernels run the same
+/// threads, wide or one-point strips, and ordinary faces refined alone or in stacks give the
+/// same points: the kernels run the same
 /// operations in the same order on every path ([`lsubdiv::runtime::patch::Simd`]); the fused
 /// multiply-adds of AVX2 and AVX-512 give those two the same bits, within 1e-14 of the
 /// baseline's (relative to the mesh's size); in f64 and f32 (the latter within f32 rounding of
@@ -954,7 +955,9 @@ fn every_simd_path_and_writer_gives_the_same_points() {
         for (what, mesh, features) in &meshes {
             let topo = Topology::build(mesh).unwrap();
             // Strips of 1 byte: every fan row in one-point strips, each continuing the last.
-            let refiner = |simd, stream, threads, strips| {
+            // Stacks of one face: each ordinary face refined alone; of two: rows of faces
+            // split into stacks that end anywhere.
+            let refiner = |simd, stream, threads, strips, stack| {
                 let mut r = Refiner::<_, f64>::with_features(&s, &topo, features, steps, threads)
                     .unwrap_or_else(|e| panic!("{name} {what}: {e}"));
                 assert_eq!(
@@ -964,10 +967,11 @@ fn every_simd_path_and_writer_gives_the_same_points() {
                 );
                 r.set_stream_bytes(stream);
                 r.set_strip_bytes(strips);
+                r.set_stack(stack);
                 r.refine(&mesh.positions).unwrap().to_vec()
             };
-            let wide = 512 << 10;
-            let baseline = refiner(Simd::Baseline, usize::MAX, 1, wide);
+            let (wide, most) = (512 << 10, usize::MAX);
+            let baseline = refiner(Simd::Baseline, usize::MAX, 1, wide, most);
             assert!(baseline.iter().flatten().all(|x| x.is_finite()));
             let size = baseline
                 .iter()
@@ -975,14 +979,21 @@ fn every_simd_path_and_writer_gives_the_same_points() {
                 .fold(1.0f64, |m, x| m.max(x.abs()));
             let mut fused = None;
             for simd in Simd::available() {
-                let first = refiner(simd, usize::MAX, 1, wide);
-                let runs = [(0, 1, wide), (0, 2, wide), (usize::MAX, 2, 1), (0, 1, 1)];
-                for (stream, threads, strips) in runs {
-                    let other = refiner(simd, stream, threads, strips);
+                let first = refiner(simd, usize::MAX, 1, wide, most);
+                let runs = [
+                    (0, 1, wide, most),
+                    (0, 2, wide, most),
+                    (usize::MAX, 2, 1, most),
+                    (0, 1, 1, most),
+                    (usize::MAX, 1, wide, 1),
+                    (0, 2, wide, 2),
+                ];
+                for (stream, threads, strips, stack) in runs {
+                    let other = refiner(simd, stream, threads, strips, stack);
                     assert!(
                         other == first,
                         "{name} {what}: {simd:?}, stream from {stream} bytes, {threads} threads, \
-                         strips of {strips} bytes"
+                         strips of {strips} bytes, stacks of {stack} faces"
                     );
                 }
                 let d = first

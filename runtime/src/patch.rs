@@ -510,6 +510,18 @@ impl<'t> Base<'t> {
         (d != u32::MAX).then_some((d / 4, (d % 4) as u8))
     }
 
+    /// Whether face g stacks on face f for the composed kernel at start step k (`composed`,
+    /// `Faces::load`): g's edge 0 is f's edge 2 in the same direction (g's corners 0 and 1
+    /// are f's corners 3 and 2), and neither has a phantom, so that g's start patch is f's
+    /// moved up by N₀ rows.
+    fn stacks(&self, f: u32, g: u32, k: usize) -> bool {
+        let t = self.topo;
+        t.across(f, 2) == Some((g, 0))
+            && (t.vertex(g, 0), t.vertex(g, 1)) == (t.vertex(f, 3), t.vertex(f, 2))
+            && self.rules(f, k).is_plain()
+            && self.rules(g, k).is_plain()
+    }
+
     /// Whether face f is refined depth first on its own: no corner at a lock-step vertex.
     fn ordinary(&self, f: u32) -> bool {
         (0..4).all(|c| !self.lockstep[self.topo.vertex(f, c) as usize])
@@ -978,6 +990,8 @@ pub struct Refiner<'s, S, T> {
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
     ordinary: Vec<u32>,
+    /// Per ordinary face: whether the next one stacks on it ([`Base::stacks`]).
+    stacks: Vec<bool>,
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
     threads: usize,
@@ -985,6 +999,8 @@ pub struct Refiner<'s, S, T> {
     strip_bytes: usize,
     /// Output size from which whole lines go out non-temporally ([`Refiner::set_stream_bytes`]).
     stream_bytes: usize,
+    /// Ordinary faces refined as one stack at most ([`Refiner::set_stack`]).
+    stack: usize,
     start: Vec<[T; 3]>,
     output: Vec<[T; 3]>,
     /// The fans' patches at the current and the next level.
@@ -1116,6 +1132,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
+        let stacks = (0..ordinary.len())
+            .map(|i| {
+                let next = ordinary.get(i + 1);
+                next.is_some_and(|&g| base.stacks(ordinary[i], g, first))
+            })
+            .collect();
         let composed = (!plans.is_empty()).then(|| {
             let rows = plans
                 .iter()
@@ -1139,11 +1161,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             start_gather,
             cut,
             ordinary,
+            stacks,
             fan_faces,
             fan_slot,
             threads: threads.max(1),
             strip_bytes: STRIP_BYTES,
             stream_bytes: STREAM_BYTES,
+            stack: usize::MAX,
             start: Vec::new(),
             output: Vec::new(),
             fans: [Vec::new(), Vec::new()],
@@ -1170,6 +1194,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// before writing it costs as much as writing it). The output does not depend on it.
     pub fn set_stream_bytes(&mut self, bytes: usize) {
         self.stream_bytes = bytes;
+    }
+
+    /// Ordinary faces refined as one stack at most (default: as many as the kernel takes,
+    /// 16 on one-symbol axioms; 1: each face alone). Consecutive faces each on the one
+    /// before (`Base::stacks`) share their start rows in the composed kernel, so each start
+    /// row is refined along x once. The output does not depend on it, to the bit.
+    pub fn set_stack(&mut self, faces: usize) {
+        self.stack = faces.max(1);
     }
 
     /// Whether the output is large enough for whole lines to go out non-temporally
@@ -1326,15 +1358,19 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         };
         let streaming = self.streams_output();
         let out = SharedOut::new(&mut self.output);
-        let (out, start, simd) = (&out, &self.start, self.simd);
+        let (out, start, simd, most) = (&out, &self.start, self.simd, self.stack);
         let num = &self.out_num;
         let (n0, first, n) = (self.start_num.n, self.first, num.n as usize);
         let k = n - 1;
         let table = &self.start_gather;
         let base = &self.base;
         let chunk = self.ordinary.len().div_ceil(self.threads).max(1);
-        let work = self.ordinary.chunks(chunk).zip(&mut self.scratch);
-        let times = in_threads(work, |(faces, scratch)| {
+        let work = self
+            .ordinary
+            .chunks(chunk)
+            .zip(self.stacks.chunks(chunk))
+            .zip(&mut self.scratch);
+        let times = in_threads(work, |((faces, stacks), scratch)| {
             let clock = Instant::now();
             let buf = grown(&mut scratch.face, composed.scratch_len());
             // (N' = 1: no interior; a scheme whose ω → one symbol, after one step.)
@@ -1346,6 +1382,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 unsafe { (out.stream(streaming, wide), out.stream(streaming, wide)) };
             let mut w = Ordinary {
                 faces,
+                stacks,
+                i: 0,
+                stack: 0,
+                current: 0,
+                most,
                 table,
                 start,
                 base,
@@ -1537,6 +1578,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 /// ascending runs of the output ([`Stream`]); corners are written as they come.
 struct Ordinary<'a, 'w, T> {
     faces: &'a [u32],
+    /// Per face: whether the next face stacks on it ([`Faces::load`]); a stack ends with the
+    /// worker's faces.
+    stacks: &'a [bool],
+    /// The stack loaded last: its first face (in `faces`), its size, and the face whose rows
+    /// come now (from 0).
+    i: usize,
+    stack: usize,
+    current: usize,
+    /// Faces in a stack at most ([`Refiner::set_stack`]).
+    most: usize,
     table: &'a [u32],
     start: &'a [[T; 3]],
     base: &'a Base<'a>,
@@ -1570,42 +1621,32 @@ impl<T: Real> Ordinary<'_, '_, T> {
     }
 }
 
-impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
-    fn count(&self) -> usize {
-        self.faces.len()
-    }
-
+impl<T: Real> Ordinary<'_, '_, T> {
+    /// Face f's rows 0 and N' hold edge 0 and edge 2 and the corners: only if f owns one of
+    /// them.
     #[inline(always)]
-    fn load(&mut self, i: usize, patch: &mut [T]) {
-        let f = self.faces[i];
-        let m = self.layout.side;
-        load(
-            &self.table[f as usize * m * m..][..m * m],
-            self.start,
-            self.layout,
-            patch,
-        );
-        let n0 = self.layout.side as i64 - 3;
-        self.base
-            .load_phantoms((f, n0, self.first), self.layout, patch);
-        self.f = f as usize;
-        self.y0 = 1;
-    }
-
-    /// Rows 0 and N' hold edge 0 and edge 2 and the corners: only if face f owns one of them.
-    #[inline(always)]
-    fn wants(&self, y: usize) -> bool {
+    fn face_wants(&self, f: usize, y: usize) -> bool {
         let n = self.num.n as usize;
         let (edge, corners) = match y {
             0 => (0, [0, 1]),
             y if y == n => (2, [3, 2]),
             _ => return true,
         };
-        self.num.edges[self.f][edge].2 || corners.iter().any(|&c| self.num.corners[self.f][c])
+        self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
     }
 
+    /// The stack's final row Y as (face q, its row y): the row shared by faces q − 1 and q is
+    /// given as face q's row 0.
     #[inline(always)]
-    fn row(&mut self, y: usize, row: &[T]) {
+    fn split(&self, big: usize) -> (usize, usize) {
+        let n = self.num.n as usize;
+        let q = (big / n).min(self.stack - 1);
+        (q, big - q * n)
+    }
+
+    /// Takes row y of the current face f.
+    #[inline(always)]
+    fn face_row(&mut self, y: usize, row: &[T]) {
         let n = self.num.n as usize;
         let (k, side) = (n - 1, (n + 1) * 3);
         if y > 0 && y < n {
@@ -1625,8 +1666,9 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         }
     }
 
+    /// Writes the current face f's points, and moves on to the next face of the stack.
     #[inline(always)]
-    fn done(&mut self) {
+    fn finish_face(&mut self) {
         let n = self.num.n as usize;
         self.write_rows(n);
         let (k, side, f) = (n - 1, (n + 1) * 3, self.f);
@@ -1661,6 +1703,84 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
             let at = (self.num.nv + e as usize * k) * 3;
             // SAFETY: face f is the only writer of the points of an edge it owns.
             unsafe { self.edges.run(at, run) };
+        }
+        self.current += 1;
+        if self.current < self.stack {
+            self.f = self.faces[self.i + self.current] as usize;
+            self.y0 = 1;
+        }
+    }
+}
+
+impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
+    fn count(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Face i, and the faces after it that stack on it, their start rows shared: each face
+    /// after the first adds its rows y = 2..=N₀+1 (those above the face below).
+    #[inline(always)]
+    fn load(&mut self, i: usize, most: usize, patch: &mut [T]) -> usize {
+        let m = self.layout.side;
+        let n0 = m - 3;
+        let mut stack = 1;
+        let most = most.min(self.most);
+        while stack < most && i + stack < self.faces.len() && self.stacks[i + stack - 1] {
+            stack += 1;
+        }
+        for q in 0..stack {
+            let f = self.faces[i + q] as usize;
+            let table = &self.table[f * m * m..][..m * m];
+            let from = if q == 0 { 0 } else { 3 };
+            load_rows(
+                table,
+                self.start,
+                self.layout,
+                &mut patch[q * n0 * m * 3..],
+                from,
+            );
+        }
+        let f = self.faces[i];
+        if stack == 1 {
+            self.base
+                .load_phantoms((f, n0 as i64, self.first), self.layout, patch);
+        }
+        (self.i, self.stack, self.current) = (i, stack, 0);
+        self.f = f as usize;
+        self.y0 = 1;
+        stack
+    }
+
+    /// A row shared by two faces of the stack is wanted if either wants it.
+    #[inline(always)]
+    fn wants(&self, big: usize) -> bool {
+        let n = self.num.n as usize;
+        let face = |q: usize| self.faces[self.i + q] as usize;
+        match self.split(big) {
+            (q, 0) if q > 0 => self.face_wants(face(q - 1), n) || self.face_wants(face(q), 0),
+            (q, y) => self.face_wants(face(q), y),
+        }
+    }
+
+    #[inline(always)]
+    fn row(&mut self, big: usize, row: &[T]) {
+        let (q, y) = self.split(big);
+        if y == 0 && q > 0 {
+            while self.current + 1 < q {
+                self.finish_face();
+            }
+            self.face_row(self.num.n as usize, row);
+        }
+        while self.current < q {
+            self.finish_face();
+        }
+        self.face_row(y, row);
+    }
+
+    #[inline(always)]
+    fn done(&mut self) {
+        while self.current < self.stack {
+            self.finish_face();
         }
     }
 }
@@ -2359,9 +2479,15 @@ fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// for the missing diagonal at an EV corner, which reads as zero) into `dst` in `layout`.
 #[inline(always)]
 fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T]) {
+    load_rows(table, start, layout, dst, 0);
+}
+
+/// [`load`], the rows y = `from` − 1.. only.
+#[inline(always)]
+fn load_rows<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T], from: usize) {
     let m = layout.side;
     for (x, column) in table.chunks_exact(m).enumerate() {
-        for (y, &i) in column.iter().enumerate() {
+        for (y, &i) in column.iter().enumerate().skip(from) {
             let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
             let d = layout.at(x as i64 - 1, y as i64 - 1);
             dst[d..d + 3].copy_from_slice(&p);

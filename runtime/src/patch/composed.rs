@@ -43,6 +43,9 @@ pub(super) struct Composed<T> {
     reach: Vec<std::ops::Range<usize>>,
 }
 
+/// Start rows (less the ring) of a stack of faces at most ([`Composed::stack`]).
+const STACK: usize = 16;
+
 /// Values the kernel sums at once: its independent accumulators (four AVX-512 vectors of f64,
 /// eight AVX2 ones), so that the sums' latency overlaps.
 const TILE: usize = 32;
@@ -97,9 +100,11 @@ impl<T: Real> Composed<T> {
         }
     }
 
-    /// Scratch values one face needs: the start patch, the rows refined along x, one row.
+    /// Scratch values a stack of faces needs: the start patch, the rows refined along x, one
+    /// row.
     pub(super) fn scratch_len(&self) -> usize {
-        self.m * self.m * 3 + (self.m + 1) * self.width
+        let rows = self.rows(self.stack());
+        rows * self.m * 3 + (rows + 1) * self.width
     }
 
     /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
@@ -149,28 +154,51 @@ impl<T: Real> Composed<T> {
 
     #[inline(always)]
     fn faces<const FUSED: bool>(&self, sizes: Sizes, scratch: &mut [T], faces: &mut impl Faces<T>) {
-        for i in 0..faces.count() {
-            faces.load(i, &mut scratch[..sizes.m * sizes.m * 3]);
-            self.refine::<FUSED>(sizes, scratch, faces);
+        let mut i = 0;
+        while i < faces.count() {
+            let patch = &mut scratch[..self.rows(self.stack()) * sizes.m * 3];
+            let stack = faces.load(i, self.stack(), patch);
+            self.refine::<FUSED>(sizes, stack, scratch, faces);
             faces.done();
+            i += stack;
         }
     }
 
-    /// One face: the start patch at the front of `scratch` to its final rows, handed to
-    /// `faces`; `FUSED`: each product is added with one rounding (FMA).
+    /// Start rows of a stack of `stack` faces with its ring.
+    fn rows(&self, stack: usize) -> usize {
+        stack * (self.m - 3) + 3
+    }
+
+    /// Faces in a stack at most: [`STACK`] start rows, so that the scratch stays within a
+    /// few final patches whatever N₀ (`patch::footprint`).
+    pub(super) fn stack(&self) -> usize {
+        (STACK / (self.m - 3)).max(1)
+    }
+
+    /// A stack of faces (each one's edge 2 the next one's edge 0, in the same direction):
+    /// its start patch at the front of `scratch` (rows y = −1..=s·N₀+1) to its final rows
+    /// Y = 0..=s·N', handed to `faces`; `FUSED`: each product is added with one rounding
+    /// (FMA). The faces share their start rows, so each is refined along x once; final row
+    /// Y of face q = min(Y / N', s − 1) is its row Y − q·N', from its own start rows.
     #[inline(always)]
     fn refine<const FUSED: bool>(
         &self,
         sizes: Sizes,
+        stack: usize,
         scratch: &mut [T],
         faces: &mut impl Faces<T>,
     ) {
         let Sizes { m, band, width } = sizes;
-        let (p, rest) = scratch.split_at_mut(m * m * 3);
-        let (a, row) = rest.split_at_mut(m * width);
+        let (n0, n) = (m - 3, self.first.len() - 1);
+        let rows = self.rows(stack);
+        let (p, rest) = scratch.split_at_mut(self.rows(self.stack()) * m * 3);
+        let (a, row) = rest.split_at_mut(self.rows(self.stack()) * width);
         let row = &mut row[..width];
         // Along x: each start row into a refined row of N' + 1 points.
-        for (pi, ai) in p.chunks_exact(m * 3).zip(a.chunks_exact_mut(width)) {
+        for (pi, ai) in p[..rows * m * 3]
+            .chunks_exact(m * 3)
+            .zip(a.chunks_exact_mut(width))
+        {
             for (q, out) in ai.chunks_exact_mut(TILE).enumerate() {
                 let v0 = q * TILE;
                 let mut acc = [T::default(); TILE];
@@ -188,27 +216,25 @@ impl<T: Real> Composed<T> {
             }
         }
         // Along y: each final row, a sum of whole refined rows.
-        for (y, (&lo, ws)) in self
-            .first
-            .iter()
-            .zip(self.weights.chunks_exact(band))
-            .enumerate()
-        {
-            if !faces.wants(y) {
+        for big in 0..=stack * n {
+            if !faces.wants(big) {
                 continue;
             }
-            let a = &a[lo * width..];
-            for (q, out) in row.chunks_exact_mut(TILE).enumerate() {
+            let q = (big / n).min(stack - 1);
+            let y = big - q * n;
+            let ws = &self.weights[y * band..][..band];
+            let a = &a[(q * n0 + self.first[y]) * width..];
+            for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
                 let mut acc = [T::default(); TILE];
                 for (i, &w) in ws.iter().enumerate() {
-                    let s = tile(&a[i * width + q * TILE..]);
+                    let s = tile(&a[i * width + t * TILE..]);
                     for l in 0..TILE {
                         acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
                     }
                 }
                 out.copy_from_slice(&acc);
             }
-            faces.row(y, &row[PAD..]);
+            faces.row(big, &row[PAD..]);
         }
     }
 }
@@ -232,13 +258,15 @@ impl Sizes {
 pub(super) trait Faces<T> {
     /// How many.
     fn count(&self) -> usize;
-    /// Loads the i-th face's start patch.
-    fn load(&mut self, i: usize, patch: &mut [T]);
-    /// Whether final row y of the face loaded last is wanted (else it is not computed).
+    /// Loads the start patch of a stack of faces from the i-th on, at most `stack` of them
+    /// ([`Composed::stack`]), and says how many: face i + q + 1's edge 0 is face i + q's edge 2, in the same
+    /// direction, and no phantom is set (each face's ring is its neighbours' points).
+    fn load(&mut self, i: usize, stack: usize, patch: &mut [T]) -> usize;
+    /// Whether final row Y of the stack loaded last is wanted (else it is not computed).
     fn wants(&self, y: usize) -> bool;
-    /// Takes final row y of the face loaded last.
+    /// Takes final row Y of the stack loaded last.
     fn row(&mut self, y: usize, row: &[T]);
-    /// After the last row of a face.
+    /// After the last row of a stack.
     fn done(&mut self);
 }
 
