@@ -1190,8 +1190,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 
     /// Output size in bytes from which the faces' interiors (and an ordinary face's edges) go
-    /// out in whole cache lines with non-temporal stores (default 32 MiB: far larger than the caches, where reading a line
-    /// before writing it costs as much as writing it). The output does not depend on it.
+    /// out in whole cache lines with non-temporal stores (default 8 MiB: larger than the
+    /// caches a core writes into, where reading a line before writing it costs as much as
+    /// writing it). The output does not depend on it.
     pub fn set_stream_bytes(&mut self, bytes: usize) {
         self.stream_bytes = bytes;
     }
@@ -1635,15 +1636,6 @@ impl<T: Real> Ordinary<'_, '_, T> {
         self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
     }
 
-    /// The stack's final row Y as (face q, its row y): the row shared by faces q − 1 and q is
-    /// given as face q's row 0.
-    #[inline(always)]
-    fn split(&self, big: usize) -> (usize, usize) {
-        let n = self.num.n as usize;
-        let q = (big / n).min(self.stack - 1);
-        (q, big - q * n)
-    }
-
     /// Takes row y of the current face f.
     #[inline(always)]
     fn face_row(&mut self, y: usize, row: &[T]) {
@@ -1753,18 +1745,18 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
 
     /// A row shared by two faces of the stack is wanted if either wants it.
     #[inline(always)]
-    fn wants(&self, big: usize) -> bool {
+    fn wants(&self, q: usize, y: usize) -> bool {
         let n = self.num.n as usize;
         let face = |q: usize| self.faces[self.i + q] as usize;
-        match self.split(big) {
-            (q, 0) if q > 0 => self.face_wants(face(q - 1), n) || self.face_wants(face(q), 0),
-            (q, y) => self.face_wants(face(q), y),
+        if y == 0 && q > 0 {
+            self.face_wants(face(q - 1), n) || self.face_wants(face(q), 0)
+        } else {
+            self.face_wants(face(q), y)
         }
     }
 
     #[inline(always)]
-    fn row(&mut self, big: usize, row: &[T]) {
-        let (q, y) = self.split(big);
+    fn row(&mut self, q: usize, y: usize, row: &[T]) {
         if y == 0 && q > 0 {
             while self.current + 1 < q {
                 self.finish_face();

@@ -176,10 +176,10 @@ impl<T: Real> Composed<T> {
     }
 
     /// A stack of faces (each one's edge 2 the next one's edge 0, in the same direction):
-    /// its start patch at the front of `scratch` (rows y = −1..=s·N₀+1) to its final rows
-    /// Y = 0..=s·N', handed to `faces`; `FUSED`: each product is added with one rounding
-    /// (FMA). The faces share their start rows, so each is refined along x once; final row
-    /// Y of face q = min(Y / N', s − 1) is its row Y − q·N', from its own start rows.
+    /// its start patch at the front of `scratch` (rows y = −1..=s·N₀+1) to its faces' final
+    /// rows, handed to `faces`; `FUSED`: each product is added with one rounding (FMA). The
+    /// faces share their start rows, so each is refined along x once; face q's final row y
+    /// is from its own start rows, q·N₀ up.
     #[inline(always)]
     fn refine<const FUSED: bool>(
         &self,
@@ -215,13 +215,13 @@ impl<T: Real> Composed<T> {
                 out.copy_from_slice(&acc);
             }
         }
-        // Along y: each final row, a sum of whole refined rows.
-        for big in 0..=stack * n {
-            if !faces.wants(big) {
+        // Along y: each final row, a sum of whole refined rows: rows 0..N' − 1 of each face,
+        // and row N' of the last.
+        let rows_of = |q: usize| if q + 1 == stack { 0..=n } else { 0..=n - 1 };
+        for (q, y) in (0..stack).flat_map(|q| rows_of(q).map(move |y| (q, y))) {
+            if !faces.wants(q, y) {
                 continue;
             }
-            let q = (big / n).min(stack - 1);
-            let y = big - q * n;
             let ws = &self.weights[y * band..][..band];
             let a = &a[(q * n0 + self.first[y]) * width..];
             for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
@@ -234,7 +234,7 @@ impl<T: Real> Composed<T> {
                 }
                 out.copy_from_slice(&acc);
             }
-            faces.row(big, &row[PAD..]);
+            faces.row(q, y, &row[PAD..]);
         }
     }
 }
@@ -262,10 +262,11 @@ pub(super) trait Faces<T> {
     /// ([`Composed::stack`]), and says how many: face i + q + 1's edge 0 is face i + q's edge 2, in the same
     /// direction, and no phantom is set (each face's ring is its neighbours' points).
     fn load(&mut self, i: usize, stack: usize, patch: &mut [T]) -> usize;
-    /// Whether final row Y of the stack loaded last is wanted (else it is not computed).
-    fn wants(&self, y: usize) -> bool;
-    /// Takes final row Y of the stack loaded last.
-    fn row(&mut self, y: usize, row: &[T]);
+    /// Whether final row y of face q of the stack loaded last is wanted (else it is not
+    /// computed). Row 0 of a face q > 0 is row N' of face q − 1, which is not asked for.
+    fn wants(&self, q: usize, y: usize) -> bool;
+    /// Takes final row y of face q of the stack loaded last (rows in order).
+    fn row(&mut self, q: usize, y: usize, row: &[T]);
     /// After the last row of a stack.
     fn done(&mut self);
 }
