@@ -2162,6 +2162,12 @@ fn lift<T: Real>(
     num: &Numbering,
     data: &mut Vec<[T; 3]>,
 ) {
+    if k == 0 {
+        // The base mesh itself: its vertices in their order (N = 1: nothing but corners).
+        data.clear();
+        data.extend(positions.iter().map(|p| p.map(T::from_f64)));
+        return;
+    }
     let nf = num.edges.len();
     let mut cells: Vec<(u32, i64, i64, u8, u8)> = (0..nf as u32)
         .map(|f| (f, 0, 0, t.axiom[0], t.axiom[0]))
