@@ -1397,7 +1397,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 first,
                 f: 0,
                 rows,
-                stage: grown(&mut scratch.interior, rows * k * 3),
+                stage: grown(&mut scratch.interior, rows * k * 3 + 8),
                 y0: 1,
                 border: grown(&mut scratch.border, 5 * (n + 1) * 3),
                 interiors,
@@ -1645,9 +1645,12 @@ impl<T: Real> Ordinary<'_, '_, T> {
             if y - self.y0 == self.rows {
                 self.write_rows(y);
             }
+            // In whole 8-value moves: the values past the interior land where the next row
+            // goes (or in the stage's slack after the last), and the row has them (its tiles).
+            let len = (k * 3).next_multiple_of(8);
             stream::copy(
-                &mut self.stage[(y - self.y0) * k * 3..][..k * 3],
-                &row[3..3 * n],
+                &mut self.stage[(y - self.y0) * k * 3..][..len],
+                &row[3..3 + len],
             );
             let (first, last) = (&row[..3], &row[3 * n..3 * n + 3]);
             self.border[2 * side + y * 3..][..3].copy_from_slice(first);

@@ -265,7 +265,9 @@ pub(super) trait Faces<T> {
     /// Whether final row y of face q of the stack loaded last is wanted (else it is not
     /// computed). Row 0 of a face q > 0 is row N' of face q − 1, which is not asked for.
     fn wants(&self, q: usize, y: usize) -> bool;
-    /// Takes final row y of face q of the stack loaded last (rows in order).
+    /// Takes final row y of face q of the stack loaded last (rows in order): its points,
+    /// interleaved, then the rest of the row's tiles (point 1 starts at a multiple of 8
+    /// values, and whole 8-value moves from there stay in the row).
     fn row(&mut self, q: usize, y: usize, row: &[T]);
     /// After the last row of a stack.
     fn done(&mut self);
