@@ -217,24 +217,26 @@ impl<T: Real> Composed<T> {
         }
         // Along y: each final row, a sum of whole refined rows: rows 0..N' − 1 of each face,
         // and row N' of the last.
-        let rows_of = |q: usize| if q + 1 == stack { 0..=n } else { 0..=n - 1 };
-        for (q, y) in (0..stack).flat_map(|q| rows_of(q).map(move |y| (q, y))) {
-            if !faces.wants(q, y) {
-                continue;
-            }
-            let ws = &self.weights[y * band..][..band];
-            let a = &a[(q * n0 + self.first[y]) * width..];
-            for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
-                let mut acc = [T::default(); TILE];
-                for (i, &w) in ws.iter().enumerate() {
-                    let s = tile(&a[i * width + t * TILE..]);
-                    for l in 0..TILE {
-                        acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
-                    }
+        for q in 0..stack {
+            let last = if q + 1 == stack { n } else { n - 1 };
+            for y in 0..=last {
+                if !faces.wants(q, y) {
+                    continue;
                 }
-                out.copy_from_slice(&acc);
+                let ws = &self.weights[y * band..][..band];
+                let a = &a[(q * n0 + self.first[y]) * width..];
+                for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
+                    let mut acc = [T::default(); TILE];
+                    for (i, &w) in ws.iter().enumerate() {
+                        let s = tile(&a[i * width + t * TILE..]);
+                        for l in 0..TILE {
+                            acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
+                        }
+                    }
+                    out.copy_from_slice(&acc);
+                }
+                faces.row(q, y, &row[PAD..]);
             }
-            faces.row(q, y, &row[PAD..]);
         }
     }
 }
