@@ -1456,16 +1456,26 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .zip(&mut self.scratch);
             let times = in_threads(work, |(((faces, old), new), scratch)| {
                 let mut clock = Instant::now();
-                // One writer per row of the last level: a row's strips continue each other, so
-                // only a row's two ends are partial lines.
+                // The last level's interior of a face: staged whole, if it fits the stage, and
+                // written as one run (consecutive faces' runs continue each other); else one
+                // writer per row (a row's strips continue each other, so only a row's two ends
+                // are partial lines).
+                let k = (out_num.n - 1) as usize;
+                let whole = k * k * 3;
+                let staged = last && whole <= STAGE;
+                let stage = grown(&mut scratch.interior, if staged { whole } else { 0 });
+                // SAFETY: the interior points of these faces are written by this worker only,
+                // by this writer or (one per row) those below.
+                let mut interiors = unsafe { out.stream(streaming, false) };
                 let mut rows = Vec::new();
                 for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                     if last {
-                        rows.extend((0..=out_num.n).map(|_| {
-                            // SAFETY: the interior points of these faces are written by this
-                            // worker only, each row by its own writer.
-                            unsafe { out.stream(streaming, false) }
-                        }));
+                        if !staged {
+                            rows.extend((0..=out_num.n).map(|_| {
+                                // SAFETY: as above, each row by its own writer.
+                                unsafe { out.stream(streaming, false) }
+                            }));
+                        }
                         // Strips of rows y (the parity chosen above), x from a0: the interior
                         // points as a run, the border by ownership.
                         let each = |a0: usize, y: usize, row: &[T]| {
@@ -1478,19 +1488,30 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                             let n = out_num.n;
                             let (lo, hi) = ((*xs.start()).max(1), (*xs.end()).min(n - 1));
                             if (1..n).contains(&y) && lo <= hi {
-                                let (first, _) = out_num.index(f as usize, lo, y);
                                 let (a, b) = ((lo - x0) as usize * 3, (hi - x0 + 1) as usize * 3);
-                                // SAFETY: face f's interior is written by face f only.
-                                unsafe { rows[y as usize].run(first * 3, &row[a..b]) };
+                                if staged {
+                                    let at = ((y - 1) as usize * k + (lo - 1) as usize) * 3;
+                                    stage[at..at + b - a].copy_from_slice(&row[a..b]);
+                                } else {
+                                    let (first, _) = out_num.index(f as usize, lo, y);
+                                    // SAFETY: face f's interior is written by face f only.
+                                    unsafe { rows[y as usize].run(first * 3, &row[a..b]) };
+                                }
                             }
                             scatter_border(out_num, f as usize, &xs, &(y..=y), point, out);
                         };
                         plan.step_strips(src, &mut scratch.p, strip_bytes, each);
+                        if staged {
+                            let at = out_num.interior(f as usize) * 3;
+                            // SAFETY: face f's interior is written by face f only.
+                            unsafe { interiors.run(at, &stage[..whole]) };
+                        }
                         rows.drain(..).for_each(Stream::finish);
                     } else {
                         plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                     }
                 }
+                interiors.finish();
                 if streaming {
                     stream::fence();
                 }
