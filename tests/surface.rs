@@ -321,6 +321,28 @@ fn patch_path_matches_the_reference_driver() {
     }
 }
 
+/// Faces around EVs too large for their interior to be staged whole (63² points after six
+/// steps of the cube) go out row by row, one writer per row: the reference driver's points,
+/// streamed or not, on one or two threads.
+#[test]
+fn large_fan_faces_go_out_row_by_row() {
+    use lsubdiv::runtime::patch::Refiner;
+    let s = surface("uniform-binary");
+    let mesh = cube();
+    let steps = 6;
+    let (reference, _) = refine(&s, mesh.clone(), steps);
+    let topo = Topology::build(&mesh).unwrap();
+    for (threads, stream) in [(1, 0), (2, 0), (1, usize::MAX)] {
+        let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+        r.set_stream_bytes(stream);
+        let d = same_points(r.refine(&mesh.positions).unwrap(), &reference.positions);
+        assert!(
+            d < 1e-12,
+            "{threads} threads, stream from {stream} bytes: {d:e}"
+        );
+    }
+}
+
 /// A scheme whose axiom refines to one symbol (ω → A, A → AA: uniform binary delayed by a
 /// step) makes faces of N' = 1 after its first step, with no interior points: the fast path
 /// still gives the reference driver's points, closed and open.
