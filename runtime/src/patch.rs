@@ -589,8 +589,8 @@ impl<'t> Base<'t> {
 }
 
 impl Base<'_> {
-    /// Sets the phantom points of face f's start patch (side N, for step k, the first the
-    /// patches take) in `buf`; nothing on a plain mesh.
+    /// Sets the phantom points of face f's patch (side N, for step k) in `buf`; nothing
+    /// where the face has none ([`FaceRules::is_plain`]).
     fn load_phantoms<T: Real>(&self, (f, n, k): (u32, i64, usize), layout: Layout, buf: &mut [T]) {
         self.phantoms(f, n, k, |p| p.apply(layout, buf));
     }

@@ -17,6 +17,11 @@
 //!   repeated in the lanes' coordinate pattern;
 //! - along y, each final row y': `Q[y'] = Σ_i M[y'][i] · A[i]`, a sum of whole rows.
 //!
+//! Faces that follow each other along y (each one's edge 2 the next one's edge 0) share their
+//! start rows: a stack of s faces has s·N₀ + 3 start rows, each refined along x once, and face
+//! q's final rows are the sums over its own start rows, q·N₀ up. The products and their order
+//! are those of each face alone, so a stack gives the same bits.
+//!
 //! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
 //! is compiled for AVX-512, AVX2 (both with fused multiply-add) and the baseline, chosen at
 //! run time ([`Simd`]). The operations and their order are the same on every path; the FMA
@@ -141,11 +146,7 @@ impl<T: Real> Composed<T> {
     /// ([`Sizes`]) so that the compiler unrolls the loops over them.
     #[inline(always)]
     fn run_any<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
-        let sizes = Sizes {
-            m: self.m,
-            band: self.band,
-            width: self.width,
-        };
+        let sizes = Sizes::new(self.m, self.band, self.width);
         match (sizes.m, sizes.band, sizes.width) {
             (4, 4, 32) => self.faces::<FUSED>(Sizes::new(4, 4, 32), scratch, faces),
             _ => self.faces::<FUSED>(sizes, scratch, faces),
@@ -171,7 +172,7 @@ impl<T: Real> Composed<T> {
 
     /// Faces in a stack at most: [`STACK`] start rows, so that the scratch stays within a
     /// few final patches whatever N₀ (`patch::footprint`).
-    pub(super) fn stack(&self) -> usize {
+    fn stack(&self) -> usize {
         (STACK / (self.m - 3)).max(1)
     }
 
@@ -261,8 +262,9 @@ pub(super) trait Faces<T> {
     /// How many.
     fn count(&self) -> usize;
     /// Loads the start patch of a stack of faces from the i-th on, at most `stack` of them
-    /// ([`Composed::stack`]), and says how many: face i + q + 1's edge 0 is face i + q's edge 2, in the same
-    /// direction, and no phantom is set (each face's ring is its neighbours' points).
+    /// ([`Composed::stack`]), and says how many: face i + q + 1's edge 0 is face i + q's
+    /// edge 2, in the same direction, and no phantom is set (each face's ring is its
+    /// neighbours' points).
     fn load(&mut self, i: usize, stack: usize, patch: &mut [T]) -> usize;
     /// Whether final row y of face q of the stack loaded last is wanted (else it is not
     /// computed). Row 0 of a face q > 0 is row N' of face q − 1, which is not asked for.
