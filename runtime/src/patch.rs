@@ -57,7 +57,7 @@ mod limit;
 mod stream;
 use composed::{Composed, Faces};
 pub use limit::{limit_available, SurfaceLimit};
-use stream::{Stream, STREAM_BYTES};
+use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
 /// new points −h..=N'+h: h = 1 (the ring of the next step) except in the last step. It is kept
@@ -290,6 +290,12 @@ impl Plan {
 /// Values of an ordinary face's interior staged before they are written (64 KiB of f64).
 const STAGE: usize = 8192;
 
+/// Faces in a chain of stacked faces at most (`Base::chains`; the kernel may take fewer at
+/// once: `composed::Composed`). On a grid ordered along x a chain is a column of faces, and
+/// each of its faces continues its own run of the output: chains of 16 (32 runs written at
+/// once) were slower there than no chains, 4 the best of 2 to 16 (docs/benchmarks.md).
+const STACK_FACES: usize = 4;
+
 /// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]): half
 /// the L2 cache of this machine's cores.
 const STRIP_BYTES: usize = 512 << 10;
@@ -520,6 +526,40 @@ impl<'t> Base<'t> {
             && (t.vertex(g, 0), t.vertex(g, 1)) == (t.vertex(f, 3), t.vertex(f, 2))
             && self.rules(f, k).is_plain()
             && self.rules(g, k).is_plain()
+    }
+
+    /// The faces of `ordinary` (in their order) in chains of faces each stacking on the one
+    /// before ([`Base::stacks`]), at most [`STACK_FACES`] long, each chain from the first
+    /// face not yet taken: a grid's faces in stacks whichever way their order runs (along
+    /// y: consecutive faces; along x: a column at a time, a band of rows after the other).
+    /// Also per face: whether the next one stacks on it.
+    fn chains(&self, ordinary: &[u32], k: usize) -> (Vec<u32>, Vec<bool>) {
+        let nf = self.topo.face_count();
+        let mut free = vec![false; nf];
+        for &f in ordinary {
+            free[f as usize] = true;
+        }
+        let (mut order, mut stacks) = (Vec::with_capacity(ordinary.len()), Vec::new());
+        for &f in ordinary {
+            let mut f = f;
+            let mut len = 0;
+            while free[f as usize] {
+                free[f as usize] = false;
+                order.push(f);
+                stacks.push(false);
+                len += 1;
+                match self.topo.across(f, 2) {
+                    Some((g, 0)) if len < STACK_FACES && self.stacks(f, g, k) => {
+                        if free[g as usize] {
+                            *stacks.last_mut().expect("just pushed") = true;
+                        }
+                        f = g;
+                    }
+                    _ => break,
+                }
+            }
+        }
+        (order, stacks)
     }
 
     /// Whether face f is refined depth first on its own: no corner at a lock-step vertex.
@@ -1132,12 +1172,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
-        let stacks = (0..ordinary.len())
-            .map(|i| {
-                let next = ordinary.get(i + 1);
-                next.is_some_and(|&g| base.stacks(ordinary[i], g, first))
-            })
-            .collect();
+        let (ordinary, stacks) = base.chains(&ordinary, first);
         let composed = (!plans.is_empty()).then(|| {
             let rows = plans
                 .iter()
@@ -1197,10 +1232,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.stream_bytes = bytes;
     }
 
-    /// Ordinary faces refined as one stack at most (default: as many as the kernel takes,
-    /// 16 on one-symbol axioms; 1: each face alone). Consecutive faces each on the one
-    /// before (`Base::stacks`) share their start rows in the composed kernel, so each start
-    /// row is refined along x once. The output does not depend on it, to the bit.
+    /// Ordinary faces refined as one stack at most (default: the chains' length, 4; 1: each
+    /// face alone). Faces each on the one before (`Base::stacks`, `Base::chains`) share their
+    /// start rows in the composed kernel, so each start row is refined along x once. The
+    /// output does not depend on it, to the bit.
     pub fn set_stack(&mut self, faces: usize) {
         self.stack = faces.max(1);
     }
@@ -1376,11 +1411,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let buf = grown(&mut scratch.face, composed.scratch_len());
             // (N' = 1: no interior; a scheme whose ω → one symbol, after one step.)
             let rows = (STAGE / (k * 3).max(1)).clamp(1, k.max(1));
-            // SAFETY: the interior points and the points of the edges of these faces are written
-            // by this worker only.
             let wide = simd == Simd::Avx512;
-            let (interiors, edges) =
-                unsafe { (out.stream(streaming, wide), out.stream(streaming, wide)) };
+            // SAFETY: the interior points and the points of the edges of these faces are written
+            // by this worker only, each by one writer of the pools.
+            let writers = |_| unsafe { out.stream(streaming, wide) };
+            let (interiors, edges) = (
+                Writers::new(WRITERS, writers),
+                Writers::new(WRITERS, writers),
+            );
             let mut w = Ordinary {
                 faces,
                 stacks,
@@ -1627,8 +1665,8 @@ struct Ordinary<'a, 'w, T> {
     /// Face f's border: rows 0 and N', and columns 0 and N' (rows 1..N'−1), in the order of
     /// increasing x or y; then room for one edge's run reversed.
     border: &'w mut [T],
-    interiors: Stream<'a, T>,
-    edges: Stream<'a, T>,
+    interiors: Writers<'a, T>,
+    edges: Writers<'a, T>,
 }
 
 impl<T: Real> Ordinary<'_, '_, T> {

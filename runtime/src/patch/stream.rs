@@ -171,6 +171,57 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     }
 }
 
+/// A few [`Stream`]s, each run handed to the one it continues (or, if none, to the one used
+/// longest ago): a worker whose faces' runs interleave several ascending runs (faces taken
+/// column by column of a grid whose interiors are numbered row by row) still writes whole
+/// lines.
+pub(super) struct Writers<'a, T> {
+    pool: Vec<Stream<'a, T>>,
+    /// The writer used last, and the one to take next for a run that continues none.
+    last: usize,
+    victim: usize,
+}
+
+/// Writers in a pool: enough for every face of the longest chain (`patch::STACK_FACES`)
+/// and its edges, with room.
+pub(super) const WRITERS: usize = 16;
+
+impl<'a, T: Copy + Default> Writers<'a, T> {
+    /// `count` writers from `make` (see [`Stream::new`] for its contract).
+    pub(super) fn new(count: usize, make: impl FnMut(usize) -> Stream<'a, T>) -> Self {
+        Writers {
+            pool: (0..count.max(1)).map(make).collect(),
+            last: 0,
+            victim: 0,
+        }
+    }
+
+    /// Hands `values` for the indices `at..` to the writer whose run they continue.
+    ///
+    /// # Safety
+    /// As [`Stream::run`].
+    #[inline(always)]
+    pub(super) unsafe fn run(&mut self, at: usize, values: &[T]) {
+        let i = if self.pool[self.last].next == at {
+            self.last
+        } else if let Some(i) = self.pool.iter().position(|s| s.next == at) {
+            i
+        } else {
+            let i = self.victim;
+            self.victim = (self.victim + 1) % self.pool.len();
+            i
+        };
+        self.last = i;
+        // SAFETY: the caller's contract.
+        unsafe { self.pool[i].run(at, values) };
+    }
+
+    /// Writes what every writer holds.
+    pub(super) fn finish(self) {
+        self.pool.into_iter().for_each(Stream::finish);
+    }
+}
+
 /// Orders the non-temporal stores of this thread's writers before anything that follows (a
 /// thread that reads the output after joining this one sees them).
 pub(super) fn fence() {
