@@ -291,10 +291,14 @@ impl Plan {
 const STAGE: usize = 8192;
 
 /// Faces in a chain of stacked faces at most (`Base::chains`; the kernel may take fewer at
-/// once: `composed::Composed`). On a grid ordered along x a chain is a column of faces, and
-/// each of its faces continues its own run of the output: chains of 16 (32 runs written at
-/// once) were slower there than no chains, 4 the best of 2 to 16 (docs/benchmarks.md).
-const STACK_FACES: usize = 4;
+/// once: `composed::Composed`).
+const STACK_FACES: usize = 16;
+
+/// The same for a chain whose faces are not consecutive in the order: on a grid ordered along
+/// x a chain is a column of faces, each continuing its own runs of the output. Chains of 16
+/// (32 runs written at once) were slower there than no chains, 4 the best of 2 to 16
+/// (docs/benchmarks.md).
+const STACK_FACES_APART: usize = 4;
 
 /// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]): half
 /// the L2 cache of this machine's cores.
@@ -529,8 +533,8 @@ impl<'t> Base<'t> {
     }
 
     /// The faces of `ordinary` (in their order) in chains of faces each stacking on the one
-    /// before ([`Base::stacks`]), at most [`STACK_FACES`] long, each chain from the first
-    /// face not yet taken: a grid's faces in stacks whichever way their order runs (along
+    /// before ([`Base::stacks`]), at most [`STACK_FACES`] long ([`STACK_FACES_APART`] if not
+    /// consecutive in the order), each chain from the first face not yet taken: a grid's faces in stacks whichever way their order runs (along
     /// y: consecutive faces; along x: a column at a time, a band of rows after the other).
     /// Also per face: whether the next one stacks on it.
     fn chains(&self, ordinary: &[u32], k: usize) -> (Vec<u32>, Vec<bool>) {
@@ -542,14 +546,25 @@ impl<'t> Base<'t> {
         let (mut order, mut stacks) = (Vec::with_capacity(ordinary.len()), Vec::new());
         for &f in ordinary {
             let mut f = f;
-            let mut len = 0;
+            let (mut len, mut consecutive) = (0, true);
             while free[f as usize] {
                 free[f as usize] = false;
                 order.push(f);
                 stacks.push(false);
                 len += 1;
                 match self.topo.across(f, 2) {
-                    Some((g, 0)) if len < STACK_FACES && self.stacks(f, g, k) => {
+                    Some((g, 0)) if self.stacks(f, g, k) => {
+                        // A chain of faces that follow each other in the order writes one
+                        // run: it may be as long as the kernel takes.
+                        consecutive &= g == f + 1;
+                        let most = if consecutive {
+                            STACK_FACES
+                        } else {
+                            STACK_FACES_APART
+                        };
+                        if len >= most {
+                            break;
+                        }
                         if free[g as usize] {
                             *stacks.last_mut().expect("just pushed") = true;
                         }
@@ -1232,8 +1247,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.stream_bytes = bytes;
     }
 
-    /// Ordinary faces refined as one stack at most (default: the chains' length, 4; 1: each
-    /// face alone). Faces each on the one before (`Base::stacks`, `Base::chains`) share their
+    /// Ordinary faces refined as one stack at most (default: the chains' length, 16, or 4 for
+    /// faces not consecutive in the order; 1: each face alone). Faces each on the one before (`Base::stacks`, `Base::chains`) share their
     /// start rows in the composed kernel, so each start row is refined along x once. The
     /// output does not depend on it, to the bit.
     pub fn set_stack(&mut self, faces: usize) {
