@@ -202,18 +202,26 @@ impl<'a, T: Copy + Default> Writers<'a, T> {
     /// As [`Stream::run`].
     #[inline(always)]
     pub(super) unsafe fn run(&mut self, at: usize, values: &[T]) {
-        let i = if self.pool[self.last].next == at {
-            self.last
-        } else if let Some(i) = self.pool.iter().position(|s| s.next == at) {
-            i
-        } else {
-            let i = self.victim;
-            self.victim = (self.victim + 1) % self.pool.len();
-            i
-        };
-        self.last = i;
+        if self.pool[self.last].next != at {
+            self.last = self.pick(at);
+        }
         // SAFETY: the caller's contract.
-        unsafe { self.pool[i].run(at, values) };
+        unsafe { self.pool[self.last].run(at, values) };
+    }
+
+    /// The writer whose run `at` continues, or the one used longest ago (out of the hot path:
+    /// a worker's faces mostly continue the run of the face before).
+    #[cold]
+    #[inline(never)]
+    fn pick(&mut self, at: usize) -> usize {
+        self.pool
+            .iter()
+            .position(|s| s.next == at)
+            .unwrap_or_else(|| {
+                let i = self.victim;
+                self.victim = (self.victim + 1) % self.pool.len();
+                i
+            })
     }
 
     /// Writes what every writer holds.
