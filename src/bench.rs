@@ -26,7 +26,8 @@ pub const MAX_TORUS_FACES: usize = 1 << 24;
 /// Sides of the largest built-in prism.
 pub const MAX_PRISM_SIDES: usize = 10_000;
 
-/// A built-in mesh (`torus:R:C`, `cube`, `star`, `prism:N`: n-gon caps, split by a
+/// A built-in mesh (`torus:R:C`, `torus:R:C:x` the same with its faces ordered along x,
+/// `cube`, `star`, `prism:N`: n-gon caps, split by a
 /// Catmull–Clark step; open: `grid` (8 × 8 quads), `tube` (8 along, 16 around), `hole` (a
 /// 9 × 9 grid whose centre face is a hole), `pentagon-star` (a pentagon with a triangle on
 /// each edge, split first); `creased-cube` (every edge sharp)) or an OBJ or PLY file read
@@ -48,14 +49,25 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
         ["tube"] => tube(8, 16),
         ["hole"] => return featured(grid_with_hole(9)),
         ["creased-cube"] => return featured(creased_cube()),
-        ["torus", r, c] => {
+        ["torus", r, c] | ["torus", r, c, "x"] => {
             let p = |s: &str| {
                 s.parse::<usize>()
                     .ok()
                     .filter(|&n| (3..=100_000).contains(&n))
             };
             match (p(r), p(c)) {
-                (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => torus(r, c),
+                (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => {
+                    let mut t = torus(r, c);
+                    if parts.len() == 4 {
+                        // Each face's corners from its second: edge 0 then runs along the
+                        // row, so that consecutive faces meet across edge 1 (the order of a
+                        // row-major grid), orientation kept.
+                        for f in &mut t.faces {
+                            f.rotate_left(1);
+                        }
+                    }
+                    t
+                }
                 (Some(r), Some(c)) => {
                     return Err(Error::input(format!(
                         "`{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",

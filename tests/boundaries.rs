@@ -948,6 +948,13 @@ fn every_simd_path_and_writer_gives_the_same_points() {
     use lsubdiv::runtime::patch::Simd;
     let mut meshes = featured();
     meshes.push(("torus", torus(6, 5), Features::default()));
+    // The same torus with its faces' y against their order (chains taken downward), as
+    // `lsubdiv bench --mesh torus:R:C:x` makes it.
+    let mut against = torus(6, 5);
+    for f in &mut against.faces {
+        f.rotate_left(1);
+    }
+    meshes.push(("torus, faces along x", against, Features::default()));
     meshes.push(("star", star(), Features::default()));
     for name in generated::SURFACE_NAMES {
         let s = surface(name);

@@ -534,7 +534,8 @@ impl<'t> Base<'t> {
 
     /// The faces of `ordinary` (in their order) in chains of faces each stacking on the one
     /// before ([`Base::stacks`]), at most [`STACK_FACES`] long ([`STACK_FACES_APART`] if not
-    /// consecutive in the order), each chain from the first face not yet taken: a grid's faces in stacks whichever way their order runs (along
+    /// consecutive in the order), each chain through the first face not yet taken, up from it
+    /// or, if it cannot go up, down: a grid's faces in stacks whichever way their order runs (along
     /// y: consecutive faces; along x: a column at a time, a band of rows after the other).
     /// Also per face: whether the next one stacks on it.
     fn chains(&self, ordinary: &[u32], k: usize) -> (Vec<u32>, Vec<bool>) {
@@ -544,35 +545,47 @@ impl<'t> Base<'t> {
             free[f as usize] = true;
         }
         let (mut order, mut stacks) = (Vec::with_capacity(ordinary.len()), Vec::new());
+        let mut chain = Vec::with_capacity(STACK_FACES);
         for &f in ordinary {
-            let mut f = f;
-            let (mut len, mut consecutive) = (0, true);
-            while free[f as usize] {
-                free[f as usize] = false;
-                order.push(f);
-                stacks.push(false);
-                len += 1;
-                match self.topo.across(f, 2) {
-                    Some((g, 0)) if self.stacks(f, g, k) => {
-                        // A chain of faces that follow each other in the order writes one
-                        // run: it may be as long as the kernel takes.
-                        consecutive &= g == f + 1;
-                        let most = if consecutive {
-                            STACK_FACES
-                        } else {
-                            STACK_FACES_APART
-                        };
-                        if len >= most {
-                            break;
-                        }
-                        if free[g as usize] {
-                            *stacks.last_mut().expect("just pushed") = true;
-                        }
-                        f = g;
+            if !std::mem::replace(&mut free[f as usize], false) {
+                continue;
+            }
+            chain.clear();
+            chain.push(f);
+            // Up from f (across edge 2): a chain of faces that follow each other in the order
+            // writes one run, and may be as long as the kernel takes.
+            let mut consecutive = true;
+            while let Some(&top) = chain.last() {
+                let Some((g, 0)) = self.topo.across(top, 2) else {
+                    break;
+                };
+                consecutive &= g == top + 1;
+                let most = if consecutive {
+                    STACK_FACES
+                } else {
+                    STACK_FACES_APART
+                };
+                if !free[g as usize] || chain.len() >= most || !self.stacks(top, g, k) {
+                    break;
+                }
+                free[g as usize] = false;
+                chain.push(g);
+            }
+            // Else down from f (across edge 0), where the faces' y runs against the order.
+            if chain.len() == 1 {
+                while chain.len() < STACK_FACES_APART {
+                    let Some((h, 2)) = self.topo.across(chain[0], 0) else {
+                        break;
+                    };
+                    if !free[h as usize] || !self.stacks(h, chain[0], k) {
+                        break;
                     }
-                    _ => break,
+                    free[h as usize] = false;
+                    chain.insert(0, h);
                 }
             }
+            order.extend_from_slice(&chain);
+            stacks.extend((1..=chain.len()).map(|i| i < chain.len()));
         }
         (order, stacks)
     }

@@ -12,8 +12,9 @@ use lsubdiv_cli::implementation::{Geometry, PathChoice};
 /// Arguments of `lsubdiv bench`.
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// `torus:R:C`, `cube`, `star`, `prism:N` (n-gon caps), open `grid`, `tube`, `hole`,
-    /// `pentagon-star`, `creased-cube`, or an OBJ or PLY file.
+    /// `torus:R:C` (`torus:R:C:x`: its faces ordered along x, as a row-major grid), `cube`,
+    /// `star`, `prism:N` (n-gon caps), open `grid`, `tube`, `hole`, `pentagon-star`,
+    /// `creased-cube`, or an OBJ or PLY file.
     #[arg(long, default_value = "torus:256:256")]
     mesh: String,
     #[arg(long, default_value = "uniform-binary")]
