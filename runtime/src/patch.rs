@@ -14,8 +14,9 @@
 //! No intermediate level is ever stored. Faces whose four corners are ordinary are independent
 //! and go through all steps at once: the plans compose into one matrix M and the face's last
 //! level is M · P · Mᵀ of its start patch P (`patch/composed.rs`), written in whole cache
-//! lines (`patch/stream.rs`); faces around EVs are large patches, refined one at a time (pass, transpose,
-//! pass, in strips that stay in cache; the last step hands its rows straight to the output).
+//! lines (`patch/stream.rs`); faces around EVs are large patches, refined one at a time
+//! (pass, transpose, pass, in strips that stay in cache; the last step hands its rows
+//! straight to the output).
 //!
 //! **EVs.** At an EV corner the diagonal point of the ring does not exist (it is kept zero):
 //! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
@@ -535,9 +536,9 @@ impl<'t> Base<'t> {
     /// The faces of `ordinary` (in their order) in chains of faces each stacking on the one
     /// before ([`Base::stacks`]), at most [`STACK_FACES`] long ([`STACK_FACES_APART`] if not
     /// consecutive in the order), each chain through the first face not yet taken, up from it
-    /// or, if it cannot go up, down: a grid's faces in stacks whichever way their order runs (along
-    /// y: consecutive faces; along x: a column at a time, a band of rows after the other).
-    /// Also per face: whether the next one stacks on it.
+    /// or, if it cannot go up, down: a grid's faces in stacks whichever way their order runs
+    /// (along y: consecutive faces; along x: a column at a time, a band of rows after the
+    /// other). Also per face: whether the next one stacks on it.
     fn chains(&self, ordinary: &[u32], k: usize) -> (Vec<u32>, Vec<bool>) {
         let nf = self.topo.face_count();
         let mut free = vec![false; nf];
@@ -1058,7 +1059,8 @@ pub struct Refiner<'s, S, T> {
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
     ordinary: Vec<u32>,
-    /// Per ordinary face: whether the next one stacks on it ([`Base::stacks`]).
+    /// Per ordinary face (in the order of their chains, [`Base::chains`]): whether the next
+    /// one stacks on it.
     stacks: Vec<bool>,
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
@@ -1261,9 +1263,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 
     /// Ordinary faces refined as one stack at most (default: the chains' length, 16, or 4 for
-    /// faces not consecutive in the order; 1: each face alone). Faces each on the one before (`Base::stacks`, `Base::chains`) share their
-    /// start rows in the composed kernel, so each start row is refined along x once. The
-    /// output does not depend on it, to the bit.
+    /// faces not consecutive in the order; 1: each face alone). Faces each on the one before
+    /// (`Base::stacks`, `Base::chains`) share their start rows in the composed kernel, so
+    /// each start row is refined along x once. The output does not depend on it, to the bit.
     pub fn set_stack(&mut self, faces: usize) {
         self.stack = faces.max(1);
     }

@@ -46,9 +46,12 @@ pub(super) struct Composed<T> {
     columns: Vec<T>,
     /// Per start point j: the values v its column reaches (nonzero weights).
     reach: Vec<std::ops::Range<usize>>,
+    /// Faces in a stack at most: [`STACK`] start rows, so that the scratch stays within a
+    /// few final patches whatever N₀ (`patch::footprint`).
+    most: usize,
 }
 
-/// Start rows (less the ring) of a stack of faces at most ([`Composed::stack`]).
+/// Start rows (less the ring) of a stack of faces at most (`Composed::most`).
 const STACK: usize = 16;
 
 /// Values the kernel sums at once: its independent accumulators (four AVX-512 vectors of f64,
@@ -102,13 +105,14 @@ impl<T: Real> Composed<T> {
             band,
             columns,
             reach,
+            most: (STACK / (m - 3)).max(1),
         }
     }
 
     /// Scratch values a stack of faces needs: the start patch, the rows refined along x, one
     /// row.
     pub(super) fn scratch_len(&self) -> usize {
-        let rows = self.rows(self.stack());
+        let rows = self.rows(self.most);
         rows * self.m * 3 + (rows + 1) * self.width
     }
 
@@ -157,8 +161,8 @@ impl<T: Real> Composed<T> {
     fn faces<const FUSED: bool>(&self, sizes: Sizes, scratch: &mut [T], faces: &mut impl Faces<T>) {
         let mut i = 0;
         while i < faces.count() {
-            let patch = &mut scratch[..self.rows(self.stack()) * sizes.m * 3];
-            let stack = faces.load(i, self.stack(), patch);
+            let patch = &mut scratch[..self.rows(self.most) * sizes.m * 3];
+            let stack = faces.load(i, self.most, patch);
             self.refine::<FUSED>(sizes, stack, scratch, faces);
             faces.done();
             i += stack;
@@ -168,12 +172,6 @@ impl<T: Real> Composed<T> {
     /// Start rows of a stack of `stack` faces with its ring.
     fn rows(&self, stack: usize) -> usize {
         stack * (self.m - 3) + 3
-    }
-
-    /// Faces in a stack at most: [`STACK`] start rows, so that the scratch stays within a
-    /// few final patches whatever N₀ (`patch::footprint`).
-    fn stack(&self) -> usize {
-        (STACK / (self.m - 3)).max(1)
     }
 
     /// A stack of faces (each one's edge 2 the next one's edge 0, in the same direction):
@@ -192,8 +190,8 @@ impl<T: Real> Composed<T> {
         let Sizes { m, band, width } = sizes;
         let (n0, n) = (m - 3, self.first.len() - 1);
         let rows = self.rows(stack);
-        let (p, rest) = scratch.split_at_mut(self.rows(self.stack()) * m * 3);
-        let (a, row) = rest.split_at_mut(self.rows(self.stack()) * width);
+        let (p, rest) = scratch.split_at_mut(self.rows(self.most) * m * 3);
+        let (a, row) = rest.split_at_mut(self.rows(self.most) * width);
         let row = &mut row[..width];
         // Along x: each start row into a refined row of N' + 1 points.
         for (pi, ai) in p[..rows * m * 3]
@@ -262,7 +260,7 @@ pub(super) trait Faces<T> {
     /// How many.
     fn count(&self) -> usize;
     /// Loads the start patch of a stack of faces from the i-th on, at most `stack` of them
-    /// ([`Composed::stack`]), and says how many: face i + q + 1's edge 0 is face i + q's
+    /// (`Composed::most`), and says how many: face i + q + 1's edge 0 is face i + q's
     /// edge 2, in the same direction, and no phantom is set (each face's ring is its
     /// neighbours' points).
     fn load(&mut self, i: usize, stack: usize, patch: &mut [T]) -> usize;

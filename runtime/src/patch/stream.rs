@@ -171,8 +171,8 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     }
 }
 
-/// A few [`Stream`]s, each run handed to the one it continues (or, if none, to the one used
-/// longest ago): a worker whose faces' runs interleave several ascending runs (faces taken
+/// A few [`Stream`]s, each run handed to the one it continues (or, if none, to the next in
+/// turn): a worker whose faces' runs interleave several ascending runs (faces taken
 /// column by column of a grid whose interiors are numbered row by row) still writes whole
 /// lines.
 pub(super) struct Writers<'a, T> {
@@ -209,8 +209,8 @@ impl<'a, T: Copy + Default> Writers<'a, T> {
         unsafe { self.pool[self.last].run(at, values) };
     }
 
-    /// The writer whose run `at` continues, or the one used longest ago (out of the hot path:
-    /// a worker's faces mostly continue the run of the face before).
+    /// The writer whose run `at` continues, or the next in turn (out of the hot path: a
+    /// worker's faces mostly continue the run of the face before).
     #[cold]
     #[inline(never)]
     fn pick(&mut self, at: usize) -> usize {
