@@ -3,15 +3,13 @@
 
 mod common;
 
-use common::cli::{lsubdiv, stderr, write};
+use common::cli::{json, lsubdiv, stderr, write};
 use std::path::Path;
 use std::process::{Command, Output};
 
 #[test]
 fn inspect_json_has_the_documented_fields() {
-    let o = lsubdiv(&["inspect", "fibonacci", "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = json(&["inspect", "fibonacci", "--json"]);
     assert_eq!(v["valid"], true);
     assert!(v["reason"].is_null());
     assert!((v["rho"].as_f64().unwrap() - 1.618033988749895).abs() < 1e-15);
@@ -260,9 +258,7 @@ fn subdivide_writes_obj_and_ply() {
 
 #[test]
 fn ev_json_per_valence() {
-    let o = lsubdiv(&["ev", "binary-ternary", "--valence", "3..25", "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = json(&["ev", "binary-ternary", "--valence", "3..25", "--json"]);
     let rows = v.as_array().unwrap();
     assert_eq!(rows.len(), 23);
     assert_eq!(rows[0]["n"], 3);
@@ -279,9 +275,7 @@ fn ev_json_per_valence() {
 
 #[test]
 fn enumerate_json_has_the_documented_columns() {
-    let o = lsubdiv(&["enumerate", "--family", "slcdr", "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = json(&["enumerate", "--family", "slcdr", "--json"]);
     let rows = v.as_array().unwrap();
     let drl = rows.iter().find(|r| r["pi_c"] == "DRL").unwrap();
     for key in [
@@ -349,7 +343,7 @@ fn search_emits_scheme_files_the_toolkit_accepts() {
 fn bench_json_has_the_documented_fields() {
     // A 16×16 torus, 2 steps of uniform binary: every face becomes 4 × 4, so V + E·3 + F·9
     // = 256 + 512·3 + 256·9 = 4096 output vertices; both steps run depth first.
-    let o = lsubdiv(&[
+    let v = json(&[
         "bench",
         "--mesh",
         "torus:16:16",
@@ -362,8 +356,6 @@ fn bench_json_has_the_documented_fields() {
         "--runs",
         "1",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     for key in [
         "mesh",
         "scheme",
@@ -386,7 +378,7 @@ fn bench_json_has_the_documented_fields() {
     }
     assert!(["avx512", "avx2", "baseline"].contains(&v["simd"].as_str().unwrap()));
     // `--simd` picks the kernels' instruction set, and the JSON says which ran.
-    let o = lsubdiv(&[
+    let v = json(&[
         "bench",
         "--mesh",
         "torus:8:8",
@@ -395,8 +387,6 @@ fn bench_json_has_the_documented_fields() {
         "--simd",
         "baseline",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["simd"], "baseline");
 }
 

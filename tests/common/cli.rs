@@ -11,6 +11,13 @@ pub fn lsubdiv(args: &[&str]) -> Output {
         .expect("runs")
 }
 
+/// Runs `lsubdiv` with `args`, which must succeed, and parses its standard output as JSON.
+pub fn json(args: &[&str]) -> serde_json::Value {
+    let o = lsubdiv(args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 /// The run's standard error, as text.
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
