@@ -56,7 +56,7 @@ use std::time::Instant;
 mod composed;
 mod limit;
 mod stream;
-use composed::{Composed, Faces};
+use composed::{Composed, Faces, Rows};
 pub use limit::{limit_available, SurfaceLimit};
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
 
@@ -1439,8 +1439,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let times = in_threads(work, |((faces, stacks), scratch)| {
             let clock = Instant::now();
             let buf = grown(&mut scratch.face, composed.scratch_len());
-            // (N' = 1: no interior; a scheme whose ω → one symbol, after one step.)
-            let rows = (STAGE / (k * 3).max(1)).clamp(1, k.max(1));
             let wide = simd == Simd::Avx512;
             // SAFETY: the interior points and the points of the edges of these faces are written
             // by this worker only, each by one writer of the pools.
@@ -1453,8 +1451,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 faces,
                 stacks,
                 i: 0,
-                stack: 0,
-                current: 0,
                 most,
                 table,
                 start,
@@ -1463,11 +1459,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 out,
                 layout: ring_layout(n0, false),
                 first,
-                f: 0,
-                rows,
-                stage: grown(&mut scratch.interior, rows * k * 3 + 8),
-                y0: 1,
-                border: grown(&mut scratch.border, 5 * (n + 1) * 3),
+                spare: grown(&mut scratch.border, k * 3),
                 interiors,
                 edges,
             };
@@ -1671,11 +1663,8 @@ struct Ordinary<'a, 'w, T> {
     /// Per face: whether the next face stacks on it ([`Faces::load`]); a stack ends with the
     /// worker's faces.
     stacks: &'a [bool],
-    /// The stack loaded last: its first face (in `faces`), its size, and the face whose rows
-    /// come now (from 0).
+    /// The first face (in `faces`) of the stack loaded last.
     i: usize,
-    stack: usize,
-    current: usize,
     /// Faces in a stack at most ([`Refiner::set_stack`]).
     most: usize,
     table: &'a [u32],
@@ -1686,114 +1675,10 @@ struct Ordinary<'a, 'w, T> {
     layout: Layout,
     /// The start step (for the phantoms).
     first: usize,
-    /// The face loaded last.
-    f: usize,
-    /// Interior rows y0.. of face f, staged (at most `rows`).
-    rows: usize,
-    stage: &'w mut [T],
-    y0: usize,
-    /// Face f's border: rows 0 and N', and columns 0 and N' (rows 1..N'−1), in the order of
-    /// increasing x or y; then room for one edge's run reversed.
-    border: &'w mut [T],
+    /// Room for one edge's run, reversed or gathered from a column.
+    spare: &'w mut [T],
     interiors: Writers<'a, T>,
     edges: Writers<'a, T>,
-}
-
-impl<T: Real> Ordinary<'_, '_, T> {
-    /// Writes the staged interior rows y0..y of face f.
-    #[inline(always)]
-    fn write_rows(&mut self, y: usize) {
-        let k = self.num.n as usize - 1;
-        let at = (self.num.interior(self.f) + (self.y0 - 1) * k) * 3;
-        // SAFETY: face f's interior is written by face f only.
-        unsafe { self.interiors.run(at, &self.stage[..(y - self.y0) * k * 3]) };
-        self.y0 = y;
-    }
-}
-
-impl<T: Real> Ordinary<'_, '_, T> {
-    /// Face f's rows 0 and N' hold edge 0 and edge 2 and the corners: only if f owns one of
-    /// them.
-    #[inline(always)]
-    fn face_wants(&self, f: usize, y: usize) -> bool {
-        let n = self.num.n as usize;
-        let (edge, corners) = match y {
-            0 => (0, [0, 1]),
-            y if y == n => (2, [3, 2]),
-            _ => return true,
-        };
-        self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
-    }
-
-    /// Takes row y of the current face f.
-    #[inline(always)]
-    fn face_row(&mut self, y: usize, row: &[T]) {
-        let n = self.num.n as usize;
-        let (k, side) = (n - 1, (n + 1) * 3);
-        if y > 0 && y < n {
-            if y - self.y0 == self.rows {
-                self.write_rows(y);
-            }
-            // In whole 8-value moves: the values past the interior land where the next row
-            // goes (or in the stage's slack after the last), and the row has them (its tiles).
-            let len = (k * 3).next_multiple_of(8);
-            stream::copy(
-                &mut self.stage[(y - self.y0) * k * 3..][..len],
-                &row[3..3 + len],
-            );
-            let (first, last) = (&row[..3], &row[3 * n..3 * n + 3]);
-            self.border[2 * side + y * 3..][..3].copy_from_slice(first);
-            self.border[3 * side + y * 3..][..3].copy_from_slice(last);
-        } else {
-            let at = if y == 0 { 0 } else { side };
-            stream::copy(&mut self.border[at..at + side], &row[..side]);
-        }
-    }
-
-    /// Writes the current face f's points, and moves on to the next face of the stack.
-    #[inline(always)]
-    fn finish_face(&mut self) {
-        let n = self.num.n as usize;
-        self.write_rows(n);
-        let (k, side, f) = (n - 1, (n + 1) * 3, self.f);
-        // Corners: c = 0..4 at (0, 0), (N', 0), (N', N'), (0, N').
-        for (c, at) in [0, 3 * n, side + 3 * n, side].into_iter().enumerate() {
-            if self.num.corners[f][c] {
-                let b = &self.border[at..at + 3];
-                // SAFETY: face f is the only writer of a corner it owns.
-                unsafe {
-                    self.out
-                        .write(self.num.vertex[f][c] as usize, &[b[0], b[1], b[2]])
-                };
-            }
-        }
-        // Edge l's points t = 1..N'−1 from corner l: along row 0 (x = t), column N' (y = t),
-        // row N' (x = N' − t) and column 0 (y = N' − t); its run starts at its smaller
-        // vertex.
-        let (border, spare) = self.border.split_at_mut(4 * side);
-        for (l, &(e, forward, owner)) in self.num.edges[f].iter().enumerate() {
-            if !owner {
-                continue;
-            }
-            let line = &border[[0, 3 * side, side, 2 * side][l] + 3..][..k * 3];
-            let run = if forward == (l < 2) {
-                line
-            } else {
-                for (d, s) in spare.chunks_exact_mut(3).zip(line.chunks_exact(3).rev()) {
-                    d.copy_from_slice(s);
-                }
-                &spare[..k * 3]
-            };
-            let at = (self.num.nv + e as usize * k) * 3;
-            // SAFETY: face f is the only writer of the points of an edge it owns.
-            unsafe { self.edges.run(at, run) };
-        }
-        self.current += 1;
-        if self.current < self.stack {
-            self.f = self.faces[self.i + self.current] as usize;
-            self.y0 = 1;
-        }
-    }
 }
 
 impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
@@ -1829,44 +1714,80 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
             self.base
                 .load_phantoms((f, n0 as i64, self.first), self.layout, patch);
         }
-        (self.i, self.stack, self.current) = (i, stack, 0);
-        self.f = f as usize;
-        self.y0 = 1;
+        self.i = i;
         stack
     }
 
-    /// A row shared by two faces of the stack is wanted if either wants it.
+    /// Face f's rows 0 and N' hold edge 0 and edge 2 and the corners: only if f owns one of
+    /// them.
     #[inline(always)]
     fn wants(&self, q: usize, y: usize) -> bool {
+        let f = self.faces[self.i + q] as usize;
+        let (edge, corners) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
+        self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
+    }
+
+    /// Writes face q's points: its interior, the corners and edges it owns.
+    #[inline(always)]
+    fn face(&mut self, q: usize, mut rows: Rows<'_, T>) {
+        let f = self.faces[self.i + q] as usize;
         let n = self.num.n as usize;
-        let face = |q: usize| self.faces[self.i + q] as usize;
-        if y == 0 && q > 0 {
-            self.face_wants(face(q - 1), n) || self.face_wants(face(q), 0)
-        } else {
-            self.face_wants(face(q), y)
-        }
-    }
-
-    #[inline(always)]
-    fn row(&mut self, q: usize, y: usize, row: &[T]) {
-        if y == 0 && q > 0 {
-            while self.current + 1 < q {
-                self.finish_face();
+        let k = n - 1;
+        // Corners: c = 0..4 at (0, 0), (N', 0), (N', N'), (0, N').
+        for (c, (y, x)) in [(0, 0), (0, n), (n, n), (n, 0)].into_iter().enumerate() {
+            if self.num.corners[f][c] {
+                let b = &rows.row(y)[x * 3..x * 3 + 3];
+                // SAFETY: face f is the only writer of a corner it owns.
+                unsafe {
+                    self.out
+                        .write(self.num.vertex[f][c] as usize, &[b[0], b[1], b[2]])
+                };
             }
-            self.face_row(self.num.n as usize, row);
         }
-        while self.current < q {
-            self.finish_face();
+        // Edge l's points t = 1..N'−1 from corner l: along row 0 (x = t), column N' (y = t),
+        // row N' (x = N' − t) and column 0 (y = N' − t); its run starts at its smaller
+        // vertex, so it goes along increasing x or y if `forward == (l < 2)`.
+        for (l, &(e, forward, owner)) in self.num.edges[f].iter().enumerate() {
+            if !owner {
+                continue;
+            }
+            let up = forward == (l < 2);
+            let run = match l {
+                0 | 2 => {
+                    let line = &rows.row(if l == 0 { 0 } else { n })[3..3 + k * 3];
+                    if up {
+                        line
+                    } else {
+                        reversed(line, self.spare)
+                    }
+                }
+                _ => {
+                    let x = if l == 1 { n } else { 0 };
+                    for (t, d) in self.spare.chunks_exact_mut(3).take(k).enumerate() {
+                        let y = if up { 1 + t } else { k - t };
+                        d.copy_from_slice(&rows.row(y)[x * 3..x * 3 + 3]);
+                    }
+                    &self.spare[..k * 3]
+                }
+            };
+            let at = (self.num.nv + e as usize * k) * 3;
+            // SAFETY: face f is the only writer of the points of an edge it owns.
+            unsafe { self.edges.run(at, run) };
         }
-        self.face_row(y, row);
+        // The interior, rows 1..N' − 1 one after the other: one run.
+        let at = self.num.interior(f) * 3;
+        // SAFETY: face f's interior is written by face f only.
+        unsafe { self.interiors.run(at, rows.pack(1..n, k * 3)) };
     }
+}
 
-    #[inline(always)]
-    fn done(&mut self) {
-        while self.current < self.stack {
-            self.finish_face();
-        }
+/// The points of `line` in reverse order, in `spare`.
+#[inline(always)]
+fn reversed<'s, T: Copy>(line: &[T], spare: &'s mut [T]) -> &'s [T] {
+    for (d, s) in spare.chunks_exact_mut(3).zip(line.chunks_exact(3).rev()) {
+        d.copy_from_slice(s);
     }
+    &spare[..line.len()]
 }
 
 /// Writes the points (x, y) ∈ `xs` × `ys` of face f's final patch (`point(x, y)`) on the

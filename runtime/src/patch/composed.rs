@@ -109,18 +109,18 @@ impl<T: Real> Composed<T> {
         }
     }
 
-    /// Scratch values a stack of faces needs: the start patch, the rows refined along x, one
-    /// row.
+    /// Scratch values a stack of faces needs: the start patch, the rows refined along x, a
+    /// face's final rows and the row it shares with the next face.
     pub(super) fn scratch_len(&self) -> usize {
         let rows = self.rows(self.most);
-        rows * self.m * 3 + (rows + 1) * self.width
+        rows * self.m * 3 + (rows + self.first.len() + 1) * self.width
     }
 
     /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
     /// start patch is loaded by [`Faces::load`] (rows y = −1..=N₀+1 of m points each,
-    /// interleaved, at the front of `scratch`), and each final row y' = 0..=N' handed to
-    /// [`Faces::row`], interleaved. The whole loop, `faces`' methods inlined, is compiled for
-    /// the path.
+    /// interleaved, at the front of `scratch`), and each face's final rows y' = 0..=N'
+    /// handed to [`Faces::face`], interleaved. The whole loop, `faces`' methods inlined, is
+    /// compiled for the path.
     #[inline(always)]
     pub(super) fn run(&self, simd: Simd, scratch: &mut [T], faces: &mut impl Faces<T>) {
         match simd {
@@ -164,7 +164,6 @@ impl<T: Real> Composed<T> {
             let patch = &mut scratch[..self.rows(self.most) * sizes.m * 3];
             let stack = faces.load(i, self.most, patch);
             self.refine::<FUSED>(sizes, stack, scratch, faces);
-            faces.done();
             i += stack;
         }
     }
@@ -176,9 +175,9 @@ impl<T: Real> Composed<T> {
 
     /// A stack of faces (each one's edge 2 the next one's edge 0, in the same direction):
     /// its start patch at the front of `scratch` (rows y = −1..=s·N₀+1) to its faces' final
-    /// rows, handed to `faces`; `FUSED`: each product is added with one rounding (FMA). The
-    /// faces share their start rows, so each is refined along x once; face q's final row y
-    /// is from its own start rows, q·N₀ up.
+    /// rows, handed to `faces` face by face; `FUSED`: each product is added with one rounding
+    /// (FMA). The faces share their start rows, so each is refined along x once; face q's
+    /// final row y is from its own start rows, q·N₀ up, and its row 0 is face q − 1's row N'.
     #[inline(always)]
     fn refine<const FUSED: bool>(
         &self,
@@ -191,8 +190,9 @@ impl<T: Real> Composed<T> {
         let (n0, n) = (m - 3, self.first.len() - 1);
         let rows = self.rows(stack);
         let (p, rest) = scratch.split_at_mut(self.rows(self.most) * m * 3);
-        let (a, row) = rest.split_at_mut(self.rows(self.most) * width);
-        let row = &mut row[..width];
+        let (a, rest) = rest.split_at_mut(self.rows(self.most) * width);
+        let (out, top) = rest.split_at_mut((n + 1) * width);
+        let top = &mut top[..width];
         // Along x: each start row into a refined row of N' + 1 points.
         for (pi, ai) in p[..rows * m * 3]
             .chunks_exact(m * 3)
@@ -214,16 +214,25 @@ impl<T: Real> Composed<T> {
                 out.copy_from_slice(&acc);
             }
         }
-        // Along y: each final row, a sum of whole refined rows: rows 0..N' − 1 of each face,
-        // and row N' of the last.
+        // Along y: each final row, a sum of whole refined rows. Rows 0 and N' only where
+        // wanted; row 0 of a face after the first is the row N' before it, kept in `top`.
         for q in 0..stack {
-            let last = if q + 1 == stack { n } else { n - 1 };
-            for y in 0..=last {
-                if !faces.wants(q, y) {
+            for y in 0..=n {
+                let wanted = match y {
+                    0 if q > 0 => {
+                        out[..width].copy_from_slice(top);
+                        continue;
+                    }
+                    0 => faces.wants(q, 0),
+                    y if y == n => faces.wants(q, n) || (q + 1 < stack && faces.wants(q + 1, 0)),
+                    _ => true,
+                };
+                if !wanted {
                     continue;
                 }
                 let ws = &self.weights[y * band..][..band];
                 let a = &a[(q * n0 + self.first[y]) * width..];
+                let row = &mut out[y * width..][..width];
                 for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
                     let mut acc = [T::default(); TILE];
                     for (i, &w) in ws.iter().enumerate() {
@@ -234,9 +243,46 @@ impl<T: Real> Composed<T> {
                     }
                     out.copy_from_slice(&acc);
                 }
-                faces.row(q, y, &row[PAD..]);
+            }
+            if q + 1 < stack {
+                top.copy_from_slice(&out[n * width..][..width]);
+            }
+            faces.face(q, Rows { values: out, width });
+        }
+    }
+}
+
+/// A face's final rows y = 0..=N' (rows 0 and N' only if wanted, [`Faces::wants`]), each
+/// `width` values: its points interleaved from [`PAD`] on, then the rest of its tiles.
+pub(super) struct Rows<'a, T> {
+    values: &'a mut [T],
+    width: usize,
+}
+
+impl<T: Copy> Rows<'_, T> {
+    /// Row y's points, interleaved, then the rest of the row's tiles (point 1 starts at a
+    /// multiple of 8 values, and whole 8-value moves from there stay in the row).
+    #[inline(always)]
+    pub(super) fn row(&self, y: usize) -> &[T] {
+        &self.values[y * self.width + PAD..(y + 1) * self.width]
+    }
+
+    /// The points 1..N' − 1 (`len` values) of rows `ys`, one row after the other at the
+    /// front: the rows before them are overwritten.
+    #[inline(always)]
+    pub(super) fn pack(&mut self, ys: std::ops::Range<usize>, len: usize) -> &[T] {
+        let count = ys.len();
+        // Point 1 of a row starts at a multiple of 8 values, its row's tiles go on past
+        // point N' − 1 to one, and each row moves down by more than its length and 8: so
+        // whole 8-value moves, in increasing order, read every value before it is written.
+        for (i, y) in ys.enumerate() {
+            let (src, dst) = (y * self.width + PAD + 3, i * len);
+            for c in (0..len).step_by(8) {
+                let chunk: [T; 8] = self.values[src + c..][..8].try_into().expect("8 values");
+                self.values[dst + c..][..8].copy_from_slice(&chunk);
             }
         }
+        &self.values[..count * len]
     }
 }
 
@@ -264,15 +310,11 @@ pub(super) trait Faces<T> {
     /// edge 2, in the same direction, and no phantom is set (each face's ring is its
     /// neighbours' points).
     fn load(&mut self, i: usize, stack: usize, patch: &mut [T]) -> usize;
-    /// Whether final row y of face q of the stack loaded last is wanted (else it is not
-    /// computed). Row 0 of a face q > 0 is row N' of face q − 1, which is not asked for.
+    /// Whether face q of the stack loaded last wants its final row y, 0 or N' (else it is
+    /// not computed, unless the face next to it along y wants it).
     fn wants(&self, q: usize, y: usize) -> bool;
-    /// Takes final row y of face q of the stack loaded last (rows in order): its points,
-    /// interleaved, then the rest of the row's tiles (point 1 starts at a multiple of 8
-    /// values, and whole 8-value moves from there stay in the row).
-    fn row(&mut self, q: usize, y: usize, row: &[T]);
-    /// After the last row of a stack.
-    fn done(&mut self);
+    /// Takes face q's final rows (faces in order).
+    fn face(&mut self, q: usize, rows: Rows<'_, T>);
 }
 
 /// `a · b + c`, rounded once if `FUSED`.
