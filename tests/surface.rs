@@ -343,6 +343,35 @@ fn large_fan_faces_go_out_row_by_row() {
     }
 }
 
+/// Ordinary faces whose final rows do not fit one band (65 rows of 224 values after six steps
+/// of uniform binary; Binary-Ternary's 4 steps, 36 rows) are handed to the writers band by
+/// band: the reference driver's points, streamed or not, on one or two threads, and every
+/// SIMD path this CPU has.
+#[test]
+fn large_ordinary_faces_go_out_in_bands() {
+    use lsubdiv::runtime::patch::{Refiner, Simd};
+    for (name, steps) in [("uniform-binary", 6), ("binary-ternary", 4)] {
+        let s = surface(name);
+        for (label, mesh) in [("torus", torus(3, 4)), ("klein", klein_bottle(4, 5))] {
+            let (reference, _) = refine(&s, mesh.clone(), steps);
+            let topo = Topology::build(&mesh).unwrap();
+            for simd in Simd::available() {
+                for (threads, stream) in [(1, 0), (2, 0), (1, usize::MAX)] {
+                    let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+                    r.set_simd(simd);
+                    r.set_stream_bytes(stream);
+                    let d = same_points(r.refine(&mesh.positions).unwrap(), &reference.positions);
+                    assert!(
+                        d < 1e-12,
+                        "{name} {label} {}, {threads} threads, stream from {stream} bytes: {d:e}",
+                        simd.name()
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// A scheme whose axiom refines to one symbol (ω → A, A → AA: uniform binary delayed by a
 /// step) makes faces of N' = 1 after its first step, with no interior points: the fast path
 /// still gives the reference driver's points, closed and open.

@@ -288,7 +288,7 @@ impl Plan {
     }
 }
 
-/// Values of an ordinary face's interior staged before they are written (64 KiB of f64).
+/// Values of a fan face's interior staged before they are written (64 KiB of f64).
 const STAGE: usize = 8192;
 
 /// Faces in a chain of stacked faces at most (`Base::chains`; the kernel may take fewer at
@@ -830,9 +830,10 @@ struct Passes<T> {
 struct Scratch<T> {
     /// An ordinary face's start patch and its rows ([`Composed::scratch_len`]).
     face: Vec<T>,
-    /// An ordinary face's interior rows, staged, and its border (`Ordinary`).
+    /// A fan face's last interior, staged (`Refiner::fan_faces`).
     interior: Vec<T>,
-    border: Vec<T>,
+    /// An ordinary face's edge runs, reversed or gathered from a column (`Ordinary`).
+    spare: Vec<T>,
     p: Passes<T>,
 }
 
@@ -1459,7 +1460,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 out,
                 layout: ring_layout(n0, false),
                 first,
-                spare: grown(&mut scratch.border, k * 3),
+                spare: grown(&mut scratch.spare, 3 * k * 3),
                 interiors,
                 edges,
             };
@@ -1675,7 +1676,7 @@ struct Ordinary<'a, 'w, T> {
     layout: Layout,
     /// The start step (for the phantoms).
     first: usize,
-    /// Room for one edge's run, reversed or gathered from a column.
+    /// Room for three edge runs: columns 1 and 3 gathered, and a row reversed.
     spare: &'w mut [T],
     interiors: Writers<'a, T>,
     edges: Writers<'a, T>,
@@ -1727,15 +1728,18 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
     }
 
-    /// Writes face q's points: its interior, the corners and edges it owns.
+    /// Writes the points of a band of face q's rows: its interior, the corners and edges it
+    /// owns (edge 0 with the first band, the others with the last, a column's points set out
+    /// band by band).
     #[inline(always)]
     fn face(&mut self, q: usize, mut rows: Rows<'_, T>) {
         let f = self.faces[self.i + q] as usize;
         let n = self.num.n as usize;
-        let k = n - 1;
+        let (k, ys) = (n - 1, rows.ys());
+        let len = k * 3;
         // Corners: c = 0..4 at (0, 0), (N', 0), (N', N'), (0, N').
         for (c, (y, x)) in [(0, 0), (0, n), (n, n), (n, 0)].into_iter().enumerate() {
-            if self.num.corners[f][c] {
+            if self.num.corners[f][c] && ys.contains(&y) {
                 let b = &rows.row(y)[x * 3..x * 3 + 3];
                 // SAFETY: face f is the only writer of a corner it owns.
                 unsafe {
@@ -1746,38 +1750,49 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         }
         // Edge l's points t = 1..N'−1 from corner l: along row 0 (x = t), column N' (y = t),
         // row N' (x = N' − t) and column 0 (y = N' − t); its run starts at its smaller
-        // vertex, so it goes along increasing x or y if `forward == (l < 2)`.
+        // vertex, so it goes along increasing x or y if `forward == (l < 2)`. Columns 1 and
+        // 3 are set out in `spare` band by band.
+        let inner = ys.start.max(1)..ys.end.min(n);
+        for (l, &(_, forward, owner)) in self.num.edges[f].iter().enumerate().skip(1).step_by(2) {
+            if owner {
+                let x = if l == 1 { n } else { 0 };
+                let column = &mut self.spare[l / 2 * len..][..len];
+                for y in inner.clone() {
+                    let t = if forward == (l < 2) { y - 1 } else { k - y };
+                    column[t * 3..t * 3 + 3].copy_from_slice(&rows.row(y)[x * 3..x * 3 + 3]);
+                }
+            }
+        }
         for (l, &(e, forward, owner)) in self.num.edges[f].iter().enumerate() {
-            if !owner {
+            let ready = if l == 0 {
+                ys.start == 0
+            } else {
+                ys.end == n + 1
+            };
+            if !owner || !ready {
                 continue;
             }
-            let up = forward == (l < 2);
             let run = match l {
                 0 | 2 => {
-                    let line = &rows.row(if l == 0 { 0 } else { n })[3..3 + k * 3];
-                    if up {
+                    let line = &rows.row(if l == 0 { 0 } else { n })[3..3 + len];
+                    if forward == (l < 2) {
                         line
                     } else {
-                        reversed(line, self.spare)
+                        reversed(line, &mut self.spare[2 * len..])
                     }
                 }
-                _ => {
-                    let x = if l == 1 { n } else { 0 };
-                    for (t, d) in self.spare.chunks_exact_mut(3).take(k).enumerate() {
-                        let y = if up { 1 + t } else { k - t };
-                        d.copy_from_slice(&rows.row(y)[x * 3..x * 3 + 3]);
-                    }
-                    &self.spare[..k * 3]
-                }
+                _ => &self.spare[l / 2 * len..][..len],
             };
             let at = (self.num.nv + e as usize * k) * 3;
             // SAFETY: face f is the only writer of the points of an edge it owns.
             unsafe { self.edges.run(at, run) };
         }
-        // The interior, rows 1..N' − 1 one after the other: one run.
-        let at = self.num.interior(f) * 3;
-        // SAFETY: face f's interior is written by face f only.
-        unsafe { self.interiors.run(at, rows.pack(1..n, k * 3)) };
+        // The interior, rows 1..N' − 1 one after the other: one run over the bands.
+        if !inner.is_empty() {
+            let at = (self.num.interior(f) + (inner.start - 1) * k) * 3;
+            // SAFETY: face f's interior is written by face f only.
+            unsafe { self.interiors.run(at, rows.pack(inner, len)) };
+        }
     }
 }
 
@@ -1982,8 +1997,9 @@ pub fn footprint(
         .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4))
         .saturating_add(rules);
     // The fans' two levels (the last step writes straight to the output), and each worker's
-    // scratch: bounded by two patches of the last level (a fan step's strips, an ordinary
-    // face's rows, staged interior and border; at least 8192 points).
+    // scratch: bounded by three patches of the last level (a fan step's strips and staged
+    // interior; an ordinary stack's rows refined along x, a face's final rows and an edge
+    // run; at least 8192 points).
     let fans = if steps > first {
         let before = |k: usize| side(steps.saturating_sub(k).max(first));
         fan_faces
@@ -1994,7 +2010,7 @@ pub fn footprint(
     };
     let workers = (threads.max(1) as u128)
         .saturating_mul(side(steps).max(8192))
-        .saturating_mul(2 * point);
+        .saturating_mul(3 * point);
     let output = vertices
         .saturating_mul(point)
         .saturating_add(quads.saturating_mul(16));

@@ -49,7 +49,13 @@ pub(super) struct Composed<T> {
     /// Faces in a stack at most: [`STACK`] start rows, so that the scratch stays within a
     /// few final patches whatever N₀ (`patch::footprint`).
     most: usize,
+    /// A face's final rows handed at once at most ([`BAND`] values, at least one row).
+    rows: usize,
 }
+
+/// Values of a face's final rows handed to [`Faces::face`] at once at most (32 KiB of f64, so
+/// that they are read back from the first-level cache).
+const BAND: usize = 4096;
 
 /// Start rows (less the ring) of a stack of faces at most (`Composed::most`).
 const STACK: usize = 16;
@@ -106,6 +112,7 @@ impl<T: Real> Composed<T> {
             columns,
             reach,
             most: (STACK / (m - 3)).max(1),
+            rows: (BAND / width).clamp(1, matrix.len()),
         }
     }
 
@@ -113,13 +120,13 @@ impl<T: Real> Composed<T> {
     /// face's final rows and the row it shares with the next face.
     pub(super) fn scratch_len(&self) -> usize {
         let rows = self.rows(self.most);
-        rows * self.m * 3 + (rows + self.first.len() + 1) * self.width
+        rows * self.m * 3 + (rows + self.rows + 1) * self.width
     }
 
     /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
     /// start patch is loaded by [`Faces::load`] (rows y = −1..=N₀+1 of m points each,
     /// interleaved, at the front of `scratch`), and each face's final rows y' = 0..=N'
-    /// handed to [`Faces::face`], interleaved. The whole loop, `faces`' methods inlined, is
+    /// handed to [`Faces::face`], interleaved, a band of rows at a time. The whole loop, `faces`' methods inlined, is
     /// compiled for the path.
     #[inline(always)]
     pub(super) fn run(&self, simd: Simd, scratch: &mut [T], faces: &mut impl Faces<T>) {
@@ -191,7 +198,7 @@ impl<T: Real> Composed<T> {
         let rows = self.rows(stack);
         let (p, rest) = scratch.split_at_mut(self.rows(self.most) * m * 3);
         let (a, rest) = rest.split_at_mut(self.rows(self.most) * width);
-        let (out, top) = rest.split_at_mut((n + 1) * width);
+        let (out, top) = rest.split_at_mut(self.rows * width);
         let top = &mut top[..width];
         // Along x: each start row into a refined row of N' + 1 points.
         for (pi, ai) in p[..rows * m * 3]
@@ -214,69 +221,89 @@ impl<T: Real> Composed<T> {
                 out.copy_from_slice(&acc);
             }
         }
-        // Along y: each final row, a sum of whole refined rows. Rows 0 and N' only where
-        // wanted; row 0 of a face after the first is the row N' before it, kept in `top`.
+        // Along y: each final row, a sum of whole refined rows, in bands of `self.rows`. Rows
+        // 0 and N' only where wanted; row 0 of a face after the first is the row N' before
+        // it, kept in `top`.
         for q in 0..stack {
-            for y in 0..=n {
-                let wanted = match y {
-                    0 if q > 0 => {
-                        out[..width].copy_from_slice(top);
+            for y0 in (0..=n).step_by(self.rows) {
+                let ys = y0..(y0 + self.rows).min(n + 1);
+                for y in ys.clone() {
+                    let row = &mut out[(y - y0) * width..][..width];
+                    let wanted = match y {
+                        0 if q > 0 => {
+                            row.copy_from_slice(top);
+                            continue;
+                        }
+                        0 => faces.wants(q, 0),
+                        y if y == n => {
+                            faces.wants(q, n) || (q + 1 < stack && faces.wants(q + 1, 0))
+                        }
+                        _ => true,
+                    };
+                    if !wanted {
                         continue;
                     }
-                    0 => faces.wants(q, 0),
-                    y if y == n => faces.wants(q, n) || (q + 1 < stack && faces.wants(q + 1, 0)),
-                    _ => true,
-                };
-                if !wanted {
-                    continue;
-                }
-                let ws = &self.weights[y * band..][..band];
-                let a = &a[(q * n0 + self.first[y]) * width..];
-                let row = &mut out[y * width..][..width];
-                for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
-                    let mut acc = [T::default(); TILE];
-                    for (i, &w) in ws.iter().enumerate() {
-                        let s = tile(&a[i * width + t * TILE..]);
-                        for l in 0..TILE {
-                            acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
+                    let ws = &self.weights[y * band..][..band];
+                    let a = &a[(q * n0 + self.first[y]) * width..];
+                    for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
+                        let mut acc = [T::default(); TILE];
+                        for (i, &w) in ws.iter().enumerate() {
+                            let s = tile(&a[i * width + t * TILE..]);
+                            for l in 0..TILE {
+                                acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
+                            }
                         }
+                        out.copy_from_slice(&acc);
                     }
-                    out.copy_from_slice(&acc);
                 }
+                if ys.end == n + 1 && q + 1 < stack {
+                    top.copy_from_slice(&out[(n - y0) * width..][..width]);
+                }
+                faces.face(
+                    q,
+                    Rows {
+                        values: &mut out[..ys.len() * width],
+                        width,
+                        ys,
+                    },
+                );
             }
-            if q + 1 < stack {
-                top.copy_from_slice(&out[n * width..][..width]);
-            }
-            faces.face(q, Rows { values: out, width });
         }
     }
 }
 
-/// A face's final rows y = 0..=N' (rows 0 and N' only if wanted, [`Faces::wants`]), each
+/// A band of a face's final rows `ys` (rows 0 and N' only if wanted, [`Faces::wants`]), each
 /// `width` values: its points interleaved from [`PAD`] on, then the rest of its tiles.
 pub(super) struct Rows<'a, T> {
     values: &'a mut [T],
     width: usize,
+    ys: std::ops::Range<usize>,
 }
 
 impl<T: Copy> Rows<'_, T> {
+    /// The rows' y.
+    pub(super) fn ys(&self) -> std::ops::Range<usize> {
+        self.ys.clone()
+    }
+
     /// Row y's points, interleaved, then the rest of the row's tiles (point 1 starts at a
     /// multiple of 8 values, and whole 8-value moves from there stay in the row).
     #[inline(always)]
     pub(super) fn row(&self, y: usize) -> &[T] {
-        &self.values[y * self.width + PAD..(y + 1) * self.width]
+        let i = y - self.ys.start;
+        &self.values[i * self.width + PAD..(i + 1) * self.width]
     }
 
-    /// The points 1..N' − 1 (`len` values) of rows `ys`, one row after the other at the
-    /// front: the rows before them are overwritten.
+    /// The points 1..N' − 1 (`len` values) of rows `ys` (of these), one row after the other
+    /// at the front: the rows before them are overwritten.
     #[inline(always)]
     pub(super) fn pack(&mut self, ys: std::ops::Range<usize>, len: usize) -> &[T] {
         let count = ys.len();
         // Point 1 of a row starts at a multiple of 8 values, its row's tiles go on past
-        // point N' − 1 to one, and each row moves down by more than its length and 8: so
-        // whole 8-value moves, in increasing order, read every value before it is written.
+        // point N' − 1 to one, and each row moves down by 8 values or more: so whole 8-value
+        // moves, in increasing order, read every value before it is written.
         for (i, y) in ys.enumerate() {
-            let (src, dst) = (y * self.width + PAD + 3, i * len);
+            let (src, dst) = ((y - self.ys.start) * self.width + PAD + 3, i * len);
             for c in (0..len).step_by(8) {
                 let chunk: [T; 8] = self.values[src + c..][..8].try_into().expect("8 values");
                 self.values[dst + c..][..8].copy_from_slice(&chunk);
@@ -313,7 +340,7 @@ pub(super) trait Faces<T> {
     /// Whether face q of the stack loaded last wants its final row y, 0 or N' (else it is
     /// not computed, unless the face next to it along y wants it).
     fn wants(&self, q: usize, y: usize) -> bool;
-    /// Takes face q's final rows (faces in order).
+    /// Takes a band of face q's final rows (faces in order, each face's bands in order).
     fn face(&mut self, q: usize, rows: Rows<'_, T>);
 }
 
