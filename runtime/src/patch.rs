@@ -1997,9 +1997,9 @@ pub fn footprint(
         .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4))
         .saturating_add(rules);
     // The fans' two levels (the last step writes straight to the output), and each worker's
-    // scratch: bounded by three patches of the last level (a fan step's strips and staged
-    // interior; an ordinary stack's rows refined along x, a face's final rows and an edge
-    // run; at least 8192 points).
+    // scratch: bounded by two patches of the last level (a fan step's strips and staged
+    // interior; an ordinary stack's rows refined along x, a band of a face's final rows and
+    // its edge runs; at least 8192 points).
     let fans = if steps > first {
         let before = |k: usize| side(steps.saturating_sub(k).max(first));
         fan_faces
@@ -2010,7 +2010,7 @@ pub fn footprint(
     };
     let workers = (threads.max(1) as u128)
         .saturating_mul(side(steps).max(8192))
-        .saturating_mul(3 * point);
+        .saturating_mul(2 * point);
     let output = vertices
         .saturating_mul(point)
         .saturating_add(quads.saturating_mul(16));
