@@ -345,8 +345,8 @@ fn large_fan_faces_go_out_row_by_row() {
 
 /// Ordinary faces whose final rows do not fit one band (65 rows of 224 values after six steps
 /// of uniform binary; Binary-Ternary's 4 steps, 36 rows) are handed to the writers band by
-/// band: the reference driver's points, streamed or not, on one or two threads, and every
-/// SIMD path this CPU has.
+/// band: the reference driver's points, streamed or not, on one or two threads, in f64 and
+/// f32, and every SIMD path this CPU has.
 #[test]
 fn large_ordinary_faces_go_out_in_bands() {
     use lsubdiv::runtime::patch::{Refiner, Simd};
@@ -367,6 +367,21 @@ fn large_ordinary_faces_go_out_in_bands() {
                         simd.name()
                     );
                 }
+                // f32 (16 values to a cache line, so the bands' runs split lines elsewhere),
+                // point by point against f64 on the same path.
+                let mut double = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
+                double.set_simd(simd);
+                let mut single = Refiner::<_, f32>::new(&s, &topo, steps, 2).unwrap();
+                single.set_simd(simd);
+                single.set_stream_bytes(0);
+                let d = single
+                    .refine(&mesh.positions)
+                    .unwrap()
+                    .iter()
+                    .flatten()
+                    .zip(double.refine(&mesh.positions).unwrap().iter().flatten())
+                    .fold(0.0f64, |m, (&a, b)| m.max((f64::from(a) - b).abs()));
+                assert!(d < 1e-5, "{name} {label} {} f32: {d:e}", simd.name());
             }
         }
     }
