@@ -22,6 +22,10 @@
 //! q's final rows are the sums over its own start rows, q·N₀ up. The products and their order
 //! are those of each face alone, so a stack gives the same bits.
 //!
+//! A face's final rows go to its writer together, in bands of at most [`BAND`] values
+//! ([`Rows`]): it takes its corners and edges from them and packs its interior in place, with
+//! no row handed one at a time and nothing copied twice.
+//!
 //! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
 //! is compiled for AVX-512, AVX2 (both with fused multiply-add) and the baseline, chosen at
 //! run time ([`Simd`]). The operations and their order are the same on every path; the FMA
@@ -126,8 +130,8 @@ impl<T: Real> Composed<T> {
     /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
     /// start patch is loaded by [`Faces::load`] (rows y = −1..=N₀+1 of m points each,
     /// interleaved, at the front of `scratch`), and each face's final rows y' = 0..=N'
-    /// handed to [`Faces::face`], interleaved, a band of rows at a time. The whole loop, `faces`' methods inlined, is
-    /// compiled for the path.
+    /// handed to [`Faces::face`], interleaved, a band of rows at a time. The whole loop,
+    /// `faces`' methods inlined, is compiled for the path.
     #[inline(always)]
     pub(super) fn run(&self, simd: Simd, scratch: &mut [T], faces: &mut impl Faces<T>) {
         match simd {
