@@ -348,7 +348,9 @@ pub(super) trait Faces<T> {
     fn face(&mut self, q: usize, rows: Rows<'_, T>);
 }
 
-/// `a · b + c`, rounded once if `FUSED`.
+/// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from
+/// a closure: a closure does not take the kernel's target features, and `mul_add` there is a
+/// library call (ten times slower, docs/benchmarks.md).
 #[inline(always)]
 fn madd<T: Real, const FUSED: bool>(a: T, b: T, c: T) -> T {
     if FUSED {
