@@ -27,10 +27,10 @@ pub const MAX_TORUS_FACES: usize = 1 << 24;
 pub const MAX_PRISM_SIDES: usize = 10_000;
 
 /// A built-in mesh (`torus:R:C`, `torus:R:C:x` the same with its faces ordered along x,
-/// `cube`, `star`, `prism:N`: n-gon caps, split by a
-/// Catmull–Clark step; open: `grid` (8 × 8 quads), `tube` (8 along, 16 around), `hole` (a
-/// 9 × 9 grid whose centre face is a hole), `pentagon-star` (a pentagon with a triangle on
-/// each edge, split first); `creased-cube` (every edge sharp)) or an OBJ or PLY file read
+/// `cube`, `star`, `prism:N`: n-gon caps, split by a Catmull–Clark step; open: `grid` (8 × 8
+/// quads), `tube` (8 along, 16 around), `hole` (a 9 × 9 grid whose centre face is a hole),
+/// `pentagon-star` (a pentagon with a triangle on each edge, split first); `creased-cube`
+/// (every edge sharp)) or an OBJ or PLY file read
 /// under `--max-memory max` ([`crate::limits::read_mesh`]), with its topology.
 pub fn mesh(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Error> {
     let mut read = built(spec, max, boundary)?;

@@ -935,12 +935,11 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
 
 /// Every instruction set this CPU has, the non-temporal writer forced on or off, one or two
 /// threads, wide or one-point strips, and ordinary faces refined alone or in stacks give the
-/// same points: the kernels run the same
-/// operations in the same order on every path ([`lsubdiv::runtime::patch::Simd`]); the fused
-/// multiply-adds of AVX2 and AVX-512 give those two the same bits, within 1e-14 of the
-/// baseline's (relative to the mesh's size); in f64 and f32 (the latter within f32 rounding of
-/// the former); on closed meshes (ordinary faces and fans), open ones and every featured mesh,
-/// for every shipped surface scheme.
+/// same points: the kernels run the same operations in the same order on every path
+/// ([`lsubdiv::runtime::patch::Simd`]); the fused multiply-adds of AVX2 and AVX-512 give those
+/// two the same bits, within 1e-14 of the baseline's (relative to the mesh's size); in f64 and
+/// f32 (the latter within f32 rounding of the former); on closed meshes (ordinary faces and
+/// fans), open ones and every featured mesh, for every shipped surface scheme.
 #[test]
 fn every_simd_path_and_writer_gives_the_same_points() {
     use lsubdiv::generated;

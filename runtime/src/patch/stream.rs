@@ -243,7 +243,7 @@ pub(super) fn fence() {
 /// `dst.copy_from_slice(src)` in whole 8-value moves and single values: short runs of a
 /// length known only at run time, without a call to the library's `memcpy`.
 #[inline(always)]
-pub(super) fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
+fn copy<T: Copy>(dst: &mut [T], src: &[T]) {
     let mut d = dst.chunks_exact_mut(8);
     let mut s = src.chunks_exact(8);
     for (d, s) in (&mut d).zip(&mut s) {
