@@ -1728,11 +1728,17 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
     }
 
+    /// Point 0 of rows 1..N' − 1 is edge 3's.
+    #[inline(always)]
+    fn wants_left(&self, q: usize) -> bool {
+        self.num.edges[self.faces[self.i + q] as usize][3].2
+    }
+
     /// Writes the points of a band of face q's rows: its interior, the corners and edges it
     /// owns (edge 0 with the first band, the others with the last, a column's points set out
     /// band by band).
     #[inline(always)]
-    fn face(&mut self, q: usize, mut rows: Rows<'_, T>) {
+    fn face(&mut self, q: usize, rows: Rows<'_, T>) {
         let f = self.faces[self.i + q] as usize;
         let n = self.num.n as usize;
         let (k, ys) = (n - 1, rows.ys());
@@ -1791,7 +1797,7 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         if !inner.is_empty() {
             let at = (self.num.interior(f) + (inner.start - 1) * k) * 3;
             // SAFETY: face f's interior is written by face f only.
-            unsafe { self.interiors.run(at, rows.pack(inner, len)) };
+            unsafe { self.interiors.run(at, rows.inside()) };
         }
     }
 }

@@ -23,8 +23,12 @@
 //! are those of each face alone, so a stack gives the same bits.
 //!
 //! A face's final rows go to its writer together, in bands of at most [`BAND`] values
-//! ([`Rows`]): it takes its corners and edges from them and packs its interior in place, with
-//! no row handed one at a time and nothing copied twice.
+//! ([`Rows`]): it takes its corners and edges from them, and its interior (points 1..N' − 1
+//! of rows 1..N' − 1) as one run that the sums store a second time as they go, row after
+//! row. Of those rows only the tiles of points 0 and N' stay in the rows, and of point 0 only
+//! where the face wants it ([`Faces::wants_left`]). Before, the interior was packed from the
+//! rows afterwards: storing it as it is summed made the torus 10–20 % faster
+//! (docs/benchmarks.md).
 //!
 //! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
 //! is compiled for AVX-512, AVX2 (both with fused multiply-add) and the baseline, chosen at
@@ -68,10 +72,13 @@ const STACK: usize = 16;
 /// eight AVX2 ones), so that the sums' latency overlaps.
 const TILE: usize = 32;
 
-/// Values before a refined row's point 0, so that its point 1 starts a vector of 8 values:
-/// the interior of a row is then read back from the very vectors it was stored in (a load
-/// straddling two stores would wait for both to retire).
+/// Values before a refined row's point 0, so that its point 1 starts a vector of 8 values: a
+/// row's interior is then summed in whole vectors, and the 8 values before it only where
+/// its point 0 is wanted.
 const PAD: usize = 5;
+
+/// Values of a refined row before its point 1 (a multiple of 8, [`PAD`]).
+const LEAD: usize = PAD + 3;
 
 impl<T: Real> Composed<T> {
     /// Lays out M (rows 0..=N', each `m` weights).
@@ -124,7 +131,7 @@ impl<T: Real> Composed<T> {
     /// face's final rows and the row it shares with the next face.
     pub(super) fn scratch_len(&self) -> usize {
         let rows = self.rows(self.most);
-        rows * self.m * 3 + (rows + self.rows + 1) * self.width
+        rows * self.m * 3 + (rows + 2 * self.rows + 2) * self.width
     }
 
     /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
@@ -202,8 +209,15 @@ impl<T: Real> Composed<T> {
         let rows = self.rows(stack);
         let (p, rest) = scratch.split_at_mut(self.rows(self.most) * m * 3);
         let (a, rest) = rest.split_at_mut(self.rows(self.most) * width);
-        let (out, top) = rest.split_at_mut(self.rows * width);
-        let top = &mut top[..width];
+        let (out, rest) = rest.split_at_mut(self.rows * width);
+        let (top, inside) = rest.split_at_mut(width);
+        // The band's points 1..N' − 1 of rows 1..N' − 1, row after row (`len` values each),
+        // stored as they are summed (each row's tiles run on past them, over the next row's
+        // start, which is stored after them).
+        let len = (n - 1) * 3;
+        let inside = &mut inside[..(self.rows + 1) * width];
+        // The tiles of point N'.
+        let last = (PAD + 3 * n) / TILE..=(PAD + 3 * n + 2) / TILE;
         // Along x: each start row into a refined row of N' + 1 points.
         for (pi, ai) in p[..rows * m * 3]
             .chunks_exact(m * 3)
@@ -229,6 +243,7 @@ impl<T: Real> Composed<T> {
         // 0 and N' only where wanted; row 0 of a face after the first is the row N' before
         // it, kept in `top`.
         for q in 0..stack {
+            let left = faces.wants_left(q);
             for y0 in (0..=n).step_by(self.rows) {
                 let ys = y0..(y0 + self.rows).min(n + 1);
                 for y in ys.clone() {
@@ -249,15 +264,21 @@ impl<T: Real> Composed<T> {
                     }
                     let ws = &self.weights[y * band..][..band];
                     let a = &a[(q * n0 + self.first[y]) * width..];
-                    for (t, out) in row.chunks_exact_mut(TILE).enumerate() {
-                        let mut acc = [T::default(); TILE];
-                        for (i, &w) in ws.iter().enumerate() {
-                            let s = tile(&a[i * width + t * TILE..]);
-                            for l in 0..TILE {
-                                acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
+                    // The values before point 1 only where point 0 is wanted.
+                    let lead = y == 0 || y == n || left;
+                    let inner = (y != 0 && y != n).then(|| (y - y0.max(1)) * len);
+                    for t in 0..width / TILE {
+                        // An inner row keeps in `out` only its tiles of points 0 and N'.
+                        let edge = (t == 0 && lead) || last.contains(&t);
+                        let row = (inner.is_none() || edge).then_some(&mut *row);
+                        let inside = inner.map(|i| &mut inside[i..]);
+                        match t {
+                            0 if lead => sum::<T, TILE, LEAD, FUSED>(ws, a, width, 0, row, inside),
+                            0 => {
+                                sum::<T, { TILE - LEAD }, 0, FUSED>(ws, a, width, LEAD, row, inside)
                             }
+                            _ => sum::<T, TILE, 0, FUSED>(ws, a, width, t * TILE, row, inside),
                         }
-                        out.copy_from_slice(&acc);
                     }
                 }
                 if ys.end == n + 1 && q + 1 < stack {
@@ -266,7 +287,8 @@ impl<T: Real> Composed<T> {
                 faces.face(
                     q,
                     Rows {
-                        values: &mut out[..ys.len() * width],
+                        values: &out[..ys.len() * width],
+                        inside: &inside[..(ys.start.max(1)..ys.end.min(n)).len() * len],
                         width,
                         ys,
                     },
@@ -279,7 +301,9 @@ impl<T: Real> Composed<T> {
 /// A band of a face's final rows `ys` (rows 0 and N' only if wanted, [`Faces::wants`]), each
 /// `width` values: its points interleaved from [`PAD`] on, then the rest of its tiles.
 pub(super) struct Rows<'a, T> {
-    values: &'a mut [T],
+    values: &'a [T],
+    /// Points 1..N' − 1 of the band's rows 1..N' − 1, row after row.
+    inside: &'a [T],
     width: usize,
     ys: std::ops::Range<usize>,
 }
@@ -290,30 +314,19 @@ impl<T: Copy> Rows<'_, T> {
         self.ys.clone()
     }
 
-    /// Row y's points, interleaved, then the rest of the row's tiles (point 1 starts at a
-    /// multiple of 8 values, and whole 8-value moves from there stay in the row).
+    /// Row y's points, interleaved, then the rest of the row's tiles. Of a row 1..N' − 1 only
+    /// points 0 (if [`Faces::wants_left`]) and N' are set: its interior is in
+    /// [`Rows::inside`].
     #[inline(always)]
     pub(super) fn row(&self, y: usize) -> &[T] {
         let i = y - self.ys.start;
         &self.values[i * self.width + PAD..(i + 1) * self.width]
     }
 
-    /// The points 1..N' − 1 (`len` values) of rows `ys` (of these), one row after the other
-    /// at the front: the rows before them are overwritten.
+    /// Points 1..N' − 1 of the band's rows 1..N' − 1, one row after the other.
     #[inline(always)]
-    pub(super) fn pack(&mut self, ys: std::ops::Range<usize>, len: usize) -> &[T] {
-        let count = ys.len();
-        // Point 1 of a row starts at a multiple of 8 values, its row's tiles go on past
-        // point N' − 1 to one, and each row moves down by 8 values or more: so whole 8-value
-        // moves, in increasing order, read every value before it is written.
-        for (i, y) in ys.enumerate() {
-            let (src, dst) = ((y - self.ys.start) * self.width + PAD + 3, i * len);
-            for c in (0..len).step_by(8) {
-                let chunk: [T; 8] = self.values[src + c..][..8].try_into().expect("8 values");
-                self.values[dst + c..][..8].copy_from_slice(&chunk);
-            }
-        }
-        &self.values[..count * len]
+    pub(super) fn inside(&self) -> &[T] {
+        self.inside
     }
 }
 
@@ -344,8 +357,38 @@ pub(super) trait Faces<T> {
     /// Whether face q of the stack loaded last wants its final row y, 0 or N' (else it is
     /// not computed, unless the face next to it along y wants it).
     fn wants(&self, q: usize, y: usize) -> bool;
+    /// Whether face q of the stack loaded last wants point 0 of its rows 1..N' − 1 (its
+    /// edge 3; else those points are not computed).
+    fn wants_left(&self, q: usize) -> bool;
     /// Takes a band of face q's final rows (faces in order, each face's bands in order).
     fn face(&mut self, q: usize, rows: Rows<'_, T>);
+}
+
+/// Sums `L` values of a final row from `at` on: `out[v] = Σ_i ws[i] · a[i · width + v]`, in
+/// increasing i (the same order whatever `L`, so a part of a tile has the tile's bits); the
+/// values from point 1 on (`SKIP` values after `at`) also go to `inside`, from its start.
+#[inline(always)]
+fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
+    ws: &[T],
+    a: &[T],
+    width: usize,
+    at: usize,
+    out: Option<&mut [T]>,
+    inside: Option<&mut [T]>,
+) {
+    let mut acc = [T::default(); L];
+    for (i, &w) in ws.iter().enumerate() {
+        let s: &[T; L] = a[i * width + at..][..L].try_into().expect("L values");
+        for l in 0..L {
+            acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
+        }
+    }
+    if let Some(out) = out {
+        out[at..at + L].copy_from_slice(&acc);
+    }
+    if let Some(inside) = inside {
+        inside[at + SKIP - LEAD..][..L - SKIP].copy_from_slice(&acc[SKIP..]);
+    }
 }
 
 /// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from
