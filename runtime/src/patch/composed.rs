@@ -74,11 +74,21 @@ const TILE: usize = 32;
 
 /// Values before a refined row's point 0, so that its point 1 starts a vector of 8 values: a
 /// row's interior is then summed in whole vectors, and the 8 values before it only where
-/// its point 0 is wanted.
+/// its point 0 is wanted (f64, [`skips`]).
 const PAD: usize = 5;
 
 /// Values of a refined row before its point 1 (a multiple of 8, [`PAD`]).
 const LEAD: usize = PAD + 3;
+
+/// Bytes of a cache line, and of an AVX-512 vector.
+const LINE: usize = 64;
+
+/// Whether the values before point 1 are a whole vector (f64), so that a row summed from point
+/// 1 on loads and stores whole aligned vectors; for f32 they are half a vector, and every
+/// vector from point 1 on would straddle two lines.
+const fn skips<T>() -> bool {
+    (LEAD * size_of::<T>()).is_multiple_of(LINE)
+}
 
 impl<T: Real> Composed<T> {
     /// Lays out M (rows 0..=N', each `m` weights).
@@ -131,7 +141,13 @@ impl<T: Real> Composed<T> {
     /// face's final rows and the row it shares with the next face.
     pub(super) fn scratch_len(&self) -> usize {
         let rows = self.rows(self.most);
-        rows * self.m * 3 + (rows + 2 * self.rows + 2) * self.width
+        LINE / size_of::<T>() + self.patch_len(self.m) + (rows + 2 * self.rows + 2) * self.width
+    }
+
+    /// Values of a stack's start patch, in whole tiles (so that the rows after it start at
+    /// 64-byte lines, as the scratch does).
+    fn patch_len(&self, m: usize) -> usize {
+        (self.rows(self.most) * m * 3).next_multiple_of(TILE)
     }
 
     /// Refines `faces.count()` faces one after the other with the vectors of `simd`: each
@@ -141,6 +157,12 @@ impl<T: Real> Composed<T> {
     /// `faces`' methods inlined, is compiled for the path.
     #[inline(always)]
     pub(super) fn run(&self, simd: Simd, scratch: &mut [T], faces: &mut impl Faces<T>) {
+        // Rows at 64-byte lines: no vector load or store of a tile straddles two.
+        let at = scratch
+            .as_ptr()
+            .align_offset(LINE)
+            .min(LINE / size_of::<T>());
+        let scratch = &mut scratch[at..];
         match simd {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `Simd::Avx512` is only handed out where the CPU has AVX-512F.
@@ -179,7 +201,7 @@ impl<T: Real> Composed<T> {
     fn faces<const FUSED: bool>(&self, sizes: Sizes, scratch: &mut [T], faces: &mut impl Faces<T>) {
         let mut i = 0;
         while i < faces.count() {
-            let patch = &mut scratch[..self.rows(self.most) * sizes.m * 3];
+            let patch = &mut scratch[..self.patch_len(sizes.m)];
             let stack = faces.load(i, self.most, patch);
             self.refine::<FUSED>(sizes, stack, scratch, faces);
             i += stack;
@@ -207,7 +229,7 @@ impl<T: Real> Composed<T> {
         let Sizes { m, band, width } = sizes;
         let (n0, n) = (m - 3, self.first.len() - 1);
         let rows = self.rows(stack);
-        let (p, rest) = scratch.split_at_mut(self.rows(self.most) * m * 3);
+        let (p, rest) = scratch.split_at_mut(self.patch_len(m));
         let (a, rest) = rest.split_at_mut(self.rows(self.most) * width);
         let (out, rest) = rest.split_at_mut(self.rows * width);
         let (top, inside) = rest.split_at_mut(width);
@@ -265,7 +287,7 @@ impl<T: Real> Composed<T> {
                     let ws = &self.weights[y * band..][..band];
                     let a = &a[(q * n0 + self.first[y]) * width..];
                     // The values before point 1 only where point 0 is wanted.
-                    let lead = y == 0 || y == n || left;
+                    let lead = y == 0 || y == n || left || !skips::<T>();
                     let inner = (y != 0 && y != n).then(|| (y - y0.max(1)) * len);
                     for t in 0..width / TILE {
                         // An inner row keeps in `out` only its tiles of points 0 and N'.
