@@ -413,6 +413,36 @@ fn one_symbol_images_refine_by_the_patches() {
     }
 }
 
+/// Faces whose point N' straddles two of the kernel's 32-value tiles (N' = 19: its values
+/// 62..=64; N' = 30: 95..=97), whose inner rows keep both tiles for the column edge: the
+/// reference driver's points on every SIMD path, one and two threads. (ω → A^N', A → AA.)
+#[test]
+fn point_n_across_two_tiles() {
+    use lsubdiv::compiler::exact::scheme::parse;
+    use lsubdiv::runtime::patch::{Refiner, Simd};
+    for k in [19, 30] {
+        let text = format!(
+            "name = \"wide\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"{}\"\nA = \"AA\"\n",
+            "A".repeat(k)
+        );
+        let s = GenericSurface::new(Scheme::build(parse("wide.toml", &text).unwrap()).unwrap())
+            .unwrap();
+        for (label, mesh) in [("torus", torus(3, 4)), ("klein", klein_bottle(4, 5))] {
+            let (reference, _) = refine(&s, mesh.clone(), 1);
+            let topo = Topology::build(&mesh).unwrap();
+            for simd in Simd::available() {
+                for threads in [1, 2] {
+                    let mut r = Refiner::<_, f64>::new(&s, &topo, 1, threads).unwrap();
+                    r.set_simd(simd);
+                    assert_eq!(r.reference_steps(), 0, "N' = {k}: composed");
+                    let d = same_points(r.refine(&mesh.positions).unwrap(), &reference.positions);
+                    assert!(d < 1e-12, "N' = {k} {label} {}: {d:e}", simd.name());
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn every_contained_step_runs_depth_first() {
     use lsubdiv::runtime::patch::Refiner;
