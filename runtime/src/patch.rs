@@ -1724,8 +1724,9 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     #[inline(always)]
     fn wants(&self, q: usize, y: usize) -> bool {
         let f = self.faces[self.i + q] as usize;
-        let (edge, corners) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
-        self.num.edges[f][edge].2 || corners.iter().any(|&c| self.num.corners[f][c])
+        // (No closure here: in the kernel it would be a call, `composed::madd`.)
+        let (edge, [c, d]) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
+        self.num.edges[f][edge].2 || self.num.corners[f][c] || self.num.corners[f][d]
     }
 
     /// Point 0 of rows 1..N' − 1 is edge 3's.
