@@ -1741,18 +1741,20 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     #[inline(always)]
     fn face(&mut self, q: usize, rows: Rows<'_, T>) {
         let f = self.faces[self.i + q] as usize;
-        let n = self.num.n as usize;
+        // The face's numbering, read once: the stores below go through raw pointers, after
+        // which every field read through `self` would be read again.
+        let num = self.num;
+        let (edges, corners, vertex) = (num.edges[f], num.corners[f], num.vertex[f]);
+        let (nv, interior) = (num.nv, num.interior(f));
+        let n = num.n as usize;
         let (k, ys) = (n - 1, rows.ys());
         let len = k * 3;
         // Corners: c = 0..4 at (0, 0), (N', 0), (N', N'), (0, N').
         for (c, (y, x)) in [(0, 0), (0, n), (n, n), (n, 0)].into_iter().enumerate() {
-            if self.num.corners[f][c] && ys.contains(&y) {
+            if corners[c] && ys.contains(&y) {
                 let b = &rows.row(y)[x * 3..x * 3 + 3];
                 // SAFETY: face f is the only writer of a corner it owns.
-                unsafe {
-                    self.out
-                        .write(self.num.vertex[f][c] as usize, &[b[0], b[1], b[2]])
-                };
+                unsafe { self.out.write(vertex[c] as usize, &[b[0], b[1], b[2]]) };
             }
         }
         // Edge l's points t = 1..N'−1 from corner l: along row 0 (x = t), column N' (y = t),
@@ -1760,7 +1762,7 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         // vertex, so it goes along increasing x or y if `forward == (l < 2)`. Columns 1 and
         // 3 are set out in `spare` band by band.
         let inner = ys.start.max(1)..ys.end.min(n);
-        for (l, &(_, forward, owner)) in self.num.edges[f].iter().enumerate().skip(1).step_by(2) {
+        for (l, &(_, forward, owner)) in edges.iter().enumerate().skip(1).step_by(2) {
             if owner {
                 let x = if l == 1 { n } else { 0 };
                 let column = &mut self.spare[l / 2 * len..][..len];
@@ -1770,7 +1772,7 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
                 }
             }
         }
-        for (l, &(e, forward, owner)) in self.num.edges[f].iter().enumerate() {
+        for (l, &(e, forward, owner)) in edges.iter().enumerate() {
             let ready = if l == 0 {
                 ys.start == 0
             } else {
@@ -1790,13 +1792,13 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
                 }
                 _ => &self.spare[l / 2 * len..][..len],
             };
-            let at = (self.num.nv + e as usize * k) * 3;
+            let at = (nv + e as usize * k) * 3;
             // SAFETY: face f is the only writer of the points of an edge it owns.
             unsafe { self.edges.run(at, run) };
         }
         // The interior, rows 1..N' − 1 one after the other: one run over the bands.
         if !inner.is_empty() {
-            let at = (self.num.interior(f) + (inner.start - 1) * k) * 3;
+            let at = (interior + (inner.start - 1) * k) * 3;
             // SAFETY: face f's interior is written by face f only.
             unsafe { self.interiors.run(at, rows.inside()) };
         }
