@@ -27,7 +27,7 @@
 //! of rows 1..N' − 1) as one run that the sums store a second time as they go, row after
 //! row. Of those rows only the tiles of points 0 and N' stay in the rows, and of point 0 only
 //! where the face wants it ([`Faces::wants_left`]). Before, the interior was packed from the
-//! rows afterwards: storing it as it is summed made the torus 10–20 % faster
+//! rows afterwards: storing it as it is summed made the torus 7–27 % faster
 //! (docs/benchmarks.md).
 //!
 //! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
