@@ -252,7 +252,7 @@ impl<T: Real> Composed<T> {
                     if reach.end <= v0 || v0 + TILE <= reach.start {
                         continue;
                     }
-                    let w = tile(&self.columns[j * width + v0..]);
+                    let w: &[T; TILE] = tile(&self.columns[j * width + v0..]);
                     let r = repeated(&pi[j * 3..j * 3 + 3], (v0 + 3 - PAD % 3) % 3);
                     for l in 0..TILE {
                         acc[l] = madd::<T, FUSED>(w[l], r[l], acc[l]);
@@ -400,7 +400,7 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
 ) {
     let mut acc = [T::default(); L];
     for (i, &w) in ws.iter().enumerate() {
-        let s: &[T; L] = a[i * width + at..][..L].try_into().expect("L values");
+        let s: &[T; L] = tile(&a[i * width + at..]);
         for l in 0..L {
             acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
         }
@@ -425,10 +425,10 @@ fn madd<T: Real, const FUSED: bool>(a: T, b: T, c: T) -> T {
     }
 }
 
-/// The first values of `s` as a tile.
+/// The first `L` values of `s` (a tile, or the part of one that is summed).
 #[inline(always)]
-fn tile<T>(s: &[T]) -> &[T; TILE] {
-    s[..TILE].try_into().expect("a whole tile")
+fn tile<T, const L: usize>(s: &[T]) -> &[T; L] {
+    s[..L].try_into().expect("a whole tile")
 }
 
 /// Point `p` (x, y, z) repeated over a tile whose first value is coordinate `phase`.
