@@ -2,8 +2,9 @@
 //! separate `lsubdiv bench` processes (so each peak RSS is its own), interleaved over repetitions,
 //! printed as a markdown table with ratios measured in the same run:
 //! generated/generic, 2 threads/1 thread, f32/f64, and peak RSS / essential memory
-//! (input + output + one intermediate level); the time of each phase and of each depth-first
-//! level (summed over the workers).
+//! (input + output + one intermediate level), also with the program's code taken off the peak
+//! (its resident pages mapped from files, `RssFile`); the time of each phase and of each
+//! depth-first level (summed over the workers).
 //!
 //! `cargo bench --bench surfaces` (set LSUBDIV_BENCH_QUICK=1 for one repetition).
 
@@ -145,10 +146,10 @@ fn main() {
             results.entry(i).or_default().push(run(c));
         }
     }
-    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | ms per depth-first level (worker time) | peak RSS MB | RSS / essential | vs generated 1-thread f64 |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | ms per depth-first level (worker time) | peak RSS MB | RSS / essential | (RSS − code) / essential | vs generated 1-thread f64 |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baseline: BTreeMap<(String, String), f64> = BTreeMap::new();
-    for (i, runs) in &results {
+    for runs in results.values() {
         let first = &runs[0];
         let mvps = median(
             runs.iter()
@@ -182,13 +183,13 @@ fn main() {
             })
             .unwrap_or_default();
         let rss = first["peak_rss_bytes"].as_f64().unwrap_or(0.0);
+        let code = first["file_rss_bytes"].as_f64().unwrap_or(0.0);
         let essential = first["essential_bytes"].as_f64().unwrap_or(1.0);
         let ratio = baseline
             .get(&key)
             .map_or("—".to_string(), |b| format!("{:.2}×", mvps / b));
-        let _ = i;
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {:.0} | {:.2} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {:.0} | {:.2} | {:.2} | {} |",
             key.0,
             key.1,
             first["path"].as_str().unwrap_or(""),
@@ -201,6 +202,7 @@ fn main() {
             levels.join(" / "),
             rss / 1e6,
             rss / essential,
+            (rss - code) / essential,
             ratio
         );
     }

@@ -163,6 +163,9 @@ pub struct Measurement {
     pub essential_bytes: usize,
     /// The instruction set the kernels ran with.
     pub simd: Simd,
+    /// [`file_rss_bytes`] after the timed runs, the refiner still alive: the code that ran,
+    /// which peak RSS counts beside the job's own memory.
+    pub file_rss_bytes: Option<u64>,
 }
 
 impl Measurement {
@@ -209,6 +212,7 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             phases.push([p.start, p.ordinary, p.fans]);
             levels.push(r.level_seconds().to_vec());
         }
+        let file_rss_bytes = file_rss_bytes();
         times.sort_by(f64::total_cmp);
         let median = |mut v: Vec<f64>| {
             v.sort_by(f64::total_cmp);
@@ -225,6 +229,7 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             level_seconds,
             essential_bytes: 0,
             simd,
+            file_rss_bytes,
         })
     }
 }
@@ -277,8 +282,19 @@ pub fn surface(name: &str) -> Result<GenericSurface, String> {
 
 /// Peak resident set size of this process so far (Linux `VmHWM`), in bytes.
 pub fn peak_rss_bytes() -> Option<u64> {
+    status_bytes("VmHWM:")
+}
+
+/// Resident pages of this process mapped from files (Linux `RssFile`), in bytes: the
+/// program's code and libraries as far as they have run, not memory the job allocates.
+pub fn file_rss_bytes() -> Option<u64> {
+    status_bytes("RssFile:")
+}
+
+/// A size in kB of `/proc/self/status`, in bytes.
+fn status_bytes(key: &str) -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|l| l.starts_with(key))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024)
 }

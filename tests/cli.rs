@@ -370,6 +370,7 @@ fn bench_json_has_the_documented_fields() {
     assert_eq!(v["output_vertices"], 4096);
     assert_eq!(v["threads"], 2);
     assert!(v["peak_rss_bytes"].as_u64().unwrap() > 0);
+    assert!(v["file_rss_bytes"].as_u64().unwrap() <= v["peak_rss_bytes"].as_u64().unwrap());
     let levels = v["level_seconds"].as_array().unwrap();
     assert_eq!(levels.len(), 2);
     assert!(levels.iter().all(|t| t.as_f64().unwrap() >= 0.0));

@@ -843,13 +843,47 @@ struct Numbering {
     n: i64,
     nv: usize,
     ne: usize,
-    /// Per face and local edge: the edge id, whether its points run from corner l, and whether
-    /// this face writes them (the first face of the edge does). Shared by every level.
-    edges: std::sync::Arc<[[(u32, bool, bool); 4]]>,
-    /// Per face corner: whether this face writes the vertex (its first face does).
-    corners: std::sync::Arc<[[bool; 4]]>,
-    /// Vertex of each face corner.
-    vertex: std::sync::Arc<[[u32; 4]]>,
+    /// Per face, its edges and corners in the numbering. Shared by every level.
+    faces: std::sync::Arc<[FaceNumbering]>,
+}
+
+/// A face's edges and corners in the [`Numbering`]: one record of 36 bytes, read once per face.
+#[derive(Clone, Copy, Debug)]
+struct FaceNumbering {
+    /// Edge id of local edge l (from corner l to l + 1).
+    edge: [u32; 4],
+    /// Vertex of corner l.
+    vertex: [u32; 4],
+    /// Per l: [`FaceNumbering::FORWARD`], [`FaceNumbering::OWNS_EDGE`],
+    /// [`FaceNumbering::OWNS_CORNER`].
+    bits: [u8; 4],
+}
+
+impl FaceNumbering {
+    /// Edge l's points run from corner l (its smaller vertex).
+    const FORWARD: u8 = 1;
+    /// This face writes edge l's points (the first face of the edge does).
+    const OWNS_EDGE: u8 = 2;
+    /// This face writes corner l's vertex (its first face does).
+    const OWNS_CORNER: u8 = 4;
+
+    /// Local edge l: its edge id, whether its points run from corner l, and whether this face
+    /// writes them.
+    #[inline(always)]
+    fn edge(&self, l: usize) -> (u32, bool, bool) {
+        let b = self.bits[l];
+        (
+            self.edge[l],
+            b & Self::FORWARD != 0,
+            b & Self::OWNS_EDGE != 0,
+        )
+    }
+
+    /// Whether this face writes the vertex of corner c.
+    #[inline(always)]
+    fn owns_corner(&self, c: usize) -> bool {
+        self.bits[c] & Self::OWNS_CORNER != 0
+    }
 }
 
 impl Numbering {
@@ -857,36 +891,35 @@ impl Numbering {
         let nf = topo.face_count();
         let mut edge_done = vec![false; topo.edge_count()];
         let mut vertex_done = vec![false; topo.vertex_count()];
-        let mut edges = Vec::with_capacity(nf);
-        let mut corners = Vec::with_capacity(nf);
-        let mut vertex = Vec::with_capacity(nf);
-        for f in 0..nf as u32 {
-            let mut e4 = [(0, false, false); 4];
-            let mut c4 = [false; 4];
-            let mut v4 = [0; 4];
-            for l in 0..4u8 {
-                let e = topo.edge_of(f, l);
-                let forward = topo.from_smaller(f, l);
-                e4[l as usize] = (
-                    e,
-                    forward,
-                    !std::mem::replace(&mut edge_done[e as usize], true),
-                );
-                let v = topo.vertex(f, l);
-                v4[l as usize] = v;
-                c4[l as usize] = !std::mem::replace(&mut vertex_done[v as usize], true);
-            }
-            edges.push(e4);
-            corners.push(c4);
-            vertex.push(v4);
-        }
+        let faces = (0..nf as u32)
+            .map(|f| {
+                let mut r = FaceNumbering {
+                    edge: [0; 4],
+                    vertex: [0; 4],
+                    bits: [0; 4],
+                };
+                for l in 0..4u8 {
+                    let (e, v, i) = (topo.edge_of(f, l), topo.vertex(f, l), l as usize);
+                    let bit = |yes: bool, b: u8| if yes { b } else { 0 };
+                    (r.edge[i], r.vertex[i]) = (e, v);
+                    r.bits[i] = bit(topo.from_smaller(f, l), FaceNumbering::FORWARD)
+                        | bit(
+                            !std::mem::replace(&mut edge_done[e as usize], true),
+                            FaceNumbering::OWNS_EDGE,
+                        )
+                        | bit(
+                            !std::mem::replace(&mut vertex_done[v as usize], true),
+                            FaceNumbering::OWNS_CORNER,
+                        );
+                }
+                r
+            })
+            .collect();
         Numbering {
             n,
             nv: topo.vertex_count(),
             ne: topo.edge_count(),
-            edges: edges.into(),
-            corners: corners.into(),
-            vertex: vertex.into(),
+            faces,
         }
     }
 
@@ -896,15 +929,13 @@ impl Numbering {
             n,
             nv: self.nv,
             ne: self.ne,
-            edges: self.edges.clone(),
-            corners: self.corners.clone(),
-            vertex: self.vertex.clone(),
+            faces: self.faces.clone(),
         }
     }
 
     fn len(&self) -> usize {
         let k = (self.n - 1) as usize;
-        self.nv + self.ne * k + self.edges.len() * k * k
+        self.nv + self.ne * k + self.faces.len() * k * k
     }
 
     /// The index of point (x, y) of face f, and whether face f writes it.
@@ -913,11 +944,11 @@ impl Numbering {
         let k = (n - 1) as usize;
         match site(x, y, n, n) {
             Site::Corner(c) => (
-                self.vertex[f][c as usize] as usize,
-                self.corners[f][c as usize],
+                self.faces[f].vertex[c as usize] as usize,
+                self.faces[f].owns_corner(c as usize),
             ),
             Site::Edge(l, t) => {
-                let (e, forward, owner) = self.edges[f][l as usize];
+                let (e, forward, owner) = self.faces[f].edge(l as usize);
                 (self.nv + e as usize * k + along_edge(t, n, forward), owner)
             }
             Site::Inside(i) => (self.interior(f) + i, true),
@@ -951,10 +982,10 @@ impl Numbering {
         }
         for c in 0..4u8 {
             let (x, y) = corner_at(c, n, n);
-            put(x, y, self.vertex[fu][c as usize] as usize);
+            put(x, y, self.faces[fu].vertex[c as usize] as usize);
         }
         for l in 0..4u8 {
-            let (e, forward, _) = self.edges[fu][l as usize];
+            let (e, forward, _) = self.faces[fu].edge(l as usize);
             let first = self.nv + e as usize * kk;
             let (cx, cy) = corner_at(l, n, n);
             let (dx, dy) = TOWARD_NEXT[l as usize];
@@ -1726,13 +1757,14 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         let f = self.faces[self.i + q] as usize;
         // (No closure here: in the kernel it would be a call, `composed::madd`.)
         let (edge, [c, d]) = if y == 0 { (0, [0, 1]) } else { (2, [3, 2]) };
-        self.num.edges[f][edge].2 || self.num.corners[f][c] || self.num.corners[f][d]
+        let r = &self.num.faces[f];
+        r.edge(edge).2 || r.owns_corner(c) || r.owns_corner(d)
     }
 
     /// Point 0 of rows 1..N' − 1 is edge 3's.
     #[inline(always)]
     fn wants_left(&self, q: usize) -> bool {
-        self.num.edges[self.faces[self.i + q] as usize][3].2
+        self.num.faces[self.faces[self.i + q] as usize].edge(3).2
     }
 
     /// Writes the points of a band of face q's rows: its interior, the corners and edges it
@@ -1744,17 +1776,17 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         // The face's numbering, read once: the stores below go through raw pointers, after
         // which every field read through `self` would be read again.
         let num = self.num;
-        let (edges, corners, vertex) = (num.edges[f], num.corners[f], num.vertex[f]);
+        let r = num.faces[f];
         let (nv, interior) = (num.nv, num.interior(f));
         let n = num.n as usize;
         let (k, ys) = (n - 1, rows.ys());
         let len = k * 3;
         // Corners: c = 0..4 at (0, 0), (N', 0), (N', N'), (0, N').
         for (c, (y, x)) in [(0, 0), (0, n), (n, n), (n, 0)].into_iter().enumerate() {
-            if corners[c] && ys.contains(&y) {
+            if r.owns_corner(c) && ys.contains(&y) {
                 let b = &rows.row(y)[x * 3..x * 3 + 3];
                 // SAFETY: face f is the only writer of a corner it owns.
-                unsafe { self.out.write(vertex[c] as usize, &[b[0], b[1], b[2]]) };
+                unsafe { self.out.write(r.vertex[c] as usize, &[b[0], b[1], b[2]]) };
             }
         }
         // Edge l's points t = 1..N'−1 from corner l: along row 0 (x = t), column N' (y = t),
@@ -1762,7 +1794,8 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         // vertex, so it goes along increasing x or y if `forward == (l < 2)`. Columns 1 and
         // 3 are set out in `spare` band by band.
         let inner = ys.start.max(1)..ys.end.min(n);
-        for (l, &(_, forward, owner)) in edges.iter().enumerate().skip(1).step_by(2) {
+        for l in [1, 3] {
+            let (_, forward, owner) = r.edge(l);
             if owner {
                 let x = if l == 1 { n } else { 0 };
                 let column = &mut self.spare[l / 2 * len..][..len];
@@ -1772,7 +1805,8 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
                 }
             }
         }
-        for (l, &(e, forward, owner)) in edges.iter().enumerate() {
+        for l in 0..4 {
+            let (e, forward, owner) = r.edge(l);
             let ready = if l == 0 {
                 ys.start == 0
             } else {
@@ -1829,7 +1863,7 @@ fn scatter_border<T: Real>(
     let inner = |r: &std::ops::RangeInclusive<i64>| (*r.start()).max(1)..(*r.end()).min(n - 1) + 1;
     let (ix, iy) = (inner(xs), inner(ys));
     for (l, &(dx, dy)) in TOWARD_NEXT.iter().enumerate() {
-        let (e, forward, owner) = num.edges[f][l];
+        let (e, forward, owner) = num.faces[f].edge(l);
         let (cx, cy) = corner_at(l as u8, n, n);
         if owner {
             // Points t = 1..N−1 of edge l (from corner l) inside the rectangle.
@@ -1848,9 +1882,9 @@ fn scatter_border<T: Real>(
                 unsafe { out.write(i, &point(x, y)) };
             }
         }
-        if num.corners[f][l] && xs.contains(&cx) && ys.contains(&cy) {
+        if num.faces[f].owns_corner(l) && xs.contains(&cx) && ys.contains(&cy) {
             // SAFETY: face f is the only writer of a corner it owns.
-            unsafe { out.write(num.vertex[f][l] as usize, &point(cx, cy)) };
+            unsafe { out.write(num.faces[f].vertex[l] as usize, &point(cx, cy)) };
         }
     }
 }
@@ -2206,7 +2240,7 @@ fn lift<T: Real>(
         data.extend(positions.iter().map(|p| p.map(T::from_f64)));
         return;
     }
-    let nf = num.edges.len();
+    let nf = num.faces.len();
     let mut cells: Vec<(u32, i64, i64, u8, u8)> = (0..nf as u32)
         .map(|f| (f, 0, 0, t.axiom[0], t.axiom[0]))
         .collect();

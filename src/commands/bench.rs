@@ -133,6 +133,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
             "simd": r.simd.name(),
             "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
             "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
+            "file_rss_bytes": r.file_rss_bytes,
             "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]},
             "level_seconds": r.level_seconds, "essential_bytes": r.essential_bytes,
         })
