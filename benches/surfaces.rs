@@ -3,7 +3,8 @@
 //! printed as a markdown table with ratios measured in the same run:
 //! generated/generic, 2 threads/1 thread, f32/f64, and peak RSS / essential memory
 //! (input + output + one intermediate level), also with the program's code taken off the peak
-//! (its resident pages mapped from files, `RssFile`); the time of each phase and of each
+//! (its resident pages mapped from files, `RssFile`), and peak RSS / what the size guard counts
+//! for the run (`patch::footprint`: input, topology, tables, buffers, output positions); the time of each phase and of each
 //! depth-first level (summed over the workers).
 //!
 //! `cargo bench --bench surfaces` (set LSUBDIV_BENCH_QUICK=1 for one repetition).
@@ -146,8 +147,8 @@ fn main() {
             results.entry(i).or_default().push(run(c));
         }
     }
-    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | ms per depth-first level (worker time) | peak RSS MB | RSS / essential | (RSS − code) / essential | vs generated 1-thread f64 |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| mesh | scheme | path | threads | scalar | steps | output vertices | M vertices/s | ms start / ordinary / fans | ms per depth-first level (worker time) | peak RSS MB | RSS / essential | (RSS − code) / essential | RSS / guard | vs generated 1-thread f64 |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut baseline: BTreeMap<(String, String), f64> = BTreeMap::new();
     for runs in results.values() {
         let first = &runs[0];
@@ -185,11 +186,12 @@ fn main() {
         let rss = first["peak_rss_bytes"].as_f64().unwrap_or(0.0);
         let code = first["file_rss_bytes"].as_f64().unwrap_or(0.0);
         let essential = first["essential_bytes"].as_f64().unwrap_or(1.0);
+        let guard = first["guard_bytes"].as_f64().unwrap_or(1.0);
         let ratio = baseline
             .get(&key)
             .map_or("—".to_string(), |b| format!("{:.2}×", mvps / b));
         println!(
-            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {:.0} | {:.2} | {:.2} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.1} | {} | {} | {:.0} | {:.2} | {:.2} | {:.2} | {} |",
             key.0,
             key.1,
             first["path"].as_str().unwrap_or(""),
@@ -203,6 +205,7 @@ fn main() {
             rss / 1e6,
             rss / essential,
             (rss - code) / essential,
+            rss / guard,
             ratio
         );
     }

@@ -476,3 +476,47 @@ fn results_beyond_u32_indices_are_refused_not_wrapped() {
         .expect("refused");
     assert!(e.to_string().contains("too large"), "{e}");
 }
+
+/// The refiner's buffers stay within what `footprint` counts for them, and a second `refine`
+/// holds no more than the first: each buffer of the fans keeps its levels (with an odd number
+/// of steps, the level s − 2 buffer once grew to level s − 1 on the next call, 28 MB past the
+/// bound on the star with Fibonacci).
+#[test]
+fn refined_again_the_buffers_stay_within_the_footprint() {
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::patch::{footprint, Refiner};
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    for (name, mesh, steps) in [
+        ("fibonacci", star(), 7),
+        ("fibonacci", cube(), 6),
+        ("binary-ternary", star(), 3),
+        ("uniform-binary", torus(8, 8), 3),
+    ] {
+        let s = surface(name);
+        let topo = Topology::build(&mesh).unwrap();
+        let fp = footprint(
+            &CurveScheme::tables(&s),
+            s.surface().contained_from,
+            &topo,
+            &Features::default(),
+            steps,
+            8,
+            1,
+        );
+        let mut r = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
+        r.refine(&mesh.positions).unwrap();
+        let once = r.buffer_bytes();
+        r.refine(&mesh.positions).unwrap();
+        let twice = r.buffer_bytes();
+        assert_eq!(
+            once, twice,
+            "{name}, {steps} steps: buffers grew on a second refine"
+        );
+        // `refining` also counts the output quads (16 bytes each), which `refine` does not make.
+        let bound = fp.refining - fp.quads * 16;
+        assert!(
+            twice as u128 <= bound,
+            "{name}, {steps} steps: {twice} bytes held, footprint {bound}"
+        );
+    }
+}

@@ -356,6 +356,9 @@ impl Simd {
 /// The first n values of `v`, grown (never shrunk) to hold them: buffers keep their pages.
 fn grown<T: Real>(v: &mut Vec<T>, n: usize) -> &mut [T] {
     if v.len() < n {
+        // Exactly n: a buffer holds one level's patch, and the doubling of `resize` would
+        // leave up to twice that, past what `footprint` counts.
+        v.reserve_exact(n - v.len());
         v.resize(n, T::default());
     }
     &mut v[..n]
@@ -1328,6 +1331,26 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.first
     }
 
+    /// Bytes the refiner's position buffers hold now (their capacity): the start level, the
+    /// fans' two levels, every worker's scratch and the output. They are kept from one
+    /// `refine` to the next, and [`footprint`] bounds them.
+    pub fn buffer_bytes(&self) -> usize {
+        let values = |v: &Vec<T>| v.capacity();
+        let fans: usize = self.fans.iter().flatten().map(values).sum();
+        let scratch: usize = self
+            .scratch
+            .iter()
+            .map(|s| {
+                [&s.face, &s.interior, &s.spare, &s.p.a, &s.p.at, &s.p.row]
+                    .into_iter()
+                    .map(values)
+                    .sum::<usize>()
+            })
+            .sum();
+        let points = self.start.capacity() + self.output.capacity();
+        (fans + scratch + 3 * points) * size_of::<T>()
+    }
+
     /// Wall time of the phases of the last `refine`.
     pub fn phase_seconds(&self) -> Phases {
         self.phase_seconds
@@ -1665,6 +1688,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             self.level_seconds[s] += times.iter().sum::<f64>() + lap(&mut clock);
             n = n_new;
             a_is_x = new_a_is_x;
+        }
+        // Each step swapped the two levels: after an odd count, swap back, so that every
+        // `refine` puts the same levels in the same buffer. Otherwise the next one would grow
+        // the buffer of level s − 2 to level s − 1 as well, past what `footprint` counts.
+        if self.plans.len() % 2 == 1 {
+            self.fans.swap(0, 1);
         }
     }
 
