@@ -1981,8 +1981,8 @@ pub struct Footprint {
     pub quads: u128,
     /// The input: its positions (f64), its quads and its [`Topology`].
     pub input: u128,
-    /// The refiner's buffers at their peak: the start level and its patch table, the fans'
-    /// two levels, each worker's scratch, and the output.
+    /// The refiner's buffers at their peak: the start level and its patch table, its
+    /// per-element tables, the fans' two levels, each worker's scratch, and the output.
     pub refining: u128,
     /// The output mesh alone (positions and quads), what remains after refining.
     pub output: u128,
@@ -2062,12 +2062,21 @@ pub fn footprint(
         let faces = (b.rules.len() * size_of::<FaceRules>()) as u128;
         faces.saturating_add((b.vertex_rules.len() * size_of::<Option<VertexRule>>()) as u128)
     });
+    // The per-element tables: each face's numbering, diagonals, slot among the ordinary or
+    // the fan faces and in `fan_slot`, chain link and hole flag; each edge's sharpness; each
+    // vertex's sharpness and lock-step flag.
+    let per_face = size_of::<FaceNumbering>() + size_of::<[u32; 4]>() + 2 * size_of::<u32>() + 2;
+    let tables = f0
+        .saturating_mul(per_face as u128)
+        .saturating_add(e0)
+        .saturating_add(2 * v0);
     let start = output_counts(v0, e0, f0, n(first))
         .0
         .saturating_add(ghosts)
         .saturating_mul(point)
         .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4))
-        .saturating_add(rules);
+        .saturating_add(rules)
+        .saturating_add(tables);
     // The fans' two levels (the last step writes straight to the output), and each worker's
     // scratch: bounded by two patches of the last level (a fan step's strips and staged
     // interior; an ordinary stack's rows refined along x, a band of a face's final rows and
