@@ -1,0 +1,283 @@
+//! The machine's own f32 / f64 ratio on the torus's work, as a yardstick for the f32 target:
+//! a minimal kernel of the same shape as the composed patches (`patch/composed.rs`), in f64
+//! and in f32, timed in the same run.
+//!
+//! Per face of the closed 256 × 256 torus: gather its 4 × 4 start points, refine them along x
+//! and then y by the composed matrix of three uniform cubic B-spline steps (N' = 8), and write
+//! the 8 × 8 points it owns as one block of whole lines with non-temporal stores (a face-block
+//! numbering: no shared edges or corners, no bookkeeping). 4,194,304 points, as
+//! `lsubdiv bench` makes on this torus. What the kernel leaves out is exactly what it costs
+//! lsubdiv to number the output the way meshes need it.
+//!
+//! `cargo bench --bench yardstick`
+
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Points of a face's final row that it owns, and faces of the torus along each side.
+const N: usize = 8;
+const SIDE: usize = 256;
+/// Values of a row of owned points (interleaved xyz).
+const ROW: usize = 3 * N;
+
+/// The position scalar.
+trait Scalar: Copy + Default + Send + Sync {
+    fn of(x: f64) -> Self;
+    fn madd(self, b: Self, c: Self) -> Self;
+}
+
+impl Scalar for f64 {
+    fn of(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn madd(self, b: Self, c: Self) -> Self {
+        self.mul_add(b, c)
+    }
+}
+
+impl Scalar for f32 {
+    fn of(x: f64) -> Self {
+        x as f32
+    }
+    #[inline(always)]
+    fn madd(self, b: Self, c: Self) -> Self {
+        self.mul_add(b, c)
+    }
+}
+
+/// One step of uniform cubic B-spline subdivision of a row of k points (ring included): the
+/// 2k − 3 new points it determines, edge and vertex points in turn (edge 0–1, vertex 1, …,
+/// edge (k − 2)–(k − 1)).
+fn step(old: &[[f64; 4]]) -> Vec<[f64; 4]> {
+    let edge =
+        |i: usize| -> [f64; 4] { std::array::from_fn(|k| (old[i][k] + old[i + 1][k]) / 2.0) };
+    let vertex = |i: usize| -> [f64; 4] {
+        std::array::from_fn(|k| (old[i - 1][k] + 6.0 * old[i][k] + old[i + 1][k]) / 8.0)
+    };
+    let mut new = vec![edge(0)];
+    for i in 1..old.len() - 1 {
+        new.push(vertex(i));
+        new.push(edge(i));
+    }
+    new
+}
+
+/// M: rows x' = 0..N of a face's final points, each its weights on the 4 start points
+/// (x = −1..=2), from three steps applied to the unit rows (dyadic weights, exact in f64).
+fn composed() -> [[f64; 4]; N] {
+    let mut row: Vec<[f64; 4]> = (0..4)
+        .map(|i| std::array::from_fn(|k| f64::from(u8::from(i == k))))
+        .collect();
+    // Each step keeps one point of ring: 4 → 5 → 7 → 11 points, x' = −1..=9 at the end.
+    for _ in 0..3 {
+        row = step(&row);
+    }
+    std::array::from_fn(|x| row[x + 1])
+}
+
+/// Per face, its 16 start points (rows y − 1..=y + 2, columns x − 1..=x + 2, wrapped).
+fn gather_table() -> Vec<[u32; 16]> {
+    let at = |r: usize, c: usize| ((r % SIDE) * SIDE + c % SIDE) as u32;
+    (0..SIDE * SIDE)
+        .map(|f| {
+            let (r, c) = (f / SIDE + SIDE, f % SIDE + SIDE);
+            std::array::from_fn(|k| at(r + k / 4 - 1, c + k % 4 - 1))
+        })
+        .collect()
+}
+
+/// The kernel for every face: gather, along x (weights per value, start points repeated per
+/// coordinate), along y (broadcast weights, whole rows), then the block out in whole lines.
+#[inline(always)]
+fn faces<T: Scalar, const WIDE: bool, const COMPUTE: bool>(
+    points: &[[T; 3]],
+    table: &[[u32; 16]],
+    m: &[[T; 4]; N],
+    out: &mut [T],
+) {
+    // Per start point i, the weight of each value v = 3x' + c.
+    let columns: [[T; ROW]; 4] = std::array::from_fn(|i| std::array::from_fn(|v| m[v / 3][i]));
+    let mut block = Block::<T>([T::default(); 3 * N * N]);
+    for (f, idx) in table.iter().enumerate() {
+        if !COMPUTE {
+            // The write-only bound: the same lines, nothing computed.
+            lines::<T, WIDE>(&block, &mut out[f * 3 * N * N..][..3 * N * N]);
+            continue;
+        }
+        let mut rows = [[T::default(); ROW]; 4];
+        for (j, row) in rows.iter_mut().enumerate() {
+            let mut acc = [T::default(); ROW];
+            for (i, column) in columns.iter().enumerate() {
+                // The point repeated along the row. (Broadcast coordinates times weights
+                // zero off their coordinate, three FMAs a value, measured slower.)
+                let p = points[idx[4 * j + i] as usize];
+                let mut r = [T::default(); ROW];
+                for x in 0..N {
+                    r[3 * x..3 * x + 3].copy_from_slice(&p);
+                }
+                for v in 0..ROW {
+                    acc[v] = column[v].madd(r[v], acc[v]);
+                }
+            }
+            *row = acc;
+        }
+        for (y, weights) in m.iter().enumerate() {
+            let mut acc = [T::default(); ROW];
+            for (w, row) in weights.iter().zip(&rows) {
+                for v in 0..ROW {
+                    acc[v] = w.madd(row[v], acc[v]);
+                }
+            }
+            block.0[y * ROW..][..ROW].copy_from_slice(&acc);
+        }
+        lines::<T, WIDE>(&block, &mut out[f * 3 * N * N..][..3 * N * N]);
+    }
+}
+
+/// A face's block, at a 64-byte line.
+#[repr(align(64))]
+struct Block<T>([T; 3 * N * N]);
+
+/// Writes the block over `dst` (whole lines: 1536 or 768 bytes) with non-temporal stores,
+/// 64 bytes at a time where `WIDE` (AVX-512F, as lsubdiv's writers), else 16.
+#[inline(always)]
+fn lines<T: Scalar, const WIDE: bool>(block: &Block<T>, dst: &mut [T]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::*;
+        let bytes = size_of_val(&block.0);
+        let (s, d) = (block.0.as_ptr(), dst.as_mut_ptr());
+        // SAFETY: both are 64-byte aligned (the block by its type, `dst` at a multiple of its
+        // size from a 64-byte aligned buffer) and hold `bytes` bytes; SSE2 is every x86-64's,
+        // and `WIDE` is only set where the CPU has AVX-512F.
+        unsafe {
+            if WIDE {
+                for k in 0..bytes / 64 {
+                    let v = _mm512_load_si512(s.cast::<__m512i>().add(k));
+                    _mm512_stream_si512(d.cast::<__m512i>().add(k), v);
+                }
+            } else {
+                for k in 0..bytes / 16 {
+                    let v = _mm_load_si128(s.cast::<__m128i>().add(k));
+                    _mm_stream_si128(d.cast::<__m128i>().add(k), v);
+                }
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    dst.copy_from_slice(&block.0);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,fma")]
+unsafe fn faces_avx512<T: Scalar, const COMPUTE: bool>(
+    p: &[[T; 3]],
+    t: &[[u32; 16]],
+    m: &[[T; 4]; N],
+    out: &mut [T],
+) {
+    faces::<T, true, COMPUTE>(p, t, m, out);
+}
+
+/// One refinement of the torus (or, without `COMPUTE`, its lines written alone): seconds.
+fn run<T: Scalar, const COMPUTE: bool>(
+    points: &[[T; 3]],
+    table: &[[u32; 16]],
+    m: &[[T; 4]; N],
+    out: &mut [T],
+) -> f64 {
+    let t = Instant::now();
+    #[cfg(target_arch = "x86_64")]
+    if is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has AVX-512F and FMA (checked above).
+        unsafe { faces_avx512::<T, COMPUTE>(points, table, m, out) };
+    } else {
+        faces::<T, false, COMPUTE>(points, table, m, out);
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    faces::<T, false, COMPUTE>(points, table, m, out);
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: SSE2 is every x86-64's.
+    unsafe {
+        std::arch::x86_64::_mm_sfence()
+    };
+    black_box(&*out);
+    t.elapsed().as_secs_f64()
+}
+
+/// A buffer of `len` values starting at a 64-byte line.
+fn aligned<T: Scalar>(storage: &mut Vec<T>, len: usize) -> &mut [T] {
+    storage.resize(len + 64 / size_of::<T>(), T::default());
+    let at = storage.as_ptr().align_offset(64);
+    &mut storage[at..at + len]
+}
+
+fn main() {
+    let m64 = composed();
+    let sums: Vec<f64> = m64.iter().map(|r| r.iter().sum()).collect();
+    assert!(
+        sums.iter().all(|&s| s == 1.0),
+        "rows of M sum to 1: {sums:?}"
+    );
+    let m32: [[f32; 4]; N] = m64.map(|r| r.map(f32::of));
+    let table = gather_table();
+    let torus = |r: usize, c: usize| {
+        let (u, v) = (
+            std::f64::consts::TAU * r as f64 / SIDE as f64,
+            std::f64::consts::TAU * c as f64 / SIDE as f64,
+        );
+        [
+            (2.0 + v.cos()) * u.cos(),
+            (2.0 + v.cos()) * u.sin(),
+            v.sin(),
+        ]
+    };
+    let p64: Vec<[f64; 3]> = (0..SIDE * SIDE)
+        .map(|i| torus(i / SIDE, i % SIDE))
+        .collect();
+    let p32: Vec<[f32; 3]> = p64.iter().map(|p| p.map(f32::of)).collect();
+    let len = SIDE * SIDE * 3 * N * N;
+    let (mut s64, mut s32) = (Vec::new(), Vec::new());
+    let (o64, o32) = (aligned::<f64>(&mut s64, len), aligned::<f32>(&mut s32, len));
+    // One warm-up each (the pages), then alternated, median of 9: the kernel, then the same
+    // lines written alone.
+    run::<_, true>(&p64, &table, &m64, o64);
+    run::<_, true>(&p32, &table, &m32, o32);
+    let mut t: [Vec<f64>; 4] = Default::default();
+    for _ in 0..9 {
+        t[0].push(run::<_, false>(&p64, &table, &m64, o64));
+        t[1].push(run::<_, false>(&p32, &table, &m32, o32));
+        t[2].push(run::<_, true>(&p64, &table, &m64, o64));
+        t[3].push(run::<_, true>(&p32, &table, &m32, o32));
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let [f64_fill, f32_fill, t64, t32] = t.map(median);
+    let points = (SIDE * SIDE * N * N) as f64;
+    // The same points in both: f32 agrees with f64 to its rounding.
+    let worst = o64
+        .iter()
+        .zip(o32.iter())
+        .map(|(a, b)| (a - f64::from(*b)).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-5, "f32 and f64 kernels agree: {worst:e}");
+    println!(
+        "Minimal per-face kernel, closed 256 × 256 torus, {} points (N' = 8, face blocks, non-temporal lines), 1 thread:",
+        points as usize
+    );
+    println!(
+        "kernel: f64 {:.1} M points/s, f32 {:.1} M points/s: f32 / f64 = {:.2}×",
+        points / t64 / 1e6,
+        points / t32 / 1e6,
+        t64 / t32
+    );
+    println!(
+        "the same lines written alone: f64 {:.1} M points/s, f32 {:.1}: f32 / f64 = {:.2}×",
+        points / f64_fill / 1e6,
+        points / f32_fill / 1e6,
+        f64_fill / f32_fill
+    );
+}
