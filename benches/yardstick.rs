@@ -87,10 +87,20 @@ fn gather_table() -> Vec<[u32; 16]> {
         .collect()
 }
 
+/// How a run writes: the lines alone (nothing computed: the write-only bound), the kernel
+/// with each face's lines in one burst after its sums, or the kernel with each face's lines
+/// spread over the next face's rows (a share after each row).
+const ALONE: u8 = 0;
+const BURST: u8 = 1;
+const SPREAD: u8 = 2;
+
+/// Lines of a face's block.
+const LINES: usize = 3 * N * N * 8 / 64;
+
 /// The kernel for every face: gather, along x (weights per value, start points repeated per
-/// coordinate), along y (broadcast weights, whole rows), then the block out in whole lines.
+/// coordinate), along y (broadcast weights, whole rows), the block out in whole lines (`MODE`).
 #[inline(always)]
-fn faces<T: Scalar, const WIDE: bool, const COMPUTE: bool>(
+fn faces<T: Scalar, const WIDE: bool, const MODE: u8>(
     points: &[[T; 3]],
     table: &[[u32; 16]],
     m: &[[T; 4]; N],
@@ -98,11 +108,23 @@ fn faces<T: Scalar, const WIDE: bool, const COMPUTE: bool>(
 ) {
     // Per start point i, the weight of each value v = 3x' + c.
     let columns: [[T; ROW]; 4] = std::array::from_fn(|i| std::array::from_fn(|v| m[v / 3][i]));
-    let mut block = Block::<T>([T::default(); 3 * N * N]);
+    let lines = LINES * size_of::<T>() / 8;
+    let block = |f: usize| f * 3 * N * N;
+    // Two blocks in turn: the face's, and the one before it still being written.
+    let mut blocks = [
+        Block::<T>([T::default(); 3 * N * N]),
+        Block([T::default(); 3 * N * N]),
+    ];
     for (f, idx) in table.iter().enumerate() {
-        if !COMPUTE {
-            // The write-only bound: the same lines, nothing computed.
-            lines::<T, WIDE>(&block, &mut out[f * 3 * N * N..][..3 * N * N]);
+        let [this, last] = if f % 2 == 0 {
+            let [a, b] = &mut blocks;
+            [a, b]
+        } else {
+            let [a, b] = &mut blocks;
+            [b, a]
+        };
+        if MODE == ALONE {
+            write::<T, WIDE>(this, &mut out[block(f)..], 0..lines);
             continue;
         }
         let mut rows = [[T::default(); ROW]; 4];
@@ -129,9 +151,20 @@ fn faces<T: Scalar, const WIDE: bool, const COMPUTE: bool>(
                     acc[v] = w.madd(row[v], acc[v]);
                 }
             }
-            block.0[y * ROW..][..ROW].copy_from_slice(&acc);
+            this.0[y * ROW..][..ROW].copy_from_slice(&acc);
+            if MODE == SPREAD && f > 0 {
+                let share = y * lines / N..(y + 1) * lines / N;
+                write::<T, WIDE>(last, &mut out[block(f - 1)..], share);
+            }
         }
-        lines::<T, WIDE>(&block, &mut out[f * 3 * N * N..][..3 * N * N]);
+        if MODE == BURST {
+            write::<T, WIDE>(this, &mut out[block(f)..], 0..lines);
+        }
+    }
+    if MODE == SPREAD {
+        let f = table.len() - 1;
+        let last = &blocks[f % 2];
+        write::<T, WIDE>(last, &mut out[block(f)..], 0..lines);
     }
 }
 
@@ -139,26 +172,34 @@ fn faces<T: Scalar, const WIDE: bool, const COMPUTE: bool>(
 #[repr(align(64))]
 struct Block<T>([T; 3 * N * N]);
 
-/// Writes the block over `dst` (whole lines: 1536 or 768 bytes) with non-temporal stores,
+/// Writes lines `lines` of the block over the same lines of `dst` with non-temporal stores,
 /// 64 bytes at a time where `WIDE` (AVX-512F, as lsubdiv's writers), else 16.
 #[inline(always)]
-fn lines<T: Scalar, const WIDE: bool>(block: &Block<T>, dst: &mut [T]) {
+fn write<T: Scalar, const WIDE: bool>(
+    block: &Block<T>,
+    dst: &mut [T],
+    lines: std::ops::Range<usize>,
+) {
+    let per = 64 / size_of::<T>();
+    let (s, d) = (
+        &block.0[lines.start * per..lines.end * per],
+        &mut dst[lines.start * per..],
+    );
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::*;
-        let bytes = size_of_val(&block.0);
-        let (s, d) = (block.0.as_ptr(), dst.as_mut_ptr());
-        // SAFETY: both are 64-byte aligned (the block by its type, `dst` at a multiple of its
-        // size from a 64-byte aligned buffer) and hold `bytes` bytes; SSE2 is every x86-64's,
-        // and `WIDE` is only set where the CPU has AVX-512F.
+        let (s, d) = (s.as_ptr(), d.as_mut_ptr());
+        // SAFETY: both are 64-byte aligned (the block by its type, `dst` at a multiple of a
+        // block's size from a 64-byte aligned buffer) and hold these lines; SSE2 is every
+        // x86-64's, and `WIDE` is only set where the CPU has AVX-512F.
         unsafe {
             if WIDE {
-                for k in 0..bytes / 64 {
+                for k in 0..lines.len() {
                     let v = _mm512_load_si512(s.cast::<__m512i>().add(k));
                     _mm512_stream_si512(d.cast::<__m512i>().add(k), v);
                 }
             } else {
-                for k in 0..bytes / 16 {
+                for k in 0..4 * lines.len() {
                     let v = _mm_load_si128(s.cast::<__m128i>().add(k));
                     _mm_stream_si128(d.cast::<__m128i>().add(k), v);
                 }
@@ -166,22 +207,22 @@ fn lines<T: Scalar, const WIDE: bool>(block: &Block<T>, dst: &mut [T]) {
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    dst.copy_from_slice(&block.0);
+    d[..s.len()].copy_from_slice(s);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,fma")]
-unsafe fn faces_avx512<T: Scalar, const COMPUTE: bool>(
+unsafe fn faces_avx512<T: Scalar, const MODE: u8>(
     p: &[[T; 3]],
     t: &[[u32; 16]],
     m: &[[T; 4]; N],
     out: &mut [T],
 ) {
-    faces::<T, true, COMPUTE>(p, t, m, out);
+    faces::<T, true, MODE>(p, t, m, out);
 }
 
-/// One refinement of the torus (or, without `COMPUTE`, its lines written alone): seconds.
-fn run<T: Scalar, const COMPUTE: bool>(
+/// One refinement of the torus (or its lines written alone): seconds.
+fn run<T: Scalar, const MODE: u8>(
     points: &[[T; 3]],
     table: &[[u32; 16]],
     m: &[[T; 4]; N],
@@ -191,12 +232,12 @@ fn run<T: Scalar, const COMPUTE: bool>(
     #[cfg(target_arch = "x86_64")]
     if is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has AVX-512F and FMA (checked above).
-        unsafe { faces_avx512::<T, COMPUTE>(points, table, m, out) };
+        unsafe { faces_avx512::<T, MODE>(points, table, m, out) };
     } else {
-        faces::<T, false, COMPUTE>(points, table, m, out);
+        faces::<T, false, MODE>(points, table, m, out);
     }
     #[cfg(not(target_arch = "x86_64"))]
-    faces::<T, false, COMPUTE>(points, table, m, out);
+    faces::<T, false, MODE>(points, table, m, out);
     #[cfg(target_arch = "x86_64")]
     // SAFETY: SSE2 is every x86-64's.
     unsafe {
@@ -240,22 +281,23 @@ fn main() {
     let len = SIDE * SIDE * 3 * N * N;
     let (mut s64, mut s32) = (Vec::new(), Vec::new());
     let (o64, o32) = (aligned::<f64>(&mut s64, len), aligned::<f32>(&mut s32, len));
-    // One warm-up each (the pages), then alternated, median of 9: the kernel, then the same
-    // lines written alone.
-    run::<_, true>(&p64, &table, &m64, o64);
-    run::<_, true>(&p32, &table, &m32, o32);
-    let mut t: [Vec<f64>; 4] = Default::default();
+    // One warm-up each (the pages), then alternated, median of 9.
+    run::<_, BURST>(&p64, &table, &m64, o64);
+    run::<_, BURST>(&p32, &table, &m32, o32);
+    let mut t: [Vec<f64>; 6] = Default::default();
     for _ in 0..9 {
-        t[0].push(run::<_, false>(&p64, &table, &m64, o64));
-        t[1].push(run::<_, false>(&p32, &table, &m32, o32));
-        t[2].push(run::<_, true>(&p64, &table, &m64, o64));
-        t[3].push(run::<_, true>(&p32, &table, &m32, o32));
+        t[0].push(run::<_, ALONE>(&p64, &table, &m64, o64));
+        t[1].push(run::<_, ALONE>(&p32, &table, &m32, o32));
+        t[2].push(run::<_, SPREAD>(&p64, &table, &m64, o64));
+        t[3].push(run::<_, SPREAD>(&p32, &table, &m32, o32));
+        t[4].push(run::<_, BURST>(&p64, &table, &m64, o64));
+        t[5].push(run::<_, BURST>(&p32, &table, &m32, o32));
     }
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let [f64_fill, f32_fill, t64, t32] = t.map(median);
+    let t = t.map(median);
     let points = (SIDE * SIDE * N * N) as f64;
     // The same points in both: f32 agrees with f64 to its rounding.
     let worst = o64
@@ -265,19 +307,24 @@ fn main() {
         .fold(0.0, f64::max);
     assert!(worst < 1e-5, "f32 and f64 kernels agree: {worst:e}");
     println!(
-        "Minimal per-face kernel, closed 256 × 256 torus, {} points (N' = 8, face blocks, non-temporal lines), 1 thread:",
+        "Minimal per-face kernel, closed 256 × 256 torus, {} points (N' = 8, face blocks, non-temporal lines), 1 thread, M points/s:",
         points as usize
     );
+    for (what, k) in [
+        ("lines alone (nothing computed)", 0),
+        ("kernel, a face's lines in one burst after its sums", 4),
+        ("kernel, a face's lines spread over the next face's rows", 2),
+    ] {
+        println!(
+            "{what}: f64 {:.1}, f32 {:.1}, f32 / f64 = {:.2}×",
+            points / t[k] / 1e6,
+            points / t[k + 1] / 1e6,
+            t[k] / t[k + 1]
+        );
+    }
     println!(
-        "kernel: f64 {:.1} M points/s, f32 {:.1} M points/s: f32 / f64 = {:.2}×",
-        points / t64 / 1e6,
-        points / t32 / 1e6,
-        t64 / t32
-    );
-    println!(
-        "the same lines written alone: f64 {:.1} M points/s, f32 {:.1}: f32 / f64 = {:.2}×",
-        points / f64_fill / 1e6,
-        points / f32_fill / 1e6,
-        f64_fill / f32_fill
+        "spread / burst: f64 {:.2}×, f32 {:.2}×",
+        t[4] / t[2],
+        t[5] / t[3]
     );
 }
