@@ -88,23 +88,32 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         let off = self.in_line(self.next);
         if off != 0 || self.count != 0 {
             let take = (per - off).min(values.len());
-            copy(
-                &mut self.held[self.count..self.count + take],
-                &values[..take],
-            );
-            self.count += take;
-            self.next += take;
-            values = &values[take..];
-            if off + take < per {
-                return;
-            }
-            if self.count == per {
-                // SAFETY: a whole aligned line of this writer's indices, all handed.
-                unsafe { self.line(self.next - per, self.held.as_ptr()) };
+            if self.count + take == per && self.streaming && self.wide {
+                // SAFETY: a whole aligned line of this writer's indices, all handed: the held
+                // ones and the first `take` values.
+                unsafe { self.joined(self.next - self.count, values.as_ptr()) };
                 self.count = 0;
+                self.next += take;
+                values = &values[take..];
             } else {
-                // SAFETY: the held values are this writer's.
-                unsafe { self.flush() };
+                copy(
+                    &mut self.held[self.count..self.count + take],
+                    &values[..take],
+                );
+                self.count += take;
+                self.next += take;
+                values = &values[take..];
+                if off + take < per {
+                    return;
+                }
+                if self.count == per {
+                    // SAFETY: a whole aligned line of this writer's indices, all handed.
+                    unsafe { self.line(self.next - per, self.held.as_ptr()) };
+                    self.count = 0;
+                } else {
+                    // SAFETY: the held values are this writer's.
+                    unsafe { self.flush() };
+                }
             }
         }
         // Whole lines, then the start of the next one, held.
@@ -122,6 +131,35 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         copy(&mut self.held[..tail.len()], tail);
         self.count = tail.len();
         self.next += tail.len();
+    }
+
+    /// Writes the line at `at` (non-temporally, in one 64-byte store) from the held values
+    /// and, after them, those at `rest`. The held ones were stored a run ago; the rest are
+    /// loaded where they are: a 64-byte load of values just copied next to them would wait
+    /// for every store before it (the store buffer cannot forward it), the lines in flight
+    /// included.
+    ///
+    /// # Safety
+    /// As [`Stream::line`]; `rest` holds the line's values after the held ones; the CPU has
+    /// AVX-512F (`self.wide`).
+    #[inline(always)]
+    unsafe fn joined(&self, at: usize, rest: *const T) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the caller's contract; the masked loads read only the lanes they keep (the
+        // held ones from `held`, the others from `rest`).
+        unsafe {
+            use std::arch::x86_64::*;
+            let (held, from) = (self.held.as_ptr(), rest.wrapping_sub(self.count));
+            let old = _mm512_loadu_si512(held.cast());
+            let v = if size_of::<T>() == 8 {
+                let keep = (0xffu32 << self.count) as u8;
+                _mm512_mask_loadu_epi64(old, keep, from.cast())
+            } else {
+                let keep = (0xffffu32 << self.count) as u16;
+                _mm512_mask_loadu_epi32(old, keep, from.cast())
+            };
+            _mm512_stream_si512(self.base.add(at).cast(), v);
+        }
     }
 
     /// Writes the held values with plain stores.
