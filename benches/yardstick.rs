@@ -94,59 +94,72 @@ const ALONE: u8 = 0;
 const BURST: u8 = 1;
 const SPREAD: u8 = 2;
 
-/// Lines of a face's block.
-const LINES: usize = 3 * N * N * 8 / 64;
+/// Lines of a face's block (1536 or 768 bytes).
+const fn lines<T>() -> usize {
+    3 * N * N * size_of::<T>() / 64
+}
 
-/// The kernel for every face: gather, along x (weights per value, start points repeated per
-/// coordinate), along y (broadcast weights, whole rows), the block out in whole lines (`MODE`).
+/// Per start point i, the weight of each value v = 3x' + c of a row refined along x.
+fn columns<T: Scalar>(m: &[[T; 4]; N]) -> [[T; ROW]; 4] {
+    std::array::from_fn(|i| std::array::from_fn(|v| m[v / 3][i]))
+}
+
+/// A start row of 4 points refined along x: weights per value, each point repeated along the
+/// row. (Broadcast coordinates times weights zero off their coordinate, three FMAs a value,
+/// measured slower.)
 #[inline(always)]
-fn faces<T: Scalar, const WIDE: bool, const MODE: u8>(
-    points: &[[T; 3]],
-    table: &[[u32; 16]],
-    m: &[[T; 4]; N],
-    out: &mut [T],
-) {
-    // Per start point i, the weight of each value v = 3x' + c.
-    let columns: [[T; ROW]; 4] = std::array::from_fn(|i| std::array::from_fn(|v| m[v / 3][i]));
-    let lines = LINES * size_of::<T>() / 8;
-    let block = |f: usize| f * 3 * N * N;
-    // Two blocks in turn: the face's, and the one before it still being written.
-    let mut blocks = [
-        Block::<T>([T::default(); 3 * N * N]),
-        Block([T::default(); 3 * N * N]),
-    ];
-    for (f, idx) in table.iter().enumerate() {
-        let [this, last] = if f % 2 == 0 {
-            let [a, b] = &mut blocks;
-            [a, b]
+fn along_x<T: Scalar>(columns: &[[T; ROW]; 4], points: [[T; 3]; 4]) -> [T; ROW] {
+    let mut acc = [T::default(); ROW];
+    for (column, p) in columns.iter().zip(points) {
+        let mut r = [T::default(); ROW];
+        for x in 0..N {
+            r[3 * x..3 * x + 3].copy_from_slice(&p);
+        }
+        for v in 0..ROW {
+            acc[v] = column[v].madd(r[v], acc[v]);
+        }
+    }
+    acc
+}
+
+/// Two face blocks in turn: the face's, and the one before it, still being written when the
+/// lines are spread.
+struct Blocks<T>([Block<T>; 2]);
+
+impl<T: Scalar> Blocks<T> {
+    fn new() -> Self {
+        Blocks([
+            Block([T::default(); 3 * N * N]),
+            Block([T::default(); 3 * N * N]),
+        ])
+    }
+
+    /// Face f's block and face f − 1's.
+    #[inline(always)]
+    fn pair(&mut self, f: usize) -> (&mut Block<T>, &Block<T>) {
+        let [a, b] = &mut self.0;
+        if f.is_multiple_of(2) {
+            (a, b)
         } else {
-            let [a, b] = &mut blocks;
-            [b, a]
-        };
-        if MODE == ALONE {
-            write::<T, WIDE>(this, &mut out[block(f)..], 0..lines);
-            continue;
+            (b, a)
         }
-        let mut rows = [[T::default(); ROW]; 4];
-        for (j, row) in rows.iter_mut().enumerate() {
-            let mut acc = [T::default(); ROW];
-            for (i, column) in columns.iter().enumerate() {
-                // The point repeated along the row. (Broadcast coordinates times weights
-                // zero off their coordinate, three FMAs a value, measured slower.)
-                let p = points[idx[4 * j + i] as usize];
-                let mut r = [T::default(); ROW];
-                for x in 0..N {
-                    r[3 * x..3 * x + 3].copy_from_slice(&p);
-                }
-                for v in 0..ROW {
-                    acc[v] = column[v].madd(r[v], acc[v]);
-                }
-            }
-            *row = acc;
-        }
+    }
+
+    /// Face f's rows along y from its 4 refined start rows into its block; its lines out
+    /// after them (`BURST`), or face f − 1's a share after each row (`SPREAD`).
+    #[inline(always)]
+    fn along_y<const WIDE: bool, const MODE: u8>(
+        &mut self,
+        f: usize,
+        m: &[[T; 4]; N],
+        rows: &[[T; ROW]],
+        out: &mut [T],
+    ) {
+        let lines = lines::<T>();
+        let (this, last) = self.pair(f);
         for (y, weights) in m.iter().enumerate() {
             let mut acc = [T::default(); ROW];
-            for (w, row) in weights.iter().zip(&rows) {
+            for (w, row) in weights.iter().zip(rows) {
                 for v in 0..ROW {
                     acc[v] = w.madd(row[v], acc[v]);
                 }
@@ -161,11 +174,50 @@ fn faces<T: Scalar, const WIDE: bool, const MODE: u8>(
             write::<T, WIDE>(this, &mut out[block(f)..], 0..lines);
         }
     }
-    if MODE == SPREAD {
-        let f = table.len() - 1;
-        let last = &blocks[f % 2];
-        write::<T, WIDE>(last, &mut out[block(f)..], 0..lines);
+
+    /// After the last face (`count` faces), the lines still to write (`SPREAD`).
+    #[inline(always)]
+    fn finish<const WIDE: bool, const MODE: u8>(&self, count: usize, out: &mut [T]) {
+        if MODE == SPREAD && count > 0 {
+            let f = count - 1;
+            write::<T, WIDE>(&self.0[f % 2], &mut out[block(f)..], 0..lines::<T>());
+        }
     }
+}
+
+/// Face (or block) f's first value in the output.
+const fn block(f: usize) -> usize {
+    f * 3 * N * N
+}
+
+/// The kernel for every face: gather, along x, along y, the block out in whole lines (`MODE`).
+#[inline(always)]
+fn faces<T: Scalar, const WIDE: bool, const MODE: u8>(
+    points: &[[T; 3]],
+    table: &[[u32; 16]],
+    m: &[[T; 4]; N],
+    out: &mut [T],
+) {
+    let columns = columns(m);
+    let mut blocks = Blocks::new();
+    for (f, idx) in table.iter().enumerate() {
+        if MODE == ALONE {
+            write::<T, WIDE>(blocks.pair(f).0, &mut out[block(f)..], 0..lines::<T>());
+            continue;
+        }
+        // Loops, not closures (`array::from_fn`, `array::map`): a closure does not take the
+        // kernel's target features, and with them the stacked form ran 12–40 % slower.
+        let mut rows = [[T::default(); ROW]; 4];
+        for (j, row) in rows.iter_mut().enumerate() {
+            let mut start = [[T::default(); 3]; 4];
+            for (i, p) in start.iter_mut().enumerate() {
+                *p = points[idx[4 * j + i] as usize];
+            }
+            *row = along_x(&columns, start);
+        }
+        blocks.along_y::<WIDE, MODE>(f, m, &rows, out);
+    }
+    blocks.finish::<WIDE, MODE>(table.len(), out);
 }
 
 /// The kernel as lsubdiv runs it on the torus: stacks of 16 faces along y sharing their start
@@ -173,82 +225,39 @@ fn faces<T: Scalar, const WIDE: bool, const MODE: u8>(
 /// along y; a face's block goes out in one burst or spread over the next face's rows (blocks
 /// numbered in the order the faces are refined). Compiled for AVX-512F only.
 #[inline(always)]
-fn stacked<T: Scalar, const SPREAD_LINES: bool>(points: &[[T; 3]], m: &[[T; 4]; N], out: &mut [T]) {
+fn stacked<T: Scalar, const MODE: u8>(points: &[[T; 3]], m: &[[T; 4]; N], out: &mut [T]) {
     const STACK: usize = 16;
-    let columns: [[T; ROW]; 4] = std::array::from_fn(|i| std::array::from_fn(|v| m[v / 3][i]));
-    let lines = LINES * size_of::<T>() / 8;
-    let mut blocks = [
-        Block::<T>([T::default(); 3 * N * N]),
-        Block([T::default(); 3 * N * N]),
-    ];
+    let columns = columns(m);
+    let mut blocks = Blocks::new();
     let mut f = 0;
     for c in 0..SIDE {
         for r0 in (0..SIDE).step_by(STACK) {
             let mut rows = [[T::default(); ROW]; STACK + 3];
             for (j, row) in rows.iter_mut().enumerate() {
                 let r = (r0 + SIDE + j - 1) % SIDE;
-                let mut acc = [T::default(); ROW];
-                for (i, column) in columns.iter().enumerate() {
-                    let p = points[r * SIDE + (c + SIDE + i - 1) % SIDE];
-                    let mut rep = [T::default(); ROW];
-                    for x in 0..N {
-                        rep[3 * x..3 * x + 3].copy_from_slice(&p);
-                    }
-                    for v in 0..ROW {
-                        acc[v] = column[v].madd(rep[v], acc[v]);
-                    }
+                let mut start = [[T::default(); 3]; 4];
+                for (i, p) in start.iter_mut().enumerate() {
+                    *p = points[r * SIDE + (c + SIDE + i - 1) % SIDE];
                 }
-                *row = acc;
+                *row = along_x(&columns, start);
             }
             for q in 0..STACK {
-                let [this, last] = if f % 2 == 0 {
-                    let [a, b] = &mut blocks;
-                    [a, b]
-                } else {
-                    let [a, b] = &mut blocks;
-                    [b, a]
-                };
-                for (y, weights) in m.iter().enumerate() {
-                    let mut acc = [T::default(); ROW];
-                    for (w, row) in weights.iter().zip(&rows[q..q + 4]) {
-                        for v in 0..ROW {
-                            acc[v] = w.madd(row[v], acc[v]);
-                        }
-                    }
-                    this.0[y * ROW..][..ROW].copy_from_slice(&acc);
-                    if SPREAD_LINES && f > 0 {
-                        let share = y * lines / N..(y + 1) * lines / N;
-                        write::<T, true>(last, &mut out[(f - 1) * 3 * N * N..], share);
-                    }
-                }
-                if !SPREAD_LINES {
-                    write::<T, true>(this, &mut out[f * 3 * N * N..], 0..lines);
-                }
+                blocks.along_y::<true, MODE>(f, m, &rows[q..q + 4], out);
                 f += 1;
             }
         }
     }
-    if SPREAD_LINES {
-        write::<T, true>(
-            &blocks[(f - 1) % 2],
-            &mut out[(f - 1) * 3 * N * N..],
-            0..lines,
-        );
-    }
+    blocks.finish::<true, MODE>(f, out);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,fma")]
-unsafe fn stacked_avx512<T: Scalar, const SPREAD_LINES: bool>(
-    p: &[[T; 3]],
-    m: &[[T; 4]; N],
-    out: &mut [T],
-) {
-    stacked::<T, SPREAD_LINES>(p, m, out);
+unsafe fn stacked_avx512<T: Scalar, const MODE: u8>(p: &[[T; 3]], m: &[[T; 4]; N], out: &mut [T]) {
+    stacked::<T, MODE>(p, m, out);
 }
 
 /// One refinement of the torus by [`stacked`]: seconds (`None` without AVX-512F and FMA).
-fn run_stacked<T: Scalar, const SPREAD_LINES: bool>(
+fn run_stacked<T: Scalar, const MODE: u8>(
     p: &[[T; 3]],
     m: &[[T; 4]; N],
     out: &mut [T],
@@ -258,7 +267,7 @@ fn run_stacked<T: Scalar, const SPREAD_LINES: bool>(
         let t = Instant::now();
         // SAFETY: the CPU has AVX-512F and FMA (checked above); SSE2 is every x86-64's.
         unsafe {
-            stacked_avx512::<T, SPREAD_LINES>(p, m, out);
+            stacked_avx512::<T, MODE>(p, m, out);
             std::arch::x86_64::_mm_sfence();
         }
         black_box(&*out);
@@ -426,10 +435,10 @@ fn main() {
     let mut u: [Vec<f64>; 4] = Default::default();
     for _ in 0..9 {
         let runs = [
-            run_stacked::<_, false>(&p64, &m64, o64),
-            run_stacked::<_, false>(&p32, &m32, o32),
-            run_stacked::<_, true>(&p64, &m64, o64),
-            run_stacked::<_, true>(&p32, &m32, o32),
+            run_stacked::<_, BURST>(&p64, &m64, o64),
+            run_stacked::<_, BURST>(&p32, &m32, o32),
+            run_stacked::<_, SPREAD>(&p64, &m64, o64),
+            run_stacked::<_, SPREAD>(&p32, &m32, o32),
         ];
         for (u, r) in u.iter_mut().zip(runs.into_iter().flatten()) {
             u.push(r);
