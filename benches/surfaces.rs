@@ -4,8 +4,8 @@
 //! generated/generic, 2 threads/1 thread, f32/f64, and peak RSS / essential memory
 //! (input + output + one intermediate level), also with the program's code taken off the peak
 //! (its resident pages mapped from files, `RssFile`), and peak RSS / what the size guard counts
-//! for the run (`patch::footprint`: input, topology, tables, buffers, output positions); the time of each phase and of each
-//! depth-first level (summed over the workers).
+//! for the run (`patch::footprint`: input, topology, tables, buffers, output positions); the
+//! time of each phase and of each depth-first level (summed over the workers).
 //!
 //! `cargo bench --bench surfaces` (set LSUBDIV_BENCH_QUICK=1 for one repetition).
 
