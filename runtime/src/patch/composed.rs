@@ -399,8 +399,10 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
     inside: Option<&mut [T]>,
 ) {
     let mut acc = [T::default(); L];
+    // One bounds check for the band's rows, not one per row.
+    let a = &a[at..][..(ws.len().max(1) - 1) * width + L];
     for (i, &w) in ws.iter().enumerate() {
-        let s: &[T; L] = tile(&a[i * width + at..]);
+        let s: &[T; L] = tile(&a[i * width..]);
         for l in 0..L {
             acc[l] = madd::<T, FUSED>(w, s[l], acc[l]);
         }
