@@ -1822,7 +1822,7 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         // row N' (x = N' − t) and column 0 (y = N' − t); its run starts at its smaller
         // vertex, so it goes along increasing x or y if `forward == (l < 2)`. Columns 1 and
         // 3 are set out in `spare` band by band.
-        let inner = ys.start.max(1)..ys.end.min(n);
+        let inner = rows.inner();
         for l in [1, 3] {
             let (_, forward, owner) = r.edge(l);
             if owner {

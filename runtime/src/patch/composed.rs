@@ -310,8 +310,9 @@ impl<T: Real> Composed<T> {
                     q,
                     Rows {
                         values: &out[..ys.len() * width],
-                        inside: &inside[..(ys.start.max(1)..ys.end.min(n)).len() * len],
+                        inside,
                         width,
+                        n,
                         ys,
                     },
                 );
@@ -324,9 +325,12 @@ impl<T: Real> Composed<T> {
 /// `width` values: its points interleaved from [`PAD`] on, then the rest of its tiles.
 pub(super) struct Rows<'a, T> {
     values: &'a [T],
-    /// Points 1..N' − 1 of the band's rows 1..N' − 1, row after row.
+    /// Points 1..N' − 1 of the band's rows 1..N' − 1, row after row (and then values past
+    /// them).
     inside: &'a [T],
     width: usize,
+    /// The face's last row, N'.
+    n: usize,
     ys: std::ops::Range<usize>,
 }
 
@@ -334,6 +338,11 @@ impl<T: Copy> Rows<'_, T> {
     /// The rows' y.
     pub(super) fn ys(&self) -> std::ops::Range<usize> {
         self.ys.clone()
+    }
+
+    /// The rows' y that are inner rows, 1..N' − 1 (their interior is in [`Rows::inside`]).
+    pub(super) fn inner(&self) -> std::ops::Range<usize> {
+        self.ys.start.max(1)..self.ys.end.min(self.n)
     }
 
     /// Row y's points, interleaved, then the rest of the row's tiles. Of a row 1..N' − 1 only
@@ -348,7 +357,7 @@ impl<T: Copy> Rows<'_, T> {
     /// Points 1..N' − 1 of the band's rows 1..N' − 1, one row after the other.
     #[inline(always)]
     pub(super) fn inside(&self) -> &[T] {
-        self.inside
+        &self.inside[..self.inner().len() * 3 * (self.n - 1)]
     }
 }
 
