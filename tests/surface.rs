@@ -520,3 +520,112 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
         );
     }
 }
+
+/// Random symmetric degree-3 systems with a one-symbol axiom (1–4 symbols, rules of length
+/// 1–4) that pass the surface conditions (\[G\] §4.2): the patch path (composed patches on the
+/// torus and the Klein bottle, fans around the cube's EVs) gives the reference driver's
+/// points on every SIMD path, one and two threads, for as many steps as keep the output
+/// small. The composed kernel meets N', band widths and tile layouts no shipped scheme has.
+mod random_surfaces {
+    use super::*;
+    use lsubdiv::compiler::exact::scheme::parse;
+    use lsubdiv::runtime::patch::{Refiner, Simd};
+    use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
+    use proptest::collection::vec;
+    use proptest::prelude::*;
+
+    /// Refined points of a mesh at most (faces × N'²).
+    const MAX_POINTS: usize = 20_000;
+
+    /// Symmetric systems aimed at the surface conditions, shaped like the shipped ones: the
+    /// axiom S, fixed by σ, rewrites as L (a σ-fixed middle or nothing) R, L as L X (\[G\]
+    /// Lemma 4.6: the label next to an EV keeps its place), R as σ(X) R, and up to two more
+    /// symbols (paired or fixed) rewrite as random words of 1–3 symbols.
+    fn systems() -> impl Strategy<Value = SmallSystem> {
+        (0..=2usize)
+            .prop_flat_map(|extra| {
+                let symbol = 0..(3 + extra) as u8;
+                (
+                    vec(symbol.clone(), 0..=1),
+                    symbol.clone(),
+                    vec(vec(symbol, 1..=3), extra),
+                    vec(0..3usize, 2),
+                )
+            })
+            .prop_map(|(middle, x, extras, picks)| {
+                let extra = extras.len();
+                let mut rules = vec![[vec![1], middle, vec![2]].concat(), vec![1, x], vec![2]];
+                rules.extend(extras);
+                // σ: S fixed, L and R twins, the others paired or fixed as drawn.
+                let sigma = [0, 2, 1]
+                    .into_iter()
+                    .chain(involution(extra, &picks).into_iter().map(|b| b + 3))
+                    .collect();
+                SmallSystem {
+                    degree: 3,
+                    rules,
+                    axiom: vec![0],
+                    sigma: None,
+                }
+                .symmetrised(sigma)
+            })
+    }
+
+    proptest! {
+        // Each case compiles a scheme exactly (small systems: milliseconds), then refines
+        // three meshes.
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        #[test]
+        fn patch_path_matches_the_reference_driver(sys in systems()) {
+            let text = sys.to_toml();
+            let scheme = Scheme::build(parse("small.toml", &text).unwrap());
+            // Not every drawn system is valid, nor every valid one a surface scheme.
+            let Some(s) = scheme.ok().and_then(|s| GenericSurface::new(s).ok()) else {
+                return Ok(());
+            };
+            for (label, mesh) in [
+                ("torus", torus(3, 4)),
+                ("klein", klein_bottle(4, 5)),
+                ("cube", cube()),
+            ] {
+                let topo = Topology::build(&mesh).unwrap();
+                for steps in 1..=4 {
+                    let side = s.tables().image_len(&s.scheme().ls.axiom, steps);
+                    if (mesh.faces.len() as u128) * side * side > MAX_POINTS as u128 {
+                        break;
+                    }
+                    let (reference, _) = refine(&s, mesh.clone(), steps);
+                    for simd in Simd::available() {
+                        // Streamed (whole lines non-temporal) on one thread, plain on two.
+                        for (threads, stream) in [(1, 0), (2, usize::MAX)] {
+                            let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+                            r.set_simd(simd);
+                            r.set_stream_bytes(stream);
+                            let d = same_points(r.refine(&mesh.positions).unwrap(), &reference.positions);
+                            prop_assert!(
+                                d < 1e-12,
+                                "{label}, {steps} steps, {}, {threads} threads: {d:e}\n{text}",
+                                simd.name()
+                            );
+                        }
+                        // f32, streamed, point by point against f64 on the same path.
+                        let mut double = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
+                        double.set_simd(simd);
+                        let mut single = Refiner::<_, f32>::new(&s, &topo, steps, 1).unwrap();
+                        single.set_simd(simd);
+                        single.set_stream_bytes(0);
+                        let d = single
+                            .refine(&mesh.positions)
+                            .unwrap()
+                            .iter()
+                            .flatten()
+                            .zip(double.refine(&mesh.positions).unwrap().iter().flatten())
+                            .fold(0.0f64, |m, (&a, b)| m.max((f64::from(a) - b).abs()));
+                        prop_assert!(d < 1e-5, "{label}, {steps} steps, {} f32: {d:e}\n{text}", simd.name());
+                    }
+                }
+            }
+        }
+    }
+}
