@@ -530,46 +530,10 @@ mod random_surfaces {
     use super::*;
     use lsubdiv::compiler::exact::scheme::parse;
     use lsubdiv::runtime::patch::{Refiner, Simd};
-    use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
-    use proptest::collection::vec;
     use proptest::prelude::*;
 
     /// Refined points of a mesh at most (faces × N'²).
     const MAX_POINTS: usize = 20_000;
-
-    /// Symmetric systems aimed at the surface conditions, shaped like the shipped ones: the
-    /// axiom S, fixed by σ, rewrites as L (a σ-fixed middle or nothing) R, L as L X (\[G\]
-    /// Lemma 4.6: the label next to an EV keeps its place), R as σ(X) R, and up to two more
-    /// symbols (paired or fixed) rewrite as random words of 1–3 symbols.
-    fn systems() -> impl Strategy<Value = SmallSystem> {
-        (0..=2usize)
-            .prop_flat_map(|extra| {
-                let symbol = 0..(3 + extra) as u8;
-                (
-                    vec(symbol.clone(), 0..=1),
-                    symbol.clone(),
-                    vec(vec(symbol, 1..=3), extra),
-                    vec(0..3usize, 2),
-                )
-            })
-            .prop_map(|(middle, x, extras, picks)| {
-                let extra = extras.len();
-                let mut rules = vec![[vec![1], middle, vec![2]].concat(), vec![1, x], vec![2]];
-                rules.extend(extras);
-                // σ: S fixed, L and R twins, the others paired or fixed as drawn.
-                let sigma = [0, 2, 1]
-                    .into_iter()
-                    .chain(involution(extra, &picks).into_iter().map(|b| b + 3))
-                    .collect();
-                SmallSystem {
-                    degree: 3,
-                    rules,
-                    axiom: vec![0],
-                    sigma: None,
-                }
-                .symmetrised(sigma)
-            })
-    }
 
     proptest! {
         // Each case compiles a scheme exactly (small systems: milliseconds), then refines
@@ -577,7 +541,7 @@ mod random_surfaces {
         #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
         #[test]
-        fn patch_path_matches_the_reference_driver(sys in systems()) {
+        fn patch_path_matches_the_reference_driver(sys in common::surface_systems()) {
             let text = sys.to_toml();
             let scheme = Scheme::build(parse("small.toml", &text).unwrap());
             // Not every drawn system is valid, nor every valid one a surface scheme.
