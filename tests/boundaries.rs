@@ -197,6 +197,23 @@ proptest::proptest! {
                     Err(e) => proptest::prop_assert!(false, "{e}\n{text}"),
                 }
             }
+            // A crease from boundary to boundary past EVs of valence 3 and 6.
+            let (mesh, features, line) = creased_hexagon_grid();
+            let topo = Topology::build(&mesh).unwrap();
+            match Refiner::<_, f64>::with_features(&s, &topo, &features, steps, 1) {
+                Ok(_) => {
+                    let crease = Crease {
+                        mesh: &mesh,
+                        topo: &topo,
+                        features: &features,
+                        line: &line,
+                    };
+                    let (_, worst) = crease.against_curve(&s, (&mut c, &sigma), steps);
+                    proptest::prop_assert!(worst < 1e-12, "crease off by {worst:e}\n{text}");
+                }
+                Err(SurfaceError::Unsupported(_)) => {}
+                Err(e) => proptest::prop_assert!(false, "{e}\n{text}"),
+            }
         }
     }
 }
