@@ -358,6 +358,19 @@ fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// limit normals its ∂u × ∂v to an angle of 1e-9, for every surface scheme.
 #[test]
 fn limit_on_the_torus_is_the_tensor_b_spline_at_the_knots() {
+    for (name, s, lengths) in surface_schemes() {
+        torus_limit_is_the_tensor_b_spline(name, &s, &lengths, 3);
+    }
+}
+
+/// [`limit_on_the_torus_is_the_tensor_b_spline_at_the_knots`] for one scheme (`lengths`: its
+/// exact interval lengths as f64) and `steps`.
+fn torus_limit_is_the_tensor_b_spline(
+    name: &str,
+    s: &lsubdiv::generic::GenericSurface,
+    lengths: &[f64],
+    steps: usize,
+) {
     use lsubdiv::runtime::features::Features;
     use lsubdiv::runtime::patch::limit_with;
     use lsubdiv::runtime::topology::Topology;
@@ -365,64 +378,90 @@ fn limit_on_the_torus_is_the_tensor_b_spline_at_the_knots() {
     let (rows, cols) = (5, 7);
     let torus = lsubdiv::runtime::generators::torus(rows, cols);
     let topo = Topology::build(&torus).unwrap();
-    for (name, s, lengths) in surface_schemes() {
-        let steps = 3;
-        let lim = limit_with::<_, f64>(&s, &torus, &topo, &Features::default(), steps, 2).unwrap();
-        assert!(lim.approximate.is_empty(), "{name}");
-        // W_s and its knots in base-edge units.
-        let t = s.tables();
-        let word = t.iterate(t.axiom, steps);
-        let mut knots = vec![0.0];
-        for &a in &word {
-            knots.push(knots[knots.len() - 1] + lengths[a as usize]);
-        }
-        let n = word.len();
-        let total = knots[n];
-        let at = |a: i64, b: i64| {
-            let id = a.rem_euclid(rows as i64) as usize * cols + b.rem_euclid(cols as i64) as usize;
-            torus.positions[id]
-        };
-        let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
-        for (q, face) in lim.mesh.faces.iter().enumerate() {
-            let (f, cell) = (q / (n * n), q % (n * n));
-            let (x, y) = (cell % n, cell / n);
-            let u = (f / cols) as f64 + knots[x] / total;
-            let v = (f % cols) as f64 + knots[y] / total;
-            let (ku, wu, du) = uniform_cubic(u);
-            let (kv, wv, dv) = uniform_cubic(v);
-            let (mut p, mut su, mut sv) = ([0.0; 3], [0.0; 3], [0.0; 3]);
-            for a in 0..4 {
-                for b in 0..4 {
-                    let c = at(ku + a as i64, kv + b as i64);
-                    for i in 0..3 {
-                        p[i] += wu[a] * wv[b] * c[i];
-                        su[i] += du[a] * wv[b] * c[i];
-                        sv[i] += wu[a] * dv[b] * c[i];
-                    }
+    let lim = limit_with::<_, f64>(s, &torus, &topo, &Features::default(), steps, 2).unwrap();
+    assert!(lim.approximate.is_empty(), "{name}");
+    // W_s and its knots in base-edge units.
+    let t = s.tables();
+    let word = t.iterate(t.axiom, steps);
+    let mut knots = vec![0.0];
+    for &a in &word {
+        knots.push(knots[knots.len() - 1] + lengths[a as usize]);
+    }
+    let n = word.len();
+    let total = knots[n];
+    let at = |a: i64, b: i64| {
+        let id = a.rem_euclid(rows as i64) as usize * cols + b.rem_euclid(cols as i64) as usize;
+        torus.positions[id]
+    };
+    let (mut worst_p, mut worst_n) = (0.0f64, 0.0f64);
+    for (q, face) in lim.mesh.faces.iter().enumerate() {
+        let (f, cell) = (q / (n * n), q % (n * n));
+        let (x, y) = (cell % n, cell / n);
+        let u = (f / cols) as f64 + knots[x] / total;
+        let v = (f % cols) as f64 + knots[y] / total;
+        let (ku, wu, du) = uniform_cubic(u);
+        let (kv, wv, dv) = uniform_cubic(v);
+        let (mut p, mut su, mut sv) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        for a in 0..4 {
+            for b in 0..4 {
+                let c = at(ku + a as i64, kv + b as i64);
+                for i in 0..3 {
+                    p[i] += wu[a] * wv[b] * c[i];
+                    su[i] += du[a] * wv[b] * c[i];
+                    sv[i] += wu[a] * dv[b] * c[i];
                 }
             }
-            let vtx = face[0] as usize;
-            let got = lim.mesh.positions[vtx];
-            worst_p = worst_p.max((0..3).map(|i| (got[i] - p[i]).abs()).fold(0.0, f64::max));
-            worst_n = worst_n.max(angle(lim.normals[vtx], cross(su, sv)));
         }
+        let vtx = face[0] as usize;
+        let got = lim.mesh.positions[vtx];
+        worst_p = worst_p.max((0..3).map(|i| (got[i] - p[i]).abs()).fold(0.0, f64::max));
+        worst_n = worst_n.max(angle(lim.normals[vtx], cross(su, sv)));
+    }
+    assert!(
+        worst_p < 1e-12,
+        "{name}: limit positions off by {worst_p:e}"
+    );
+    assert!(
+        worst_n < 1e-9,
+        "{name}: limit normals off by {worst_n:e} rad"
+    );
+    // In f32, the same to f32 precision.
+    let lim32 = limit_with::<_, f32>(s, &torus, &topo, &Features::default(), steps, 2).unwrap();
+    assert_eq!(lim32.mesh.faces, lim.mesh.faces, "{name}");
+    for (a, b) in lim32.mesh.positions.iter().zip(&lim.mesh.positions) {
         assert!(
-            worst_p < 1e-12,
-            "{name}: limit positions off by {worst_p:e}"
+            (0..3).all(|i| (f64::from(a[i]) - b[i]).abs() < 1e-5),
+            "{name}"
         );
-        assert!(
-            worst_n < 1e-9,
-            "{name}: limit normals off by {worst_n:e} rad"
-        );
-        // In f32, the same to f32 precision.
-        let lim32 =
-            limit_with::<_, f32>(&s, &torus, &topo, &Features::default(), steps, 2).unwrap();
-        assert_eq!(lim32.mesh.faces, lim.mesh.faces, "{name}");
-        for (a, b) in lim32.mesh.positions.iter().zip(&lim.mesh.positions) {
-            assert!(
-                (0..3).all(|i| (f64::from(a[i]) - b[i]).abs() < 1e-5),
-                "{name}"
-            );
+    }
+}
+
+proptest::proptest! {
+    // Each case compiles a scheme exactly (small systems: milliseconds).
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, ..Default::default() })]
+
+    /// Random symmetric surface schemes (`common::surface_systems`): the limit on the torus is
+    /// the tensor bicubic B-spline at the knots of W_s, for as many steps as keep it small.
+    #[test]
+    fn random_schemes_limit_on_the_torus_is_the_tensor_b_spline(
+        sys in common::surface_systems()
+    ) {
+        use lsubdiv::CurveScheme;
+        let text = sys.to_toml();
+        let ls = lsubdiv::compiler::exact::scheme::parse("small.toml", &text).unwrap();
+        // Not every drawn system is valid, nor every valid one a surface scheme.
+        let Ok(scheme) = Scheme::build(ls) else {
+            return Ok(());
+        };
+        let lengths: Vec<f64> = scheme.lengths.iter().map(|l| l.to_f64()).collect();
+        let Ok(s) = lsubdiv::generic::GenericSurface::new(scheme) else {
+            return Ok(());
+        };
+        for steps in 1..=3 {
+            if s.tables().image_len(s.tables().axiom, steps) > 24 {
+                break;
+            }
+            torus_limit_is_the_tensor_b_spline(&text, &s, &lengths, steps);
         }
     }
 }
