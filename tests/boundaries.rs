@@ -6,7 +6,6 @@
 
 mod common;
 
-use lsubdiv::compiler::exact::scheme::parse;
 use lsubdiv::compiler::exact::symmetry::rule_mirror;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
@@ -170,18 +169,10 @@ proptest::proptest! {
     fn random_schemes_refine_open_meshes_as_their_curves(
         sys in common::surface_systems()
     ) {
-        let text = sys.to_toml();
-        let ls = parse("small.toml", &text).unwrap();
-        let Some(sigma) = rule_mirror(&ls) else {
-            return Ok(()); // σ is declared: only a system that is not valid lacks one
-        };
-        // Not every drawn system is valid, nor every valid one a surface scheme.
-        let Ok(scheme) = Scheme::build(ls) else {
+        let Some((text, scheme, s)) = common::drawn_surface(&sys) else {
             return Ok(());
         };
-        let Ok(s) = GenericSurface::new(scheme.clone()) else {
-            return Ok(());
-        };
+        let sigma = rule_mirror(&scheme.ls).expect("σ is declared");
         let mut c = GenericScheme::new(scheme).unwrap();
         for steps in 1..=3 {
             if s.tables().image_len(s.tables().axiom, steps) > 40 {
@@ -198,17 +189,8 @@ proptest::proptest! {
                 }
             }
             // A crease from boundary to boundary past EVs of valence 3 and 6.
-            let (mesh, features, line) = creased_hexagon_grid();
-            let topo = Topology::build(&mesh).unwrap();
-            match Refiner::<_, f64>::with_features(&s, &topo, &features, steps, 1) {
-                Ok(_) => {
-                    let crease = Crease {
-                        mesh: &mesh,
-                        topo: &topo,
-                        features: &features,
-                        line: &line,
-                    };
-                    let (_, worst) = crease.against_curve(&s, (&mut c, &sigma), steps);
+            match hexagon_crease_off(&s, (&mut c, &sigma), steps) {
+                Ok(worst) => {
                     proptest::prop_assert!(worst < 1e-12, "crease off by {worst:e}\n{text}");
                 }
                 Err(SurfaceError::Unsupported(_)) => {}
@@ -751,25 +733,37 @@ fn creased_hexagon_grid() -> (QuadMesh, Features, Vec<u32>) {
 /// open along the crease, with ghost layers on both sides.
 #[test]
 fn creases_are_the_schemes_curves_between_their_corners() {
-    let (mesh, features, line) = creased_hexagon_grid();
-    let topo = Topology::build(&mesh).unwrap();
     for name in SCHEMES {
         let s = surface(name);
         let (mut c, sigma) = curve(name);
         for steps in 1..=3 {
-            let crease = Crease {
-                mesh: &mesh,
-                topo: &topo,
-                features: &features,
-                line: &line,
-            };
-            let (_, worst) = crease.against_curve(&s, (&mut c, &sigma), steps);
+            let worst = hexagon_crease_off(&s, (&mut c, &sigma), steps)
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert!(
                 worst < 1e-12,
                 "{name} steps={steps}: crease off by {worst:e}"
             );
         }
     }
+}
+
+/// How far the crease of [`creased_hexagon_grid`] refined by `s` is from its curve by `c`
+/// between its corners (the refiner's error if it refuses the mesh).
+fn hexagon_crease_off(
+    s: &GenericSurface,
+    c: (&mut GenericScheme, &[u8]),
+    steps: usize,
+) -> Result<f64, SurfaceError> {
+    let (mesh, features, line) = creased_hexagon_grid();
+    let topo = Topology::build(&mesh).unwrap();
+    Refiner::<_, f64>::with_features(s, &topo, &features, steps, 1)?;
+    let crease = Crease {
+        mesh: &mesh,
+        topo: &topo,
+        features: &features,
+        line: &line,
+    };
+    Ok(crease.against_curve(s, c, steps).1)
 }
 
 /// A crease line of a featured mesh, to compare with the scheme's curve.

@@ -447,16 +447,10 @@ proptest::proptest! {
         sys in common::surface_systems()
     ) {
         use lsubdiv::CurveScheme;
-        let text = sys.to_toml();
-        let ls = lsubdiv::compiler::exact::scheme::parse("small.toml", &text).unwrap();
-        // Not every drawn system is valid, nor every valid one a surface scheme.
-        let Ok(scheme) = Scheme::build(ls) else {
+        let Some((text, scheme, s)) = common::drawn_surface(&sys) else {
             return Ok(());
         };
         let lengths: Vec<f64> = scheme.lengths.iter().map(|l| l.to_f64()).collect();
-        let Ok(s) = lsubdiv::generic::GenericSurface::new(scheme) else {
-            return Ok(());
-        };
         for steps in 1..=3 {
             if s.tables().image_len(s.tables().axiom, steps) > 24 {
                 break;

@@ -367,24 +367,36 @@ fn large_ordinary_faces_go_out_in_bands() {
                         simd.name()
                     );
                 }
-                // f32 (16 values to a cache line, so the bands' runs split lines elsewhere),
-                // point by point against f64 on the same path.
-                let mut double = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
-                double.set_simd(simd);
-                let mut single = Refiner::<_, f32>::new(&s, &topo, steps, 2).unwrap();
-                single.set_simd(simd);
-                single.set_stream_bytes(0);
-                let d = single
-                    .refine(&mesh.positions)
-                    .unwrap()
-                    .iter()
-                    .flatten()
-                    .zip(double.refine(&mesh.positions).unwrap().iter().flatten())
-                    .fold(0.0f64, |m, (&a, b)| m.max((f64::from(a) - b).abs()));
+                // f32 (16 values to a cache line, so the bands' runs split lines elsewhere).
+                let d = f32_off(&s, (&mesh, &topo), steps, simd, 2);
                 assert!(d < 1e-5, "{name} {label} {} f32: {d:e}", simd.name());
             }
         }
     }
+}
+
+/// How far `mesh` refined in f32 (whole lines streamed, on `threads` threads) is from f64 on
+/// one thread, point by point, both on the SIMD path `simd`.
+fn f32_off(
+    s: &GenericSurface,
+    (mesh, topo): (&QuadMesh, &Topology),
+    steps: usize,
+    simd: lsubdiv::runtime::patch::Simd,
+    threads: usize,
+) -> f64 {
+    use lsubdiv::runtime::patch::Refiner;
+    let mut double = Refiner::<_, f64>::new(s, topo, steps, 1).unwrap();
+    double.set_simd(simd);
+    let mut single = Refiner::<_, f32>::new(s, topo, steps, threads).unwrap();
+    single.set_simd(simd);
+    single.set_stream_bytes(0);
+    single
+        .refine(&mesh.positions)
+        .unwrap()
+        .iter()
+        .flatten()
+        .zip(double.refine(&mesh.positions).unwrap().iter().flatten())
+        .fold(0.0f64, |m, (&a, b)| m.max((f64::from(a) - b).abs()))
 }
 
 /// A scheme whose axiom refines to one symbol (ω → A, A → AA: uniform binary delayed by a
@@ -521,14 +533,13 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
     }
 }
 
-/// Random symmetric degree-3 systems with a one-symbol axiom (1–4 symbols, rules of length
-/// 1–4) that pass the surface conditions (\[G\] §4.2): the patch path (composed patches on the
-/// torus and the Klein bottle, fans around the cube's EVs) gives the reference driver's
-/// points on every SIMD path, one and two threads, for as many steps as keep the output
-/// small. The composed kernel meets N', band widths and tile layouts no shipped scheme has.
+/// Random symmetric surface schemes (`common::surface_systems`): the patch path (composed
+/// patches on the torus and the Klein bottle, fans around the cube's EVs) gives the reference
+/// driver's points on every SIMD path, one and two threads, and f32 gives f64's to 1e-5, for
+/// as many steps as keep the output small. The composed kernel meets N', band widths and tile
+/// layouts no shipped scheme has.
 mod random_surfaces {
     use super::*;
-    use lsubdiv::compiler::exact::scheme::parse;
     use lsubdiv::runtime::patch::{Refiner, Simd};
     use proptest::prelude::*;
 
@@ -542,10 +553,7 @@ mod random_surfaces {
 
         #[test]
         fn patch_path_matches_the_reference_driver(sys in common::surface_systems()) {
-            let text = sys.to_toml();
-            let scheme = Scheme::build(parse("small.toml", &text).unwrap());
-            // Not every drawn system is valid, nor every valid one a surface scheme.
-            let Some(s) = scheme.ok().and_then(|s| GenericSurface::new(s).ok()) else {
+            let Some((text, _, s)) = common::drawn_surface(&sys) else {
                 return Ok(());
             };
             for (label, mesh) in [
@@ -573,19 +581,7 @@ mod random_surfaces {
                                 simd.name()
                             );
                         }
-                        // f32, streamed, point by point against f64 on the same path.
-                        let mut double = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
-                        double.set_simd(simd);
-                        let mut single = Refiner::<_, f32>::new(&s, &topo, steps, 1).unwrap();
-                        single.set_simd(simd);
-                        single.set_stream_bytes(0);
-                        let d = single
-                            .refine(&mesh.positions)
-                            .unwrap()
-                            .iter()
-                            .flatten()
-                            .zip(double.refine(&mesh.positions).unwrap().iter().flatten())
-                            .fold(0.0f64, |m, (&a, b)| m.max((f64::from(a) - b).abs()));
+                        let d = f32_off(&s, (&mesh, &topo), steps, simd, 1);
                         prop_assert!(d < 1e-5, "{label}, {steps} steps, {} f32: {d:e}\n{text}", simd.name());
                     }
                 }

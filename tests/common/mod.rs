@@ -2,6 +2,8 @@
 #![allow(dead_code)]
 pub mod cli;
 
+use lsubdiv::compiler::exact::{scheme, Scheme};
+use lsubdiv::generic::GenericSurface;
 use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
 use proptest::collection::vec;
 use proptest::prelude::*;
@@ -59,4 +61,14 @@ pub fn surface_systems() -> impl Strategy<Value = SmallSystem> {
             }
             .symmetrised(sigma)
         })
+}
+
+/// A drawn system's scheme text, its exact scheme and its surface scheme, if it is valid and
+/// passes the surface conditions (\[G\] §4.2); not every drawn system does.
+pub fn drawn_surface(sys: &SmallSystem) -> Option<(String, Scheme, GenericSurface)> {
+    let text = sys.to_toml();
+    let ls = scheme::parse("small.toml", &text).expect("generated text parses");
+    let exact = Scheme::build(ls).ok()?;
+    let surface = GenericSurface::new(exact.clone()).ok()?;
+    Some((text, exact, surface))
 }
