@@ -12,6 +12,7 @@ use lsubdiv::runtime::topology::Topology;
 use lsubdiv::{generated, Curve, CurveScheme};
 use lsubdiv_cli::resolve;
 use lsubdiv_testkit::catmull_clark::catmull_clark_steps;
+use lsubdiv_testkit::points::same_points;
 
 fn surface(name: &str) -> GenericSurface {
     let r = resolve(name).unwrap();
@@ -22,37 +23,6 @@ fn refine(s: &GenericSurface, mesh: QuadMesh, steps: usize) -> (QuadMesh, Vec<St
     let lm = LabelledMesh::with_axiom(&s.tables(), mesh).unwrap();
     let (out, stats) = refine_surface(s, &lm, steps).unwrap_or_else(|e| panic!("{e}"));
     (out.mesh, stats)
-}
-
-/// Largest distance from each point of `a` to the nearest unused point of `b`: a bijection
-/// between the two point sets (so they are the same set).
-fn same_points(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    assert_eq!(a.len(), b.len(), "point counts");
-    // Candidates by x: a window of width 2e-9 around each point's x.
-    let mut order: Vec<usize> = (0..b.len()).collect();
-    order.sort_by(|&i, &j| b[i][0].total_cmp(&b[j][0]));
-    let xs: Vec<f64> = order.iter().map(|&i| b[i][0]).collect();
-    let mut used = vec![false; b.len()];
-    let mut worst = 0.0f64;
-    for p in a {
-        let start = xs.partition_point(|&x| x < p[0] - 1e-9);
-        let (j, d) = order[start..]
-            .iter()
-            .take_while(|&&j| b[j][0] <= p[0] + 1e-9)
-            .filter(|&&j| !used[j]) // coincident points (self-intersecting immersions) pair up
-            .map(|&j| {
-                (
-                    j,
-                    (0..3).map(|c| (p[c] - b[j][c]).abs()).fold(0.0, f64::max),
-                )
-            })
-            .min_by(|x, y| x.1.total_cmp(&y.1))
-            .unwrap_or((usize::MAX, f64::INFINITY));
-        assert!(j != usize::MAX, "no unused point near {p:?}");
-        used[j] = true;
-        worst = worst.max(d);
-    }
-    worst
 }
 
 #[test]

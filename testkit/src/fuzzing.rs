@@ -6,11 +6,13 @@
 //! error, or a bound on the work so that the fuzzer keeps exploring instead of timing out). An
 //! invariant that fails is a bug and panics, so the fuzzer reports it.
 
+use crate::points::same_points;
 use arbitrary::{Arbitrary, Unstructured};
 use lsubdiv::compiler::exact::lsystem::{LSystem, Source};
 use lsubdiv::compiler::exact::{scheme, symmetry, validity, Scheme};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
+use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
 use lsubdiv::runtime::{generators, patch};
 use lsubdiv::{refine, Curve, CurveScheme};
 
@@ -304,7 +306,8 @@ const MAX_FACES: usize = 20_000;
 /// A small structured input → scheme text → [`scheme::parse`] → [`Scheme::build`] → generic
 /// curve refinement, and, when the scheme passes the surface conditions, the patch path on the
 /// cube. Invariants: the generated text parses; label and point counts agree; a constant
-/// polygon stays constant (partition of unity); refined points and vertices are finite.
+/// polygon stays constant (partition of unity); refined points and vertices are finite, and
+/// the patch path's points are the reference driver's.
 pub fn check_pipeline(data: &[u8]) -> Outcome {
     let mut u = Unstructured::new(data);
     let sys = SmallSystem::draw(&mut u, 4, 4, 4).map_err(|e| e.to_string())?;
@@ -372,5 +375,10 @@ pub fn check_pipeline(data: &[u8]) -> Outcome {
     let nv = fine.positions.len();
     assert!(fine.faces.iter().flatten().all(|&v| (v as usize) < nv));
     assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
+    // The reference driver (level by level, the whole mesh) makes the same points.
+    let labelled = LabelledMesh::with_axiom(&surface.tables(), cube).map_err(|e| e.to_string())?;
+    let (reference, _) = refine_surface(&surface, &labelled, steps).map_err(|e| e.to_string())?;
+    let d = same_points(&fine.positions, &reference.mesh.positions);
+    assert!(d < 1e-12, "patch path off the reference driver by {d:e}");
     Ok(())
 }

@@ -3,4 +3,5 @@
 
 pub mod catmull_clark;
 pub mod fuzzing;
+pub mod points;
 pub mod spline;
