@@ -341,6 +341,7 @@ impl<T: Copy> Rows<'_, T> {
     }
 
     /// The rows' y that are inner rows, 1..N' − 1 (their interior is in [`Rows::inside`]).
+    #[inline(always)]
     pub(super) fn inner(&self) -> std::ops::Range<usize> {
         self.ys.start.max(1)..self.ys.end.min(self.n)
     }
