@@ -227,26 +227,32 @@ fn ev_limit_points_are_fixed_under_refinement() {
     let want = [4.0 / 9.0, 1.0 / 9.0, 1.0 / 36.0];
     assert!((0..3).all(|i| (w[i] - want[i]).abs() < 1e-12), "{w:?}");
     for name in EV_SCHEMES {
-        let s = surface(name);
-        let st = s.surface();
-        let weights = st.ev.limit_weights(3, st.alpha(3).unwrap());
-        let limit = |steps: usize| {
-            let (centre, ring) = cube_one_ring(&s, steps);
-            let mut p = centre.map(|x| weights[0] * x);
-            for (r, d) in ring {
-                for (i, x) in p.iter_mut().enumerate() {
-                    *x += weights[1] * r[i] + weights[2] * d[i];
-                }
-            }
-            p
-        };
-        let (a, b) = (limit(4), limit(5));
-        let diff = (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max);
+        let diff = ev_limit_moves(&surface(name), 4);
         assert!(
             diff < 1e-12,
             "{name}: the EV limit moves by {diff:e} under refinement"
         );
     }
+}
+
+/// How far the cube's EV limit point, from its 1-ring after `steps` steps, moves with one
+/// more step.
+fn ev_limit_moves(s: &lsubdiv::generic::GenericSurface, steps: usize) -> f64 {
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    let st = s.surface();
+    let weights = st.ev.limit_weights(3, st.alpha(3).unwrap());
+    let limit = |steps: usize| {
+        let (centre, ring) = cube_one_ring(s, steps);
+        let mut p = centre.map(|x| weights[0] * x);
+        for (r, d) in ring {
+            for (i, x) in p.iter_mut().enumerate() {
+                *x += weights[1] * r[i] + weights[2] * d[i];
+            }
+        }
+        p
+    };
+    let (a, b) = (limit(steps), limit(steps + 1));
+    (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max)
 }
 
 /// The EV's limit tangents from the stationary 1-ring (`EvCoefficients::tangent_weight`, the
@@ -263,39 +269,46 @@ fn ev_limit_tangents_scale_by_lambda1() {
         .unwrap();
     assert!((c - 2f64.sqrt() / 4.0).abs() < 1e-12, "{c}");
     for name in EV_SCHEMES {
-        let s = surface(name);
-        let st = s.surface();
-        let n = 3;
-        let (c, lambda) = (
-            st.ev.tangent_weight(n).unwrap(),
-            st.ev.block(n, 1).unwrap().0,
-        );
-        let theta = std::f64::consts::TAU / n as f64;
-        let tangents = |steps: usize| {
-            let (mut e1, mut e2) = ([0.0f64; 3], [0.0f64; 3]);
-            for (k, (r, d)) in cube_one_ring(&s, steps).1.into_iter().enumerate() {
-                let (ar, ad) = (theta * k as f64, theta * (k as f64 + 0.5));
-                for i in 0..3 {
-                    e1[i] += ar.cos() * r[i] + c * ad.cos() * d[i];
-                    e2[i] += ar.sin() * r[i] + c * ad.sin() * d[i];
-                }
-            }
-            (e1, e2)
-        };
-        let ((a1, a2), (b1, b2)) = (tangents(4), tangents(5));
-        let size = a1.iter().chain(&a2).fold(0.0f64, |m, x| m.max(x.abs()));
-        let off = (0..3)
-            .map(|i| {
-                (b1[i] - lambda * a1[i])
-                    .abs()
-                    .max((b2[i] - lambda * a2[i]).abs())
-            })
-            .fold(0.0, f64::max);
+        let (off, size) = ev_tangents_off(&surface(name), 4);
         assert!(
             off < 1e-10 * size,
             "{name}: tangents off λ1 scaling by {off:e} (size {size:e})"
         );
     }
+}
+
+/// How far the cube's EV limit tangents, from its 1-ring after `steps` steps, are from λ1
+/// times themselves after one more step, and their size.
+fn ev_tangents_off(s: &lsubdiv::generic::GenericSurface, steps: usize) -> (f64, f64) {
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    let st = s.surface();
+    let n = 3;
+    let (c, lambda) = (
+        st.ev.tangent_weight(n).unwrap(),
+        st.ev.block(n, 1).unwrap().0,
+    );
+    let theta = std::f64::consts::TAU / n as f64;
+    let tangents = |steps: usize| {
+        let (mut e1, mut e2) = ([0.0f64; 3], [0.0f64; 3]);
+        for (k, (r, d)) in cube_one_ring(s, steps).1.into_iter().enumerate() {
+            let (ar, ad) = (theta * k as f64, theta * (k as f64 + 0.5));
+            for i in 0..3 {
+                e1[i] += ar.cos() * r[i] + c * ad.cos() * d[i];
+                e2[i] += ar.sin() * r[i] + c * ad.sin() * d[i];
+            }
+        }
+        (e1, e2)
+    };
+    let ((a1, a2), (b1, b2)) = (tangents(steps), tangents(steps + 1));
+    let size = a1.iter().chain(&a2).fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = (0..3)
+        .map(|i| {
+            (b1[i] - lambda * a1[i])
+                .abs()
+                .max((b2[i] - lambda * a2[i]).abs())
+        })
+        .fold(0.0, f64::max);
+    (off, size)
 }
 
 /// The surface schemes, by name, with their exact interval lengths as f64.
@@ -457,6 +470,30 @@ proptest::proptest! {
             }
             torus_limit_is_the_tensor_b_spline(&text, &s, &lengths, steps);
         }
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 32, ..Default::default() })]
+
+    /// Random symmetric surface schemes (`common::surface_systems`), once the labels around
+    /// the cube's EVs are stationary (\[G\] Lemma 4.6): the EV limit point from the 1-ring does
+    /// not move with one more step, and the limit tangents scale by λ1.
+    #[test]
+    fn random_schemes_ev_limits_hold_under_refinement(sys in common::surface_systems()) {
+        use lsubdiv::runtime::surface::SurfaceScheme;
+        use lsubdiv::CurveScheme;
+        let Some((text, _, s)) = common::drawn_surface(&sys) else {
+            return Ok(());
+        };
+        let steps = s.surface().stationary_from() + 1;
+        if s.tables().image_len(s.tables().axiom, steps + 1) > 48 {
+            return Ok(());
+        }
+        let diff = ev_limit_moves(&s, steps);
+        proptest::prop_assert!(diff < 1e-12, "EV limit moves by {diff:e}\n{text}");
+        let (off, size) = ev_tangents_off(&s, steps);
+        proptest::prop_assert!(off < 1e-10 * size, "tangents off by {off:e} of {size:e}\n{text}");
     }
 }
 
