@@ -505,9 +505,9 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
 
 /// Random symmetric surface schemes (`common::surface_systems`): the patch path (composed
 /// patches on the torus and the Klein bottle, fans around the cube's EVs) gives the reference
-/// driver's points on every SIMD path, one and two threads, and f32 gives f64's to 1e-5, for
-/// as many steps as keep the output small. The composed kernel meets N', band widths and tile
-/// layouts no shipped scheme has.
+/// driver's points on every SIMD path, the same bits on one and two threads, and f32 gives
+/// f64's to 1e-5, for as many steps as keep the output small. The composed kernel meets N',
+/// band widths and tile layouts no shipped scheme has.
 mod random_surfaces {
     use super::*;
     use lsubdiv::runtime::patch::{Refiner, Simd};
@@ -539,18 +539,27 @@ mod random_surfaces {
                     }
                     let (reference, _) = refine(&s, mesh.clone(), steps);
                     for simd in Simd::available() {
-                        // Streamed (whole lines non-temporal) on one thread, plain on two.
+                        // Streamed (whole lines non-temporal) on one thread, plain on two:
+                        // the same bits.
+                        let mut outputs = Vec::new();
                         for (threads, stream) in [(1, 0), (2, usize::MAX)] {
                             let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
                             r.set_simd(simd);
                             r.set_stream_bytes(stream);
-                            let d = same_points(r.refine(&mesh.positions).unwrap(), &reference.positions);
+                            let out = r.refine(&mesh.positions).unwrap().to_vec();
+                            let d = same_points(&out, &reference.positions);
                             prop_assert!(
                                 d < 1e-12,
                                 "{label}, {steps} steps, {}, {threads} threads: {d:e}\n{text}",
                                 simd.name()
                             );
+                            outputs.push(out);
                         }
+                        prop_assert!(
+                            outputs[0] == outputs[1],
+                            "{label}, {steps} steps, {}: threads changed bits\n{text}",
+                            simd.name()
+                        );
                         let d = f32_off(&s, (&mesh, &topo), steps, simd, 1);
                         prop_assert!(d < 1e-5, "{label}, {steps} steps, {} f32: {d:e}\n{text}", simd.name());
                     }
