@@ -65,6 +65,9 @@ pub(super) struct Composed<T> {
 /// that they are read back from the first-level cache).
 const BAND: usize = 4096;
 
+/// Start rows a face's final rows sum in [`tight_avx512`].
+const BLOCK: usize = 4;
+
 /// Start rows (less the ring) of a stack of faces at most (`Composed::most`).
 const STACK: usize = 16;
 
@@ -170,40 +173,50 @@ impl<T: Real> Composed<T> {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `Simd::Avx2` is only handed out where the CPU has AVX2 and FMA.
             Simd::Avx2 => unsafe { self.run_avx2(scratch, faces) },
-            _ => self.run_any::<false>(scratch, faces),
+            _ => self.run_any::<false, false>(scratch, faces),
         }
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,fma")]
     unsafe fn run_avx512(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
-        self.run_any::<true>(scratch, faces);
+        self.run_any::<true, true>(scratch, faces);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn run_avx2(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
-        self.run_any::<true>(scratch, faces);
+        self.run_any::<true, false>(scratch, faces);
     }
 
     /// The face loop, its sizes made constants where they are the common ones
-    /// ([`Sizes`]) so that the compiler unrolls the loops over them.
+    /// ([`Sizes`]) so that the compiler unrolls the loops over them; `WIDE`: AVX-512F is there
+    /// ([`tight_avx512`]).
     #[inline(always)]
-    fn run_any<const FUSED: bool>(&self, scratch: &mut [T], faces: &mut impl Faces<T>) {
+    fn run_any<const FUSED: bool, const WIDE: bool>(
+        &self,
+        scratch: &mut [T],
+        faces: &mut impl Faces<T>,
+    ) {
         let sizes = Sizes::new(self.m, self.band, self.width);
         match (sizes.m, sizes.band, sizes.width) {
-            (4, 4, 32) => self.faces::<FUSED>(Sizes::new(4, 4, 32), scratch, faces),
-            _ => self.faces::<FUSED>(sizes, scratch, faces),
+            (4, 4, 32) => self.faces::<FUSED, WIDE>(Sizes::new(4, 4, 32), scratch, faces),
+            _ => self.faces::<FUSED, WIDE>(sizes, scratch, faces),
         }
     }
 
     #[inline(always)]
-    fn faces<const FUSED: bool>(&self, sizes: Sizes, scratch: &mut [T], faces: &mut impl Faces<T>) {
+    fn faces<const FUSED: bool, const WIDE: bool>(
+        &self,
+        sizes: Sizes,
+        scratch: &mut [T],
+        faces: &mut impl Faces<T>,
+    ) {
         let mut i = 0;
         while i < faces.count() {
             let patch = &mut scratch[..self.patch_len(sizes.m)];
             let stack = faces.load(i, self.most, patch);
-            self.refine::<FUSED>(sizes, stack, scratch, faces);
+            self.refine::<FUSED, WIDE>(sizes, stack, scratch, faces);
             i += stack;
         }
     }
@@ -219,7 +232,7 @@ impl<T: Real> Composed<T> {
     /// (FMA). The faces share their start rows, so each is refined along x once; face q's
     /// final row y is from its own start rows, q·N₀ up, and its row 0 is face q − 1's row N'.
     #[inline(always)]
-    fn refine<const FUSED: bool>(
+    fn refine<const FUSED: bool, const WIDE: bool>(
         &self,
         sizes: Sizes,
         stack: usize,
@@ -264,11 +277,25 @@ impl<T: Real> Composed<T> {
         // Along y: each final row, a sum of whole refined rows, in bands of `self.rows`. Rows
         // 0 and N' only where wanted; row 0 of a face after the first is the row N' before
         // it, kept in `top`.
+        // On AVX-512, where every final row sums the same start rows (band = m = 4) in one
+        // tile and a face's rows make one band, they are summed in one tight loop
+        // ([`tight_avx512`]).
+        let tight = WIDE && width == TILE && band == m && m == BLOCK && self.rows > n;
         for q in 0..stack {
             let left = faces.wants_left(q);
             for y0 in (0..=n).step_by(self.rows) {
                 let ys = y0..(y0 + self.rows).min(n + 1);
-                for y in ys.clone() {
+                if tight {
+                    let rows = &a[q * n0 * width..][..BLOCK * TILE];
+                    let ws = &self.weights[..(n + 1) * BLOCK];
+                    // SAFETY: `WIDE` is only set on the path compiled for AVX-512F.
+                    unsafe { tight_avx512(rows, ws, out, inside, len) };
+                    if q > 0 {
+                        out[..width].copy_from_slice(top);
+                    }
+                }
+                // Else row by row, each only where wanted.
+                for y in if tight { 0..0 } else { ys.clone() } {
                     let row = &mut out[(y - y0) * width..][..width];
                     let wanted = match y {
                         0 if q > 0 => {
@@ -423,6 +450,99 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
     if let Some(inside) = inside {
         inside[at + SKIP - LEAD..][..L - SKIP].copy_from_slice(&acc[SKIP..]);
     }
+}
+
+/// Every final row y = 0..=N' of a face (`ws`: [`BLOCK`] weights per row) from its
+/// [`BLOCK`] start-row tiles `rows` into `out`, a tile per row, and the values from point 1
+/// of rows 1..N' − 1 into `inside`, `len` apart, as [`sum`] makes them on the FMA paths (the
+/// same products in the same order, so the same bits). The tiles are held as vectors and the
+/// loop has nothing else in it, so they stay in registers: summed row by row among the
+/// wanted-row tests, the compiler reloads them for every row and splits an f32 tile into
+/// 8 + 16 + 8 lanes (torus: f32 +17–18 %, f64 +4–11 %, docs/benchmarks.md).
+///
+/// # Safety
+/// The CPU has AVX-512F.
+#[inline(always)]
+unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mut [T], len: usize) {
+    let n = ws.len() / BLOCK - 1;
+    assert!(rows.len() == BLOCK * TILE && out.len() >= (n + 1) * TILE && n >= 1);
+    assert!(inside.len() >= (n - 1) * len + TILE - LEAD);
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: AVX-512F (the caller's contract); every load and store is within the slices
+    // (checked above: rows of TILE values, `inside` rows from `LEAD` on); the masked store
+    // writes only its lanes 8..16, at `d`'s first 8 values.
+    unsafe {
+        use std::arch::x86_64::*;
+        let (rows, ws) = (rows.as_ptr(), ws.as_ptr());
+        let (out, inside) = (out.as_mut_ptr(), inside.as_mut_ptr());
+        if size_of::<T>() == 8 {
+            let (rows, ws, out, inside) = (
+                rows.cast::<f64>(),
+                ws.cast::<f64>(),
+                out.cast::<f64>(),
+                inside.cast::<f64>(),
+            );
+            let mut r = [[_mm512_setzero_pd(); 4]; BLOCK];
+            for (i, r) in r.iter_mut().enumerate() {
+                for (k, v) in r.iter_mut().enumerate() {
+                    *v = _mm512_loadu_pd(rows.add(i * TILE + 8 * k));
+                }
+            }
+            for y in 0..=n {
+                let mut acc = [_mm512_setzero_pd(); 4];
+                for (i, r) in r.iter().enumerate() {
+                    let w = _mm512_set1_pd(*ws.add(y * BLOCK + i));
+                    for (a, v) in acc.iter_mut().zip(r) {
+                        *a = _mm512_fmadd_pd(w, *v, *a);
+                    }
+                }
+                for (k, a) in acc.iter().enumerate() {
+                    _mm512_storeu_pd(out.add(y * TILE + 8 * k), *a);
+                }
+                if y != 0 && y != n {
+                    let d = inside.add((y - 1) * len);
+                    for (k, a) in acc.iter().enumerate().skip(1) {
+                        _mm512_storeu_pd(d.add(8 * (k - 1)), *a);
+                    }
+                }
+            }
+        } else {
+            let (rows, ws, out, inside) = (
+                rows.cast::<f32>(),
+                ws.cast::<f32>(),
+                out.cast::<f32>(),
+                inside.cast::<f32>(),
+            );
+            let mut r = [[_mm512_setzero_ps(); 2]; BLOCK];
+            for (i, r) in r.iter_mut().enumerate() {
+                for (k, v) in r.iter_mut().enumerate() {
+                    *v = _mm512_loadu_ps(rows.add(i * TILE + 16 * k));
+                }
+            }
+            for y in 0..=n {
+                let mut acc = [_mm512_setzero_ps(); 2];
+                for (i, r) in r.iter().enumerate() {
+                    let w = _mm512_set1_ps(*ws.add(y * BLOCK + i));
+                    for (a, v) in acc.iter_mut().zip(r) {
+                        *a = _mm512_fmadd_ps(w, *v, *a);
+                    }
+                }
+                for (k, a) in acc.iter().enumerate() {
+                    _mm512_storeu_ps(out.add(y * TILE + 16 * k), *a);
+                }
+                if y != 0 && y != n {
+                    let d = inside.add((y - 1) * len);
+                    _mm512_mask_storeu_ps(d.wrapping_sub(8), 0xff00, acc[0]);
+                    _mm512_storeu_ps(d.add(8), acc[1]);
+                }
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    unreachable!(
+        "AVX-512 is x86-64's: {:?}",
+        (rows.len(), ws.len(), out.len(), inside.len(), len)
+    );
 }
 
 /// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from
