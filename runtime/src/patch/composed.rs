@@ -458,7 +458,8 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
 /// same products in the same order, so the same bits). The tiles are held as vectors and the
 /// loop has nothing else in it, so they stay in registers: summed row by row among the
 /// wanted-row tests, the compiler reloads them for every row and splits an f32 tile into
-/// 8 + 16 + 8 lanes (torus: f32 +17–18 %, f64 +4–11 %, docs/benchmarks.md).
+/// 8 + 16 + 8 lanes (torus: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary +8 %, uniform
+/// binary f64 within noise; docs/benchmarks.md).
 ///
 /// # Safety
 /// The CPU has AVX-512F.
