@@ -470,73 +470,18 @@ unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mu
     assert!(inside.len() >= (n - 1) * len + TILE - LEAD);
     #[cfg(target_arch = "x86_64")]
     // SAFETY: AVX-512F (the caller's contract); every load and store is within the slices
-    // (checked above: rows of TILE values, `inside` rows from `LEAD` on); the masked store
-    // writes only its lanes 8..16, at `d`'s first 8 values.
+    // (checked above). T is f64 or f32 (`Real`), told apart by its size.
     unsafe {
-        use std::arch::x86_64::*;
-        let (rows, ws) = (rows.as_ptr(), ws.as_ptr());
-        let (out, inside) = (out.as_mut_ptr(), inside.as_mut_ptr());
+        let (r, w, o, i) = (
+            rows.as_ptr(),
+            ws.as_ptr(),
+            out.as_mut_ptr(),
+            inside.as_mut_ptr(),
+        );
         if size_of::<T>() == 8 {
-            let (rows, ws, out, inside) = (
-                rows.cast::<f64>(),
-                ws.cast::<f64>(),
-                out.cast::<f64>(),
-                inside.cast::<f64>(),
-            );
-            let mut r = [[_mm512_setzero_pd(); 4]; BLOCK];
-            for (i, r) in r.iter_mut().enumerate() {
-                for (k, v) in r.iter_mut().enumerate() {
-                    *v = _mm512_loadu_pd(rows.add(i * TILE + 8 * k));
-                }
-            }
-            for y in 0..=n {
-                let mut acc = [_mm512_setzero_pd(); 4];
-                for (i, r) in r.iter().enumerate() {
-                    let w = _mm512_set1_pd(*ws.add(y * BLOCK + i));
-                    for (a, v) in acc.iter_mut().zip(r) {
-                        *a = _mm512_fmadd_pd(w, *v, *a);
-                    }
-                }
-                for (k, a) in acc.iter().enumerate() {
-                    _mm512_storeu_pd(out.add(y * TILE + 8 * k), *a);
-                }
-                if y != 0 && y != n {
-                    let d = inside.add((y - 1) * len);
-                    for (k, a) in acc.iter().enumerate().skip(1) {
-                        _mm512_storeu_pd(d.add(8 * (k - 1)), *a);
-                    }
-                }
-            }
+            tight_rows::<f64>(r.cast(), w.cast(), n, o.cast(), i.cast(), len);
         } else {
-            let (rows, ws, out, inside) = (
-                rows.cast::<f32>(),
-                ws.cast::<f32>(),
-                out.cast::<f32>(),
-                inside.cast::<f32>(),
-            );
-            let mut r = [[_mm512_setzero_ps(); 2]; BLOCK];
-            for (i, r) in r.iter_mut().enumerate() {
-                for (k, v) in r.iter_mut().enumerate() {
-                    *v = _mm512_loadu_ps(rows.add(i * TILE + 16 * k));
-                }
-            }
-            for y in 0..=n {
-                let mut acc = [_mm512_setzero_ps(); 2];
-                for (i, r) in r.iter().enumerate() {
-                    let w = _mm512_set1_ps(*ws.add(y * BLOCK + i));
-                    for (a, v) in acc.iter_mut().zip(r) {
-                        *a = _mm512_fmadd_ps(w, *v, *a);
-                    }
-                }
-                for (k, a) in acc.iter().enumerate() {
-                    _mm512_storeu_ps(out.add(y * TILE + 16 * k), *a);
-                }
-                if y != 0 && y != n {
-                    let d = inside.add((y - 1) * len);
-                    _mm512_mask_storeu_ps(d.wrapping_sub(8), 0xff00, acc[0]);
-                    _mm512_storeu_ps(d.add(8), acc[1]);
-                }
-            }
+            tight_rows::<f32>(r.cast(), w.cast(), n, o.cast(), i.cast(), len);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -544,6 +489,131 @@ unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mu
         "AVX-512 is x86-64's: {:?}",
         (rows.len(), ws.len(), out.len(), inside.len(), len)
     );
+}
+
+/// [`tight_avx512`] on the scalar's vectors.
+///
+/// # Safety
+/// As [`tight_avx512`], its slices' bounds checked.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn tight_rows<L: Lanes>(
+    rows: *const L,
+    ws: *const L,
+    n: usize,
+    out: *mut L,
+    inside: *mut L,
+    len: usize,
+) {
+    let per = TILE / L::VECS;
+    // SAFETY: the caller's.
+    unsafe {
+        let mut r = [[L::zero(); 4]; BLOCK];
+        for (i, r) in r.iter_mut().enumerate() {
+            for (k, v) in r.iter_mut().enumerate().take(L::VECS) {
+                *v = L::load(rows.add(i * TILE + per * k));
+            }
+        }
+        for y in 0..=n {
+            let mut acc = [L::zero(); 4];
+            for (i, r) in r.iter().enumerate() {
+                let w = L::splat(*ws.add(y * BLOCK + i));
+                for (a, v) in acc.iter_mut().zip(r).take(L::VECS) {
+                    *a = L::fmadd(w, *v, *a);
+                }
+            }
+            for (k, a) in acc.iter().enumerate().take(L::VECS) {
+                L::store(out.add(y * TILE + per * k), *a);
+            }
+            if y != 0 && y != n {
+                L::store_from_lead(inside.add((y - 1) * len), &acc);
+            }
+        }
+    }
+}
+
+/// A scalar's AVX-512 vectors, for [`tight_rows`] (every method needs AVX-512F).
+#[cfg(target_arch = "x86_64")]
+trait Lanes: Copy {
+    /// A vector of them.
+    type V: Copy;
+    /// Vectors in a tile (at most 4).
+    const VECS: usize;
+    unsafe fn zero() -> Self::V;
+    unsafe fn load(p: *const Self) -> Self::V;
+    unsafe fn splat(x: Self) -> Self::V;
+    unsafe fn fmadd(a: Self::V, b: Self::V, c: Self::V) -> Self::V;
+    unsafe fn store(p: *mut Self, v: Self::V);
+    /// Stores a tile's values from [`LEAD`] on (its first `VECS` vectors) at `d`.
+    unsafe fn store_from_lead(d: *mut Self, tile: &[Self::V; 4]);
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Lanes for f64 {
+    type V = std::arch::x86_64::__m512d;
+    const VECS: usize = 4;
+    #[inline(always)]
+    unsafe fn zero() -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_setzero_pd() }
+    }
+    #[inline(always)]
+    unsafe fn load(p: *const Self) -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_loadu_pd(p) }
+    }
+    #[inline(always)]
+    unsafe fn splat(x: Self) -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_set1_pd(x) }
+    }
+    #[inline(always)]
+    unsafe fn fmadd(a: Self::V, b: Self::V, c: Self::V) -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_fmadd_pd(a, b, c) }
+    }
+    #[inline(always)]
+    unsafe fn store(p: *mut Self, v: Self::V) {
+        unsafe { std::arch::x86_64::_mm512_storeu_pd(p, v) }
+    }
+    /// [`LEAD`] is one vector: the three after it.
+    #[inline(always)]
+    unsafe fn store_from_lead(d: *mut Self, tile: &[Self::V; 4]) {
+        for (k, v) in tile.iter().enumerate().skip(1) {
+            unsafe { Self::store(d.add(8 * (k - 1)), *v) };
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Lanes for f32 {
+    type V = std::arch::x86_64::__m512;
+    const VECS: usize = 2;
+    #[inline(always)]
+    unsafe fn zero() -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_setzero_ps() }
+    }
+    #[inline(always)]
+    unsafe fn load(p: *const Self) -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_loadu_ps(p) }
+    }
+    #[inline(always)]
+    unsafe fn splat(x: Self) -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_set1_ps(x) }
+    }
+    #[inline(always)]
+    unsafe fn fmadd(a: Self::V, b: Self::V, c: Self::V) -> Self::V {
+        unsafe { std::arch::x86_64::_mm512_fmadd_ps(a, b, c) }
+    }
+    #[inline(always)]
+    unsafe fn store(p: *mut Self, v: Self::V) {
+        unsafe { std::arch::x86_64::_mm512_storeu_ps(p, v) }
+    }
+    /// [`LEAD`] is half a vector: the first vector's upper half by a masked store (its lower
+    /// lanes are not written), then the second.
+    #[inline(always)]
+    unsafe fn store_from_lead(d: *mut Self, tile: &[Self::V; 4]) {
+        unsafe {
+            std::arch::x86_64::_mm512_mask_storeu_ps(d.wrapping_sub(LEAD), 0xff00, tile[0]);
+            Self::store(d.add(LEAD), tile[1]);
+        }
+    }
 }
 
 /// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from
