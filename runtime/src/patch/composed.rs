@@ -34,7 +34,10 @@
 //! is compiled for AVX-512, AVX2 (both with fused multiply-add) and the baseline, chosen at
 //! run time ([`Simd`]). The operations and their order are the same on every path; the FMA
 //! paths round each product-and-sum once, so they differ from the baseline by rounding only
-//! (and AVX2 and AVX-512 give the same bits).
+//! (and AVX2 and AVX-512 give the same bits). Where a face's final rows all sum the same four
+//! start rows in one tile (the torus, with every shipped scheme), the AVX-512 path sums them in
+//! one tight loop with those rows held in vector registers ([`tight_avx512`]): the same
+//! operations in the same order.
 
 use super::Simd;
 use crate::real::Real;
