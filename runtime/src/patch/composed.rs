@@ -283,17 +283,27 @@ impl<T: Real> Composed<T> {
         // On AVX-512, where every final row sums the same start rows (band = m = 4) in one
         // tile and a face's rows make one band, they are summed in one tight loop
         // ([`tight_avx512`]).
-        let tight = WIDE && width == TILE && band == m && m == BLOCK && self.rows > n;
+        let tight = WIDE && band == m && m == BLOCK;
         for q in 0..stack {
             let left = faces.wants_left(q);
             for y0 in (0..=n).step_by(self.rows) {
                 let ys = y0..(y0 + self.rows).min(n + 1);
                 if tight {
-                    let rows = &a[q * n0 * width..][..BLOCK * TILE];
-                    let ws = &self.weights[..(n + 1) * BLOCK];
-                    // SAFETY: `WIDE` is only set on the path compiled for AVX-512F.
-                    unsafe { tight_avx512(rows, ws, out, inside, len) };
-                    if q > 0 {
+                    let rows = &a[q * n0 * width..][..BLOCK * width];
+                    // Last tile first: a row's last interior tile runs on into the next row's
+                    // first ones, stored after it.
+                    for t in (0..width / TILE).rev() {
+                        let band = Band {
+                            ys: ys.clone(),
+                            n,
+                            width,
+                            len,
+                            tile: t,
+                        };
+                        // SAFETY: `WIDE` is only set on the path compiled for AVX-512F.
+                        unsafe { tight_avx512(rows, &self.weights, out, inside, band) };
+                    }
+                    if q > 0 && y0 == 0 {
                         out[..width].copy_from_slice(top);
                     }
                 }
@@ -455,10 +465,21 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
     }
 }
 
-/// Every final row y = 0..=N' of a face (`ws`: [`BLOCK`] weights per row) from its
-/// [`BLOCK`] start-row tiles `rows` into `out`, a tile per row, and the values from point 1
-/// of rows 1..N' − 1 into `inside`, `len` apart, as [`sum`] makes them on the FMA paths (the
-/// same products in the same order, so the same bits). The tiles are held as vectors and the
+/// Tile `tile` of a band `ys` of a face's final rows (of 0..=N'), rows `width` values apart,
+/// interiors `len` apart ([`tight_avx512`]).
+struct Band {
+    ys: std::ops::Range<usize>,
+    n: usize,
+    width: usize,
+    len: usize,
+    tile: usize,
+}
+
+/// Tile `band.tile` of a face's final rows `band.ys` (`ws`: [`BLOCK`] weights per row y)
+/// from the same tile of its [`BLOCK`] start rows `rows`: each row into `out` (the band's
+/// rows), and its values from point 1 on into `inside` where the row is one of 1..N' − 1 and
+/// the tile holds interior points, as [`sum`] makes them on the FMA paths (the same products
+/// in the same order, so the same bits). The start-row tiles are held as vectors and the
 /// loop has nothing else in it, so they stay in registers: summed row by row among the
 /// wanted-row tests, the compiler reloads them for every row and splits an f32 tile into
 /// 8 + 16 + 8 lanes (torus: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary +8 %, uniform
@@ -467,34 +488,38 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
 /// # Safety
 /// The CPU has AVX-512F.
 #[inline(always)]
-unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mut [T], len: usize) {
-    let n = ws.len() / BLOCK - 1;
-    assert!(rows.len() == BLOCK * TILE && out.len() >= (n + 1) * TILE && n >= 1);
-    assert!(inside.len() >= (n - 1) * len + TILE - LEAD);
+unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mut [T], band: Band) {
+    let Band {
+        ref ys,
+        n,
+        width,
+        len,
+        tile,
+    } = band;
+    let inner = ys.start.max(1)..ys.end.min(n);
+    assert!(rows.len() >= (BLOCK - 1) * width + (tile + 1) * TILE);
+    assert!(ws.len() >= ys.end * BLOCK && out.len() >= (ys.len() - 1) * width + (tile + 1) * TILE);
+    assert!(inside.len() >= inner.len() * len + (tile + 1) * TILE);
     #[cfg(target_arch = "x86_64")]
     // SAFETY: AVX-512F (the caller's contract); every load and store is within the slices
     // (checked above). T is f64 or f32 (`Real`), told apart by its size.
     unsafe {
-        let (r, w, o, i) = (
-            rows.as_ptr(),
-            ws.as_ptr(),
-            out.as_mut_ptr(),
-            inside.as_mut_ptr(),
-        );
+        let (r, w) = (rows.as_ptr().add(tile * TILE), ws.as_ptr());
+        let (o, i) = (out.as_mut_ptr().add(tile * TILE), inside.as_mut_ptr());
         if size_of::<T>() == 8 {
-            tight_rows::<f64>(r.cast(), w.cast(), n, o.cast(), i.cast(), len);
+            tight_rows::<f64>(r.cast(), w.cast(), o.cast(), i.cast(), band);
         } else {
-            tight_rows::<f32>(r.cast(), w.cast(), n, o.cast(), i.cast(), len);
+            tight_rows::<f32>(r.cast(), w.cast(), o.cast(), i.cast(), band);
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     unreachable!(
         "AVX-512 is x86-64's: {:?}",
-        (rows.len(), ws.len(), out.len(), inside.len(), len)
+        (rows.len(), ws.len(), out.len(), inside.len(), band.tile)
     );
 }
 
-/// [`tight_avx512`] on the scalar's vectors.
+/// [`tight_avx512`] on the scalar's vectors: `rows` and `out` at the tile.
 ///
 /// # Safety
 /// As [`tight_avx512`], its slices' bounds checked.
@@ -503,21 +528,32 @@ unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mu
 unsafe fn tight_rows<L: Lanes>(
     rows: *const L,
     ws: *const L,
-    n: usize,
     out: *mut L,
     inside: *mut L,
-    len: usize,
+    band: Band,
 ) {
+    let Band {
+        ys,
+        n,
+        width,
+        len,
+        tile,
+    } = band;
     let per = TILE / L::VECS;
+    // The tile's values from point 1 on: where they go in a row's interior (the values
+    // before point 1, `LEAD`, are not there), and whether it holds any.
+    let from = (tile * TILE).saturating_sub(LEAD);
+    let holds = tile * TILE < LEAD + len;
+    let first = ys.start.max(1);
     // SAFETY: the caller's.
     unsafe {
         let mut r = [[L::zero(); 4]; BLOCK];
         for (i, r) in r.iter_mut().enumerate() {
             for (k, v) in r.iter_mut().enumerate().take(L::VECS) {
-                *v = L::load(rows.add(i * TILE + per * k));
+                *v = L::load(rows.add(i * width + per * k));
             }
         }
-        for y in 0..=n {
+        for y in ys.clone() {
             let mut acc = [L::zero(); 4];
             for (i, r) in r.iter().enumerate() {
                 let w = L::splat(*ws.add(y * BLOCK + i));
@@ -525,11 +561,19 @@ unsafe fn tight_rows<L: Lanes>(
                     *a = L::fmadd(w, *v, *a);
                 }
             }
+            let o = out.add((y - ys.start) * width);
             for (k, a) in acc.iter().enumerate().take(L::VECS) {
-                L::store(out.add(y * TILE + per * k), *a);
+                L::store(o.add(per * k), *a);
             }
-            if y != 0 && y != n {
-                L::store_from_lead(inside.add((y - 1) * len), &acc);
+            if y != 0 && y != n && holds {
+                let d = inside.add((y - first) * len + from);
+                if tile == 0 {
+                    L::store_from_lead(d, &acc);
+                } else {
+                    for (k, a) in acc.iter().enumerate().take(L::VECS) {
+                        L::store(d.add(per * k), *a);
+                    }
+                }
             }
         }
     }
