@@ -299,6 +299,7 @@ impl<T: Real> Composed<T> {
                             width,
                             len,
                             tile: t,
+                            ends: t == 0 || last.contains(&t),
                         };
                         // SAFETY: `WIDE` is only set on the path compiled for AVX-512F.
                         unsafe { tight_avx512(rows, &self.weights, out, inside, band) };
@@ -473,12 +474,15 @@ struct Band {
     width: usize,
     len: usize,
     tile: usize,
+    /// The tile holds point 0 or N', which the writer takes from the rows (else only rows
+    /// 0 and N' keep it there).
+    ends: bool,
 }
 
 /// Tile `band.tile` of a face's final rows `band.ys` (`ws`: [`BLOCK`] weights per row y)
 /// from the same tile of its [`BLOCK`] start rows `rows`: each row into `out` (the band's
-/// rows), and its values from point 1 on into `inside` where the row is one of 1..N' − 1 and
-/// the tile holds interior points, as [`sum`] makes them on the FMA paths (the same products
+/// rows) where it keeps the tile there (`Band::ends`), and its values from point 1 on into
+/// `inside` where the row is one of 1..N' − 1 and the tile holds interior points, as [`sum`] makes them on the FMA paths (the same products
 /// in the same order, so the same bits). The start-row tiles are held as vectors and the
 /// loop has nothing else in it, so they stay in registers: summed row by row among the
 /// wanted-row tests, the compiler reloads them for every row and splits an f32 tile into
@@ -495,6 +499,7 @@ unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mu
         width,
         len,
         tile,
+        ..
     } = band;
     let inner = ys.start.max(1)..ys.end.min(n);
     assert!(rows.len() >= (BLOCK - 1) * width + (tile + 1) * TILE);
@@ -538,6 +543,7 @@ unsafe fn tight_rows<L: Lanes>(
         width,
         len,
         tile,
+        ends,
     } = band;
     let per = TILE / L::VECS;
     // The tile's values from point 1 on: where they go in a row's interior (the values
@@ -561,9 +567,11 @@ unsafe fn tight_rows<L: Lanes>(
                     *a = L::fmadd(w, *v, *a);
                 }
             }
-            let o = out.add((y - ys.start) * width);
-            for (k, a) in acc.iter().enumerate().take(L::VECS) {
-                L::store(o.add(per * k), *a);
+            if ends || y == 0 || y == n {
+                let o = out.add((y - ys.start) * width);
+                for (k, a) in acc.iter().enumerate().take(L::VECS) {
+                    L::store(o.add(per * k), *a);
+                }
             }
             if y != 0 && y != n && holds {
                 let d = inside.add((y - first) * len + from);
