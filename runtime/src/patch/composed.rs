@@ -35,9 +35,9 @@
 //! run time ([`Simd`]). The operations and their order are the same on every path; the FMA
 //! paths round each product-and-sum once, so they differ from the baseline by rounding only
 //! (and AVX2 and AVX-512 give the same bits). Where a face's final rows all sum the same four
-//! start rows in one tile (the torus, with every shipped scheme), the AVX-512 path sums them in
-//! one tight loop with those rows held in vector registers ([`tight_avx512`]): the same
-//! operations in the same order.
+//! start rows (cubic schemes refined from their first step), the AVX-512 path sums a band's
+//! rows tile by tile in one tight loop with those rows' tile held in vector registers
+//! ([`tight_avx512`]): the same operations in the same order.
 
 use super::Simd;
 use crate::real::Real;
@@ -280,9 +280,9 @@ impl<T: Real> Composed<T> {
         // Along y: each final row, a sum of whole refined rows, in bands of `self.rows`. Rows
         // 0 and N' only where wanted; row 0 of a face after the first is the row N' before
         // it, kept in `top`.
-        // On AVX-512, where every final row sums the same start rows (band = m = 4) in one
-        // tile and a face's rows make one band, they are summed in one tight loop
-        // ([`tight_avx512`]).
+        // On AVX-512, where every final row sums the same start rows (band = m = 4: cubic
+        // schemes refined from the first step), a band's rows are summed tile by tile in one
+        // tight loop ([`tight_avx512`]).
         let tight = WIDE && band == m && m == BLOCK;
         for q in 0..stack {
             let left = faces.wants_left(q);
@@ -486,8 +486,9 @@ struct Band {
 /// in the same order, so the same bits). The start-row tiles are held as vectors and the
 /// loop has nothing else in it, so they stay in registers: summed row by row among the
 /// wanted-row tests, the compiler reloads them for every row and splits an f32 tile into
-/// 8 + 16 + 8 lanes (torus: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary +8 %, uniform
-/// binary f64 within noise; docs/benchmarks.md).
+/// 8 + 16 + 8 lanes (torus 256 × 256: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary
+/// +8 %, uniform binary f64 within noise; torus 64 × 64, four tiles a row: f64 +14 %, f32
+/// +50 %; docs/benchmarks.md).
 ///
 /// # Safety
 /// The CPU has AVX-512F.
