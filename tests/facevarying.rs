@@ -14,13 +14,10 @@ use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::subdivide_with;
 use lsubdiv::runtime::polygon::PolyMesh;
 use lsubdiv::runtime::topology::Topology;
-use lsubdiv::CurveScheme;
 
-/// A surface scheme and its exact interval lengths as f64.
-fn surface(name: &str) -> (GenericSurface, Vec<f64>) {
-    let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();
-    let lengths = s.lengths.iter().map(|l| l.to_f64()).collect();
-    (GenericSurface::new(s).unwrap(), lengths)
+/// The compiled surface scheme `name`.
+fn surface(name: &str) -> GenericSurface {
+    GenericSurface::new(Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap()).unwrap()
 }
 
 /// A grid with one texture coordinate per vertex, not an affine image of the positions.
@@ -54,16 +51,11 @@ fn refine(s: &GenericSurface, mesh: &QuadMesh, uv: &QuadUv, rule: UvRule, steps:
 fn linear_uvs_are_bilinear_at_the_knots() {
     let (mesh, uv) = grid_with_uv();
     for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
-        let (s, lengths) = surface(name);
+        let s = surface(name);
         let steps = 2;
         let fine = refine(&s, &mesh, &uv, UvRule::Linear, steps);
-        let t = s.tables();
-        let word = t.iterate(t.axiom, steps);
-        let mut k = vec![0.0];
-        for &a in &word {
-            k.push(k[k.len() - 1] + lengths[a as usize]);
-        }
-        let n = word.len();
+        let k = common::knots(&s, steps);
+        let n = k.len() - 1;
         assert_eq!(fine.faces.len(), mesh.faces.len() * n * n, "{name}");
         let mut worst = 0.0f64;
         for (q, corners) in fine.faces.iter().enumerate() {
@@ -99,7 +91,7 @@ fn linear_uvs_are_bilinear_at_the_knots() {
 fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
     let (mesh, uv) = grid_with_uv();
     for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
-        let (s, _) = surface(name);
+        let s = surface(name);
         let fine = refine(&s, &mesh, &uv, UvRule::Smooth, 2);
         let layout = QuadMesh {
             positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
@@ -131,7 +123,7 @@ fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
 fn smooth_uvs_go_to_the_layouts_limit() {
     use lsubdiv::runtime::patch::limit_with;
     let (mesh, uv) = grid_with_uv();
-    let (s, _) = surface("fibonacci");
+    let s = surface("fibonacci");
     let topo = Topology::build(&mesh).unwrap();
     let f = Features::default();
     let fine: QuadUv = refine_uv(&s, &mesh, &topo, &f, &uv, (UvRule::Smooth, true), 3, 2).unwrap();
@@ -181,7 +173,7 @@ fn seams_keep_their_two_sides_apart() {
     let topo = Topology::build(&mesh).unwrap();
     for rule in [UvRule::Linear, UvRule::Smooth] {
         for name in ["uniform-binary", "fibonacci"] {
-            let (s, _) = surface(name);
+            let s = surface(name);
             let fine = refine(&s, &mesh, &uv, rule, 2);
             let m = subdivide_with::<_, f64>(&s, &mesh, &topo, &Features::default(), 2, 1).unwrap();
             assert_eq!(fine.faces.len(), m.faces.len(), "{name} {rule:?}");
@@ -312,7 +304,7 @@ fn subdivide_refines_texture_coordinates() {
         .collect();
     // The library's linear refinement of the same channel.
     let read = lsubdiv::mesh_file::parse("strip.obj", strip.as_bytes().to_vec()).unwrap();
-    let (s, _) = surface("uniform-binary");
+    let s = surface("uniform-binary");
     let uv = read.uv.as_ref().unwrap();
     let want: QuadUv = refine_uv(
         &s,

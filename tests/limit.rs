@@ -311,18 +311,13 @@ fn ev_tangents_off(s: &lsubdiv::generic::GenericSurface, steps: usize) -> (f64, 
     (off, size)
 }
 
-/// The surface schemes, by name, with their exact interval lengths as f64.
-fn surface_schemes() -> Vec<(&'static str, lsubdiv::generic::GenericSurface, Vec<f64>)> {
+/// The shipped cubic schemes that refine surfaces, by name.
+fn surface_schemes() -> Vec<(&'static str, lsubdiv::generic::GenericSurface)> {
     CUBIC
         .into_iter()
         .filter_map(|name| {
             let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();
-            let lengths = s.lengths.iter().map(|l| l.to_f64()).collect();
-            Some((
-                name,
-                lsubdiv::generic::GenericSurface::new(s).ok()?,
-                lengths,
-            ))
+            Some((name, lsubdiv::generic::GenericSurface::new(s).ok()?))
         })
         .collect()
 }
@@ -371,36 +366,28 @@ fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// limit normals its ∂u × ∂v to an angle of 1e-9, for every surface scheme.
 #[test]
 fn limit_on_the_torus_is_the_tensor_b_spline_at_the_knots() {
-    for (name, s, lengths) in surface_schemes() {
-        torus_limit_is_the_tensor_b_spline(name, &s, &lengths, 3);
+    for (name, s) in surface_schemes() {
+        torus_limit_is_the_tensor_b_spline(name, &s, 3);
     }
 }
 
-/// [`limit_on_the_torus_is_the_tensor_b_spline_at_the_knots`] for one scheme (`lengths`: its
-/// exact interval lengths as f64) and `steps`.
+/// [`limit_on_the_torus_is_the_tensor_b_spline_at_the_knots`] for one scheme and `steps`.
 fn torus_limit_is_the_tensor_b_spline(
     name: &str,
     s: &lsubdiv::generic::GenericSurface,
-    lengths: &[f64],
     steps: usize,
 ) {
     use lsubdiv::runtime::features::Features;
     use lsubdiv::runtime::patch::limit_with;
     use lsubdiv::runtime::topology::Topology;
-    use lsubdiv::CurveScheme;
     let (rows, cols) = (5, 7);
     let torus = lsubdiv::runtime::generators::torus(rows, cols);
     let topo = Topology::build(&torus).unwrap();
     let lim = limit_with::<_, f64>(s, &torus, &topo, &Features::default(), steps, 2).unwrap();
     assert!(lim.approximate.is_empty(), "{name}");
-    // W_s and its knots in base-edge units.
-    let t = s.tables();
-    let word = t.iterate(t.axiom, steps);
-    let mut knots = vec![0.0];
-    for &a in &word {
-        knots.push(knots[knots.len() - 1] + lengths[a as usize]);
-    }
-    let n = word.len();
+    // W_s's knots, in base-edge units.
+    let knots = common::knots(s, steps);
+    let n = knots.len() - 1;
     let total = knots[n];
     let at = |a: i64, b: i64| {
         let id = a.rem_euclid(rows as i64) as usize * cols + b.rem_euclid(cols as i64) as usize;
@@ -460,15 +447,14 @@ proptest::proptest! {
         sys in common::surface_systems()
     ) {
         use lsubdiv::CurveScheme;
-        let Some((text, scheme, s)) = common::drawn_surface(&sys) else {
+        let Some((text, _, s)) = common::drawn_surface(&sys) else {
             return Ok(());
         };
-        let lengths: Vec<f64> = scheme.lengths.iter().map(|l| l.to_f64()).collect();
         for steps in 1..=3 {
             if s.tables().image_len(s.tables().axiom, steps) > 24 {
                 break;
             }
-            torus_limit_is_the_tensor_b_spline(&text, &s, &lengths, steps);
+            torus_limit_is_the_tensor_b_spline(&text, &s, steps);
         }
     }
 }

@@ -63,6 +63,18 @@ pub fn surface_systems() -> impl Strategy<Value = SmallSystem> {
         })
 }
 
+/// The knots of W_s, the axiom rewritten `steps` times: K_0 = 0, …, K_N, the prefix sums of
+/// its symbols' exact interval lengths (as f64), in the parameter of the axiom's own length.
+pub fn knots(s: &GenericSurface, steps: usize) -> Vec<f64> {
+    use lsubdiv::CurveScheme;
+    let t = s.tables();
+    let mut knots = vec![0.0];
+    for &a in &t.iterate(t.axiom, steps) {
+        knots.push(knots[knots.len() - 1] + s.scheme().lengths[a as usize].to_f64());
+    }
+    knots
+}
+
 /// A drawn system's scheme text, its exact scheme and its surface scheme, if it is valid and
 /// passes the surface conditions (\[G\] §4.2); not every drawn system does.
 pub fn drawn_surface(sys: &SmallSystem) -> Option<(String, Scheme, GenericSurface)> {
