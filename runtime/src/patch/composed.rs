@@ -285,9 +285,11 @@ impl<T: Real> Composed<T> {
         // tight loop ([`tight_avx512`]).
         let tight = WIDE && band == m && m == BLOCK;
         for q in 0..stack {
-            let left = faces.wants_left(q);
+            // (Only the row-by-row sums ask.)
+            let left = !tight && faces.wants_left(q);
             for y0 in (0..=n).step_by(self.rows) {
                 let ys = y0..(y0 + self.rows).min(n + 1);
+                let first = inner_rows(&ys, n).start;
                 if tight {
                     let rows = &a[q * n0 * width..][..BLOCK * width];
                     // Last tile first: a row's last interior tile runs on into the next row's
@@ -329,7 +331,7 @@ impl<T: Real> Composed<T> {
                     let a = &a[(q * n0 + self.first[y]) * width..];
                     // The values before point 1 only where point 0 is wanted.
                     let lead = y == 0 || y == n || left || !skips::<T>();
-                    let inner = (y != 0 && y != n).then(|| (y - y0.max(1)) * len);
+                    let inner = (y != 0 && y != n).then(|| (y - first) * len);
                     for t in 0..width / TILE {
                         // An inner row keeps in `out` only its tiles of points 0 and N'.
                         let edge = (t == 0 && lead) || last.contains(&t);
@@ -384,7 +386,7 @@ impl<T: Copy> Rows<'_, T> {
     /// The rows' y that are inner rows, 1..N' − 1 (their interior is in [`Rows::inside`]).
     #[inline(always)]
     pub(super) fn inner(&self) -> std::ops::Range<usize> {
-        self.ys.start.max(1)..self.ys.end.min(self.n)
+        inner_rows(&self.ys, self.n)
     }
 
     /// Row y's points, interleaved, then the rest of the row's tiles. Of a row 1..N' − 1 only
@@ -466,6 +468,13 @@ fn sum<T: Real, const L: usize, const SKIP: usize, const FUSED: bool>(
     }
 }
 
+/// The rows of `ys` that are inner rows of a face's 0..=N', 1..N' − 1: the rows whose
+/// interior goes to the writer as one run.
+#[inline(always)]
+fn inner_rows(ys: &std::ops::Range<usize>, n: usize) -> std::ops::Range<usize> {
+    ys.start.max(1)..ys.end.min(n)
+}
+
 /// Tile `tile` of a band `ys` of a face's final rows (of 0..=N'), rows `width` values apart,
 /// interiors `len` apart ([`tight_avx512`]).
 struct Band {
@@ -482,11 +491,11 @@ struct Band {
 /// Tile `band.tile` of a face's final rows `band.ys` (`ws`: [`BLOCK`] weights per row y)
 /// from the same tile of its [`BLOCK`] start rows `rows`: each row into `out` (the band's
 /// rows) where it keeps the tile there (`Band::ends`), and its values from point 1 on into
-/// `inside` where the row is one of 1..N' − 1 and the tile holds interior points, as [`sum`] makes them on the FMA paths (the same products
-/// in the same order, so the same bits). The start-row tiles are held as vectors and the
-/// loop has nothing else in it, so they stay in registers: summed row by row among the
-/// wanted-row tests, the compiler reloads them for every row and splits an f32 tile into
-/// 8 + 16 + 8 lanes (torus 256 × 256: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary
+/// `inside` where the row is one of 1..N' − 1 and the tile holds interior points, as [`sum`]
+/// makes them on the FMA paths (the same products in the same order, so the same bits). The
+/// start-row tiles are held as vectors and the loop has nothing else in it, so they stay in
+/// registers: summed row by row among the wanted-row tests, the compiler reloads them for
+/// every row and splits an f32 tile into 8 + 16 + 8 lanes (torus 256 × 256: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary
 /// +8 %, uniform binary f64 within noise; torus 64 × 64, four tiles a row: f64 +14 %, f32
 /// +50 %; docs/benchmarks.md).
 ///
@@ -502,7 +511,7 @@ unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mu
         tile,
         ..
     } = band;
-    let inner = ys.start.max(1)..ys.end.min(n);
+    let inner = inner_rows(ys, n);
     assert!(rows.len() >= (BLOCK - 1) * width + (tile + 1) * TILE);
     assert!(ws.len() >= ys.end * BLOCK && out.len() >= (ys.len() - 1) * width + (tile + 1) * TILE);
     assert!(inside.len() >= inner.len() * len + (tile + 1) * TILE);
@@ -551,7 +560,7 @@ unsafe fn tight_rows<L: Lanes>(
     // before point 1, `LEAD`, are not there), and whether it holds any.
     let from = (tile * TILE).saturating_sub(LEAD);
     let holds = tile * TILE < LEAD + len;
-    let first = ys.start.max(1);
+    let first = inner_rows(&ys, n).start;
     // SAFETY: the caller's.
     unsafe {
         let mut r = [[L::zero(); 4]; BLOCK];
