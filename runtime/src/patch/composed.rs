@@ -35,9 +35,9 @@
 //! run time ([`Simd`]). The operations and their order are the same on every path; the FMA
 //! paths round each product-and-sum once, so they differ from the baseline by rounding only
 //! (and AVX2 and AVX-512 give the same bits). Where a face's final rows all sum the same four
-//! start rows (cubic schemes refined from their first step), the AVX-512 path sums a band's
-//! rows tile by tile in one tight loop with those rows' tile held in vector registers
-//! ([`tight_avx512`]): the same operations in the same order.
+//! start rows (cubic schemes refined from their first step), the AVX-512 and AVX2 paths sum
+//! a band's rows tile by tile in one tight loop with those rows' tile (or part of it) held in
+//! vector registers ([`tight_sums`]): the same operations in the same order.
 
 use super::Simd;
 use crate::real::Real;
@@ -68,7 +68,7 @@ pub(super) struct Composed<T> {
 /// that they are read back from the first-level cache).
 const BAND: usize = 4096;
 
-/// Start rows a face's final rows sum in [`tight_avx512`].
+/// Start rows a face's final rows sum in [`tight_sums`].
 const BLOCK: usize = 4;
 
 /// Start rows (less the ring) of a stack of faces at most (`Composed::most`).
@@ -193,8 +193,8 @@ impl<T: Real> Composed<T> {
     }
 
     /// The face loop, its sizes made constants where they are the common ones
-    /// ([`Sizes`]) so that the compiler unrolls the loops over them; `WIDE`: AVX-512F is there
-    /// ([`tight_avx512`]).
+    /// ([`Sizes`]) so that the compiler unrolls the loops over them; `FUSED`: AVX2 and FMA
+    /// are there, `WIDE`: AVX-512F too ([`tight_sums`]).
     #[inline(always)]
     fn run_any<const FUSED: bool, const WIDE: bool>(
         &self,
@@ -280,10 +280,10 @@ impl<T: Real> Composed<T> {
         // Along y: each final row, a sum of whole refined rows, in bands of `self.rows`. Rows
         // 0 and N' only where wanted; row 0 of a face after the first is the row N' before
         // it, kept in `top`.
-        // On AVX-512, where every final row sums the same start rows (band = m = 4: cubic
-        // schemes refined from the first step), a band's rows are summed tile by tile in one
-        // tight loop ([`tight_avx512`]).
-        let tight = WIDE && band == m && m == BLOCK;
+        // On AVX-512 and AVX2, where every final row sums the same start rows (band = m = 4:
+        // cubic schemes refined from the first step), a band's rows are summed tile by tile
+        // in one tight loop ([`tight_sums`]).
+        let tight = FUSED && band == m && m == BLOCK;
         for q in 0..stack {
             // (Only the row-by-row sums ask.)
             let left = !tight && faces.wants_left(q);
@@ -303,8 +303,9 @@ impl<T: Real> Composed<T> {
                             tile: t,
                             ends: t == 0 || last.contains(&t),
                         };
-                        // SAFETY: `WIDE` is only set on the path compiled for AVX-512F.
-                        unsafe { tight_avx512(rows, &self.weights, out, inside, band) };
+                        // SAFETY: `FUSED` is only set on the paths compiled for AVX2 and FMA,
+                        // and `WIDE` on the one compiled for AVX-512F.
+                        unsafe { tight_sums::<T, WIDE>(rows, &self.weights, out, inside, band) };
                     }
                     if q > 0 && y0 == 0 {
                         out[..width].copy_from_slice(top);
@@ -476,7 +477,7 @@ fn inner_rows(ys: &std::ops::Range<usize>, n: usize) -> std::ops::Range<usize> {
 }
 
 /// Tile `tile` of a band `ys` of a face's final rows (of 0..=N'), rows `width` values apart,
-/// interiors `len` apart ([`tight_avx512`]).
+/// interiors `len` apart ([`tight_sums`]).
 struct Band {
     ys: std::ops::Range<usize>,
     n: usize,
@@ -493,16 +494,23 @@ struct Band {
 /// rows) where it keeps the tile there (`Band::ends`), and its values from point 1 on into
 /// `inside` where the row is one of 1..N' − 1 and the tile holds interior points, as [`sum`]
 /// makes them on the FMA paths (the same products in the same order, so the same bits). The
-/// start-row tiles are held as vectors and the loop has nothing else in it, so they stay in
-/// registers: summed row by row among the wanted-row tests, the compiler reloads them for
-/// every row and splits an f32 tile into 8 + 16 + 8 lanes (torus 256 × 256: f32 +16–18 %, Fibonacci f32 +20 %, Binary-Ternary
-/// +8 %, uniform binary f64 within noise; torus 64 × 64, four tiles a row: f64 +14 %, f32
-/// +50 %; docs/benchmarks.md).
+/// start rows' part of the tile is held in vector registers (all of it with AVX-512, parts
+/// of 8 f64 or 16 f32 values with AVX2's 16 registers) and the loop has nothing else in it:
+/// summed row by row among the wanted-row tests, the compiler reloads them for every row
+/// and splits an f32 tile into 8 + 16 + 8 lanes (AVX-512, torus 256 × 256: f32 +16–18 %,
+/// Fibonacci f32 +20 %, Binary-Ternary +8 %, uniform binary f64 within noise; torus 64 × 64,
+/// four tiles a row: f64 +14 %, f32 +50 %; docs/benchmarks.md).
 ///
 /// # Safety
-/// The CPU has AVX-512F.
+/// The CPU has AVX-512F where `WIDE`, else AVX2 and FMA.
 #[inline(always)]
-unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mut [T], band: Band) {
+unsafe fn tight_sums<T: Real, const WIDE: bool>(
+    rows: &[T],
+    ws: &[T],
+    out: &mut [T],
+    inside: &mut [T],
+    band: Band,
+) {
     let Band {
         ref ys,
         n,
@@ -516,35 +524,38 @@ unsafe fn tight_avx512<T: Real>(rows: &[T], ws: &[T], out: &mut [T], inside: &mu
     assert!(ws.len() >= ys.end * BLOCK && out.len() >= (ys.len() - 1) * width + (tile + 1) * TILE);
     assert!(inside.len() >= inner.len() * len + (tile + 1) * TILE);
     #[cfg(target_arch = "x86_64")]
-    // SAFETY: AVX-512F (the caller's contract); every load and store is within the slices
-    // (checked above). T is f64 or f32 (`Real`), told apart by its size.
+    // SAFETY: the instruction sets (the caller's contract); every load and store is within
+    // the slices (checked above). T is f64 or f32 (`Real`), told apart by its size.
     unsafe {
+        use std::arch::x86_64::{__m256, __m256d, __m512, __m512d};
         let (r, w) = (rows.as_ptr().add(tile * TILE), ws.as_ptr());
         let (o, i) = (out.as_mut_ptr().add(tile * TILE), inside.as_mut_ptr());
-        if size_of::<T>() == 8 {
-            tight_rows::<f64>(r.cast(), w.cast(), o.cast(), i.cast(), band);
-        } else {
-            tight_rows::<f32>(r.cast(), w.cast(), o.cast(), i.cast(), band);
+        match (WIDE, size_of::<T>() == 8) {
+            (true, true) => tight_rows::<__m512d>(r.cast(), w.cast(), o.cast(), i.cast(), band),
+            (true, false) => tight_rows::<__m512>(r.cast(), w.cast(), o.cast(), i.cast(), band),
+            (false, true) => tight_rows::<__m256d>(r.cast(), w.cast(), o.cast(), i.cast(), band),
+            (false, false) => tight_rows::<__m256>(r.cast(), w.cast(), o.cast(), i.cast(), band),
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     unreachable!(
-        "AVX-512 is x86-64's: {:?}",
+        "AVX-512 and AVX2 are x86-64's: {:?}",
         (rows.len(), ws.len(), out.len(), inside.len(), band.tile)
     );
 }
 
-/// [`tight_avx512`] on the scalar's vectors: `rows` and `out` at the tile.
+/// [`tight_sums`] in vectors `V`: `rows` and `out` at the tile. The tile's parts go last first, as
+/// the tiles do: a row's interior runs on into the next row's start, stored after it.
 ///
 /// # Safety
-/// As [`tight_avx512`], its slices' bounds checked.
+/// As [`tight_sums`], its slices' bounds checked.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-unsafe fn tight_rows<L: Lanes>(
-    rows: *const L,
-    ws: *const L,
-    out: *mut L,
-    inside: *mut L,
+unsafe fn tight_rows<V: Lanes>(
+    rows: *const V::S,
+    ws: *const V::S,
+    out: *mut V::S,
+    inside: *mut V::S,
     band: Band,
 ) {
     let Band {
@@ -555,41 +566,47 @@ unsafe fn tight_rows<L: Lanes>(
         tile,
         ends,
     } = band;
-    let per = TILE / L::VECS;
-    // The tile's values from point 1 on: where they go in a row's interior (the values
-    // before point 1, `LEAD`, are not there), and whether it holds any.
-    let from = (tile * TILE).saturating_sub(LEAD);
-    let holds = tile * TILE < LEAD + len;
+    let part = V::VECS * V::PER;
     let first = inner_rows(&ys, n).start;
     // SAFETY: the caller's.
     unsafe {
-        let mut r = [[L::zero(); 4]; BLOCK];
-        for (i, r) in r.iter_mut().enumerate() {
-            for (k, v) in r.iter_mut().enumerate().take(L::VECS) {
-                *v = L::load(rows.add(i * width + per * k));
-            }
-        }
-        for y in ys.clone() {
-            let mut acc = [L::zero(); 4];
-            for (i, r) in r.iter().enumerate() {
-                let w = L::splat(*ws.add(y * BLOCK + i));
-                for (a, v) in acc.iter_mut().zip(r).take(L::VECS) {
-                    *a = L::fmadd(w, *v, *a);
+        for p0 in (0..TILE).step_by(part).rev() {
+            // The part's values from point 1 on: whether it holds any (the values before
+            // point 1, `LEAD`, are not in a row's interior).
+            let at = tile * TILE + p0;
+            let holds = at + part > LEAD && at < LEAD + len;
+            let mut r = [[V::zero(); 4]; BLOCK];
+            for (i, r) in r.iter_mut().enumerate() {
+                for (k, v) in r.iter_mut().enumerate().take(V::VECS) {
+                    *v = V::load(rows.add(i * width + p0 + V::PER * k));
                 }
             }
-            if ends || y == 0 || y == n {
-                let o = out.add((y - ys.start) * width);
-                for (k, a) in acc.iter().enumerate().take(L::VECS) {
-                    L::store(o.add(per * k), *a);
+            for y in ys.clone() {
+                let mut acc = [V::zero(); 4];
+                for (i, r) in r.iter().enumerate() {
+                    let w = V::splat(*ws.add(y * BLOCK + i));
+                    for (a, v) in acc.iter_mut().zip(r).take(V::VECS) {
+                        *a = V::fmadd(w, *v, *a);
+                    }
                 }
-            }
-            if y != 0 && y != n && holds {
-                let d = inside.add((y - first) * len + from);
-                if tile == 0 {
-                    L::store_from_lead(d, &acc);
-                } else {
-                    for (k, a) in acc.iter().enumerate().take(L::VECS) {
-                        L::store(d.add(per * k), *a);
+                if ends || y == 0 || y == n {
+                    let o = out.add((y - ys.start) * width + p0);
+                    for (k, a) in acc.iter().enumerate().take(V::VECS) {
+                        V::store(o.add(V::PER * k), *a);
+                    }
+                }
+                if y != 0 && y != n && holds {
+                    // Value v of the row goes to `d + v` (v ≥ LEAD).
+                    let d = inside.add((y - first) * len).wrapping_sub(LEAD);
+                    for (k, a) in acc.iter().enumerate().take(V::VECS) {
+                        // (Told apart by the part alone, so that the branches are decided
+                        // when the loop over the parts is unrolled.)
+                        let v = p0 + V::PER * k;
+                        if tile > 0 || v >= LEAD {
+                            V::store(d.add(at + V::PER * k), *a);
+                        } else if v + V::PER > LEAD {
+                            V::store_past(d.wrapping_add(v), *a, LEAD - v);
+                        }
                     }
                 }
             }
@@ -597,89 +614,131 @@ unsafe fn tight_rows<L: Lanes>(
     }
 }
 
-/// A scalar's AVX-512 vectors, for [`tight_rows`] (every method needs AVX-512F).
+/// A vector of a scalar, for [`tight_rows`] (every method needs the vector's instruction set:
+/// AVX-512F, or AVX2 and FMA).
 #[cfg(target_arch = "x86_64")]
 trait Lanes: Copy {
-    /// A vector of them.
-    type V: Copy;
-    /// Vectors in a tile (at most 4).
+    /// The scalar.
+    type S: Copy;
+    /// Scalars in a vector.
+    const PER: usize;
+    /// Vectors a start row's part of a tile is held in (at most 4): four such rows, a row's
+    /// sums and a weight in the registers there are.
     const VECS: usize;
-    unsafe fn zero() -> Self::V;
-    unsafe fn load(p: *const Self) -> Self::V;
-    unsafe fn splat(x: Self) -> Self::V;
-    unsafe fn fmadd(a: Self::V, b: Self::V, c: Self::V) -> Self::V;
-    unsafe fn store(p: *mut Self, v: Self::V);
-    /// Stores a tile's values from [`LEAD`] on (its first `VECS` vectors) at `d`.
-    unsafe fn store_from_lead(d: *mut Self, tile: &[Self::V; 4]);
+    unsafe fn zero() -> Self;
+    unsafe fn load(p: *const Self::S) -> Self;
+    unsafe fn splat(x: Self::S) -> Self;
+    unsafe fn fmadd(a: Self, b: Self, c: Self) -> Self;
+    unsafe fn store(p: *mut Self::S, v: Self);
+    /// Stores the lanes from `skip` on of `v` at `p` (lane l at `p + l`; those before `skip`
+    /// are not written).
+    unsafe fn store_past(p: *mut Self::S, v: Self, skip: usize);
 }
 
-#[cfg(target_arch = "x86_64")]
-impl Lanes for f64 {
-    type V = std::arch::x86_64::__m512d;
-    const VECS: usize = 4;
-    #[inline(always)]
-    unsafe fn zero() -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_setzero_pd() }
-    }
-    #[inline(always)]
-    unsafe fn load(p: *const Self) -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_loadu_pd(p) }
-    }
-    #[inline(always)]
-    unsafe fn splat(x: Self) -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_set1_pd(x) }
-    }
-    #[inline(always)]
-    unsafe fn fmadd(a: Self::V, b: Self::V, c: Self::V) -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_fmadd_pd(a, b, c) }
-    }
-    #[inline(always)]
-    unsafe fn store(p: *mut Self, v: Self::V) {
-        unsafe { std::arch::x86_64::_mm512_storeu_pd(p, v) }
-    }
-    /// [`LEAD`] is one vector: the three after it.
-    #[inline(always)]
-    unsafe fn store_from_lead(d: *mut Self, tile: &[Self::V; 4]) {
-        for (k, v) in tile.iter().enumerate().skip(1) {
-            unsafe { Self::store(d.add(8 * (k - 1)), *v) };
+/// The [`Lanes`] of a vector type: its scalar, lanes, vectors per part, and intrinsics
+/// (zero, unaligned load, broadcast, fused multiply-add, unaligned store, masked store).
+macro_rules! lanes {
+    ($v:ident, $s:ty, $per:expr, $vecs:expr, $zero:ident, $load:ident, $splat:ident,
+     $fmadd:ident, $store:ident, |$p:ident, $x:ident, $skip:ident| $past:expr) => {
+        #[cfg(target_arch = "x86_64")]
+        impl Lanes for std::arch::x86_64::$v {
+            type S = $s;
+            const PER: usize = $per;
+            const VECS: usize = $vecs;
+            #[inline(always)]
+            unsafe fn zero() -> Self {
+                unsafe { std::arch::x86_64::$zero() }
+            }
+            #[inline(always)]
+            unsafe fn load(p: *const $s) -> Self {
+                unsafe { std::arch::x86_64::$load(p) }
+            }
+            #[inline(always)]
+            unsafe fn splat(x: $s) -> Self {
+                unsafe { std::arch::x86_64::$splat(x) }
+            }
+            #[inline(always)]
+            unsafe fn fmadd(a: Self, b: Self, c: Self) -> Self {
+                unsafe { std::arch::x86_64::$fmadd(a, b, c) }
+            }
+            #[inline(always)]
+            unsafe fn store(p: *mut $s, v: Self) {
+                unsafe { std::arch::x86_64::$store(p, v) }
+            }
+            #[inline(always)]
+            unsafe fn store_past($p: *mut $s, $x: Self, $skip: usize) {
+                #[allow(unused_unsafe)]
+                unsafe {
+                    use std::arch::x86_64::*;
+                    $past
+                }
+            }
         }
-    }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-impl Lanes for f32 {
-    type V = std::arch::x86_64::__m512;
-    const VECS: usize = 2;
-    #[inline(always)]
-    unsafe fn zero() -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_setzero_ps() }
-    }
-    #[inline(always)]
-    unsafe fn load(p: *const Self) -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_loadu_ps(p) }
-    }
-    #[inline(always)]
-    unsafe fn splat(x: Self) -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_set1_ps(x) }
-    }
-    #[inline(always)]
-    unsafe fn fmadd(a: Self::V, b: Self::V, c: Self::V) -> Self::V {
-        unsafe { std::arch::x86_64::_mm512_fmadd_ps(a, b, c) }
-    }
-    #[inline(always)]
-    unsafe fn store(p: *mut Self, v: Self::V) {
-        unsafe { std::arch::x86_64::_mm512_storeu_ps(p, v) }
-    }
-    /// [`LEAD`] is half a vector: the first vector's upper half by a masked store (its lower
-    /// lanes are not written), then the second.
-    #[inline(always)]
-    unsafe fn store_from_lead(d: *mut Self, tile: &[Self::V; 4]) {
-        unsafe {
-            std::arch::x86_64::_mm512_mask_storeu_ps(d.wrapping_sub(LEAD), 0xff00, tile[0]);
-            Self::store(d.add(LEAD), tile[1]);
-        }
-    }
-}
+lanes!(
+    __m512d,
+    f64,
+    8,
+    4,
+    _mm512_setzero_pd,
+    _mm512_loadu_pd,
+    _mm512_set1_pd,
+    _mm512_fmadd_pd,
+    _mm512_storeu_pd,
+    |p, v, skip| _mm512_mask_storeu_pd(p, (0xffu32 << skip) as u8, v)
+);
+lanes!(
+    __m512,
+    f32,
+    16,
+    2,
+    _mm512_setzero_ps,
+    _mm512_loadu_ps,
+    _mm512_set1_ps,
+    _mm512_fmadd_ps,
+    _mm512_storeu_ps,
+    |p, v, skip| _mm512_mask_storeu_ps(p, (0xffffu32 << skip) as u16, v)
+);
+lanes!(
+    __m256d,
+    f64,
+    4,
+    2,
+    _mm256_setzero_pd,
+    _mm256_loadu_pd,
+    _mm256_set1_pd,
+    _mm256_fmadd_pd,
+    _mm256_storeu_pd,
+    |p, v, skip| _mm256_maskstore_pd(
+        p,
+        _mm256_cmpgt_epi64(
+            _mm256_setr_epi64x(0, 1, 2, 3),
+            _mm256_set1_epi64x(skip as i64 - 1)
+        ),
+        v
+    )
+);
+lanes!(
+    __m256,
+    f32,
+    8,
+    2,
+    _mm256_setzero_ps,
+    _mm256_loadu_ps,
+    _mm256_set1_ps,
+    _mm256_fmadd_ps,
+    _mm256_storeu_ps,
+    |p, v, skip| _mm256_maskstore_ps(
+        p,
+        _mm256_cmpgt_epi32(
+            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+            _mm256_set1_epi32(skip as i32 - 1)
+        ),
+        v
+    )
+);
 
 /// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from
 /// a closure: a closure does not take the kernel's target features, and `mul_add` there is a
