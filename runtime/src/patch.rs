@@ -681,22 +681,32 @@ impl Base<'_> {
         slot: &[u32],
         patches: &mut [Vec<T>],
     ) {
-        let mut copies: Vec<((i64, i64), [T; 3])> = Vec::new();
-        let read = |g: u32, x: i64, y: i64| -> Option<[T; 3]> {
-            let p = patches.get(*slot.get(g as usize)? as usize)?;
-            let i = layout.at(x, y);
-            Some([p[i], p[i + 1], p[i + 2]])
+        let Some(&own) = slot.get(f as usize) else {
+            return;
         };
+        // Point (x, y) of a lock-step face's patch, as its offset.
+        let at = |(x, y): (i64, i64)| layout.at(x, y) as isize;
         let rules = self.rules(f, k);
+        // Each edge's ring row is the row next to the edge in the face across: both run with
+        // a constant step, so the row is copied point by point at two strides. The points
+        // read are inside their face and those written outside f, so none is both.
         for l in 0..4u8 {
-            if rules.sharp[l as usize] {
+            let Some((g, gl, back)) = self.across(f, l).filter(|_| !rules.sharp[l as usize]) else {
                 continue;
-            }
-            for (at, owner) in self.ring(f, l, n) {
-                if let Some(p) = owner.and_then(|(g, gx, gy)| read(g, gx, gy)) {
-                    copies.push((at, p));
-                }
-            }
+            };
+            let (cx, cy) = corner_at(l, n, n);
+            let ((dx, dy), (ox, oy)) = (TOWARD_NEXT[l as usize], TOWARD_PREV[l as usize]);
+            let to = at((cx - ox, cy - oy));
+            let to_step = at((cx + dx - ox, cy + dy - oy)) - to;
+            let from_at = |t: i64| at(inward_xy(gl, if back { n - t } else { t }, 1, n));
+            let from = from_at(0);
+            copy_points(
+                patches,
+                slot,
+                (g, from, from_at(1) - from),
+                (own, to, to_step),
+                n + 1,
+            );
         }
         for c in 0..4u8 {
             let (Some((g, gc)), CornerKind::Real) =
@@ -707,18 +717,34 @@ impl Base<'_> {
             let (gx, gy) = corner_at(gc, n, n);
             let (hx, hy) = TOWARD_NEXT[gc as usize];
             let (kx, ky) = TOWARD_PREV[gc as usize];
-            if let Some(p) = read(g, gx + hx + kx, gy + hy + ky) {
-                let (cx, cy) = corner_at(c, n, n);
-                let (ax, ay) = TOWARD_NEXT[c as usize];
-                let (bx, by) = TOWARD_PREV[c as usize];
-                copies.push(((cx - ax - bx, cy - ay - by), p));
-            }
+            let (cx, cy) = corner_at(c, n, n);
+            let (ax, ay) = TOWARD_NEXT[c as usize];
+            let (bx, by) = TOWARD_PREV[c as usize];
+            let from = at((gx + hx + kx, gy + hy + ky));
+            let to = at((cx - ax - bx, cy - ay - by));
+            copy_points(patches, slot, (g, from, 0), (own, to, 0), 1);
         }
-        let patch = &mut patches[slot[f as usize] as usize];
-        for ((x, y), p) in copies {
-            let i = layout.at(x, y);
-            patch[i..i + 3].copy_from_slice(&p);
-        }
+    }
+}
+
+/// Copies `count` points from face g's patch (offset `from`, then every `from_step` values)
+/// to the patch in slot `to` (likewise); nothing if g is not in lock-step (no slot).
+fn copy_points<T: Copy>(
+    patches: &mut [Vec<T>],
+    slot: &[u32],
+    (g, from, from_step): (u32, isize, isize),
+    (to, at, to_step): (u32, isize, isize),
+    count: i64,
+) {
+    let Some(&src) = slot.get(g as usize).filter(|&&s| s != u32::MAX) else {
+        return;
+    };
+    for t in 0..count as isize {
+        let (i, j) = ((from + t * from_step) as usize, (at + t * to_step) as usize);
+        let p: [T; 3] = patches[src as usize][i..i + 3]
+            .try_into()
+            .expect("three coordinates");
+        patches[to as usize][j..j + 3].copy_from_slice(&p);
     }
 }
 
