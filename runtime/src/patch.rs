@@ -1076,19 +1076,18 @@ impl<T: Copy> SharedOut<T> {
     }
 
     /// A writer of runs of the output's values ([`Stream::new`]: non-temporal where
-    /// `streaming`, 64-byte stores where `wide`).
+    /// `streaming`, with the vectors of `simd`).
     ///
     /// # Safety
     /// No other thread or writer reads or writes the indices it is handed until
-    /// [`Stream::finish`] and a `stream::fence` on this thread; `wide` only where the CPU has
-    /// AVX-512F.
-    unsafe fn stream(&self, streaming: bool, wide: bool) -> Stream<'_, T>
+    /// [`Stream::finish`] and a `stream::fence` on this thread; `simd` only a path the CPU has.
+    unsafe fn stream(&self, streaming: bool, simd: Simd) -> Stream<'_, T>
     where
         T: Default,
     {
         // SAFETY: the buffer holds `len` points of three values and outlives `self`; the rest
         // is the caller's contract.
-        unsafe { Stream::new(self.ptr.cast::<T>(), self.len * 3, streaming, wide) }
+        unsafe { Stream::new(self.ptr.cast::<T>(), self.len * 3, streaming, simd) }
     }
 }
 
@@ -1520,10 +1519,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let times = in_threads(work, |((faces, stacks), scratch)| {
             let clock = Instant::now();
             let buf = grown(&mut scratch.face, composed.scratch_len());
-            let wide = simd == Simd::Avx512;
             // SAFETY: the interior points and the points of the edges of these faces are written
             // by this worker only, each by one writer of the pools.
-            let writers = |_| unsafe { out.stream(streaming, wide) };
+            let writers = |_| unsafe { out.stream(streaming, simd) };
             let (interiors, edges) = (
                 Writers::new(WRITERS, writers),
                 Writers::new(WRITERS, writers),
@@ -1607,14 +1605,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 let stage = grown(&mut scratch.interior, if staged { whole } else { 0 });
                 // SAFETY: the interior points of these faces are written by this worker only,
                 // by this writer or (one per row) those below.
-                let mut interiors = unsafe { out.stream(streaming, false) };
+                let mut interiors = unsafe { out.stream(streaming, Simd::Baseline) };
                 let mut rows = Vec::new();
                 for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
                     if last {
                         if !staged {
                             rows.extend((0..=out_num.n).map(|_| {
                                 // SAFETY: as above, each row by its own writer.
-                                unsafe { out.stream(streaming, false) }
+                                unsafe { out.stream(streaming, Simd::Baseline) }
                             }));
                         }
                         // Strips of rows y (the parity chosen above), x from a0: the interior
@@ -2620,11 +2618,19 @@ fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T])
 #[inline(always)]
 fn load_rows<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T], from: usize) {
     let m = layout.side;
+    // Offsets of the next point along x and along y (`Layout::at`).
+    let (along_x, along_y) = if layout.a_is_x {
+        (3 * m, 3)
+    } else {
+        (3, 3 * m)
+    };
+    let (table, dst) = (&table[..m * m], &mut dst[..3 * m * m]);
     for (x, column) in table.chunks_exact(m).enumerate() {
-        for (y, &i) in column.iter().enumerate().skip(from) {
+        let mut d = x * along_x + from * along_y;
+        for &i in &column[from..] {
             let p = start.get(i as usize).copied().unwrap_or([T::default(); 3]);
-            let d = layout.at(x as i64 - 1, y as i64 - 1);
             dst[d..d + 3].copy_from_slice(&p);
+            d += along_y;
         }
     }
 }

@@ -11,6 +11,8 @@
 
 use std::marker::PhantomData;
 
+use super::Simd;
+
 /// Output size from which whole lines are written non-temporally: measured on the torus (an
 /// Intel host, 2 MiB of L2 a core), streaming is 15 % faster at 12.4 MB, even at 6.3 MB and
 /// 3 % slower at 3 MB (docs/benchmarks.md).
@@ -29,25 +31,27 @@ pub(super) struct Stream<'a, T> {
     held: [T; 16],
     count: usize,
     streaming: bool,
-    /// Whether lines go out in one 64-byte store (AVX-512F) or four of 16 bytes (SSE2).
-    wide: bool,
+    /// How lines go out: one 64-byte store (AVX-512F), two of 32 bytes (AVX2) or four of 16
+    /// (SSE2, the baseline); with AVX-512F a partial line is completed and a run's tail held in
+    /// vector registers too.
+    simd: Simd,
     out: PhantomData<&'a mut [T]>,
 }
 
 impl<'a, T: Copy + Default> Stream<'a, T> {
-    /// A writer into `len` values at `base` (non-temporal where `streaming`, in 64-byte stores
-    /// where `wide`).
+    /// A writer into `len` values at `base` (non-temporal where `streaming`), with the
+    /// vectors of `simd`.
     ///
     /// # Safety
     /// `base` is valid for `len` values for `'a`, and no one else reads or writes the indices
-    /// this writer is handed until [`Stream::finish`] and then [`fence`] on this thread; `wide`
-    /// only where the CPU has AVX-512F (it pays where the code calling [`Stream::run`] is
-    /// compiled for it).
+    /// this writer is handed until [`Stream::finish`] and then [`fence`] on this thread; `simd`
+    /// only a path the CPU has (it pays where the code calling [`Stream::run`] is compiled for
+    /// it).
     pub(super) unsafe fn new(
         base: *mut T,
         len: usize,
         streaming: bool,
-        wide: bool,
+        simd: Simd,
     ) -> Stream<'a, T> {
         Stream {
             base,
@@ -56,7 +60,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             held: [T::default(); 16],
             count: 0,
             streaming,
-            wide,
+            simd,
             out: PhantomData,
         }
     }
@@ -88,7 +92,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         let off = self.in_line(self.next);
         if off != 0 || self.count != 0 {
             let take = (per - off).min(values.len());
-            if self.count + take == per && self.streaming && self.wide {
+            if self.count + take == per && self.streaming && self.simd != Simd::Baseline {
                 // SAFETY: a whole aligned line of this writer's indices, all handed: the held
                 // ones and the first `take` values.
                 unsafe { self.joined(self.next - self.count, values.as_ptr()) };
@@ -117,31 +121,25 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             }
         }
         // Whole lines, then the start of the next one, held.
-        // (The loop keeps its index in a local: a store through the output pointer may alias
-        // `self` as far as the compiler knows, which would reload every field per line.)
         let whole = values.len() / per * per;
-        let mut next = self.next;
-        for line in values[..whole].chunks_exact(per) {
-            // SAFETY: a whole aligned line of this writer's indices.
-            unsafe { self.line(next, line.as_ptr()) };
-            next += per;
-        }
-        self.next = next;
+        // SAFETY: whole aligned lines of this writer's indices.
+        unsafe { self.lines(self.next, values.as_ptr(), whole / per) };
+        self.next += whole;
         let tail = &values[whole..];
-        copy(&mut self.held[..tail.len()], tail);
+        self.hold(tail);
         self.count = tail.len();
         self.next += tail.len();
     }
 
-    /// Writes the line at `at` (non-temporally, in one 64-byte store) from the held values
-    /// and, after them, those at `rest`. The held ones were stored a run ago; the rest are
-    /// loaded where they are: a 64-byte load of values just copied next to them would wait
-    /// for every store before it (the store buffer cannot forward it), the lines in flight
-    /// included.
+    /// Writes the line at `at` (non-temporally, in one 64-byte store or two of 32) from the
+    /// held values and, after them, those at `rest`. The held ones were stored a run ago; the
+    /// rest are loaded where they are: a 64-byte load of values just copied next to them would
+    /// wait for every store before it (the store buffer cannot forward it), the lines in
+    /// flight included.
     ///
     /// # Safety
     /// As [`Stream::line`]; `rest` holds the line's values after the held ones; the CPU has
-    /// AVX-512F (`self.wide`).
+    /// AVX-512F or AVX2 (`self.simd`).
     #[inline(always)]
     unsafe fn joined(&self, at: usize, rest: *const T) {
         #[cfg(target_arch = "x86_64")]
@@ -150,6 +148,21 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
         unsafe {
             use std::arch::x86_64::*;
             let (held, from) = (self.held.as_ptr(), rest.wrapping_sub(self.count));
+            let dst = self.base.add(at);
+            if self.simd == Simd::Avx2 {
+                for h in 0..2 {
+                    let keep = lanes_avx2::<T>(h, self.count, Self::per_line());
+                    let old = _mm256_loadu_si256(held.cast::<__m256i>().add(h));
+                    let new = if size_of::<T>() == 8 {
+                        _mm256_maskload_epi64(from.cast::<i64>().add(4 * h), keep)
+                    } else {
+                        _mm256_maskload_epi32(from.cast::<i32>().add(8 * h), keep)
+                    };
+                    let v = _mm256_blendv_epi8(old, new, keep);
+                    _mm256_stream_si256(dst.cast::<__m256i>().add(h), v);
+                }
+                return;
+            }
             let old = _mm512_loadu_si512(held.cast());
             let v = if size_of::<T>() == 8 {
                 let keep = (0xffu32 << self.count) as u8;
@@ -158,7 +171,46 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
                 let keep = (0xffffu32 << self.count) as u16;
                 _mm512_mask_loadu_epi32(old, keep, from.cast())
             };
-            _mm512_stream_si512(self.base.add(at).cast(), v);
+            _mm512_stream_si512(dst.cast(), v);
+        }
+    }
+
+    /// Holds `tail` (less than a line) at the start of `held`: by masked loads (of one 64-byte
+    /// vector, or two of 32 bytes) where the path has them, else value by value.
+    #[inline(always)]
+    fn hold(&mut self, tail: &[T]) {
+        assert!(tail.len() < Self::per_line(), "less than a line");
+        let (from, to) = (tail.as_ptr(), self.held.as_mut_ptr());
+        match self.simd {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the CPU has AVX-512F (`Stream::new`'s contract); the masked load reads
+            // only the tail's lanes, and `held` has room for a whole line.
+            Simd::Avx512 => unsafe {
+                use std::arch::x86_64::*;
+                let keep = (1u32 << tail.len()) - 1;
+                let v = if size_of::<T>() == 8 {
+                    _mm512_maskz_loadu_epi64(keep as u8, from.cast())
+                } else {
+                    _mm512_maskz_loadu_epi32(keep as u16, from.cast())
+                };
+                _mm512_storeu_si512(to.cast(), v);
+            },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the CPU has AVX2 (`Stream::new`'s contract); each masked load reads only
+            // the tail's lanes, and `held` has room for a whole line.
+            Simd::Avx2 => unsafe {
+                use std::arch::x86_64::*;
+                for h in 0..2 {
+                    let keep = lanes_avx2::<T>(h, 0, tail.len());
+                    let v = if size_of::<T>() == 8 {
+                        _mm256_maskload_epi64(from.cast::<i64>().add(4 * h), keep)
+                    } else {
+                        _mm256_maskload_epi32(from.cast::<i32>().add(8 * h), keep)
+                    };
+                    _mm256_storeu_si256(to.cast::<__m256i>().add(h), v);
+                }
+            },
+            _ => copy(&mut self.held[..tail.len()], tail),
         }
     }
 
@@ -175,28 +227,47 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
     /// Writes one whole aligned line at index `at` from the line's values at `values`.
     #[inline(always)]
     unsafe fn line(&self, at: usize, values: *const T) {
-        let per = Self::per_line();
-        // SAFETY: `at..at + per` is in range and this writer's (the caller's contract), and the
-        // line is aligned to 64 bytes, so every 16 bytes of it are aligned.
+        // SAFETY: the caller's contract.
+        unsafe { self.lines(at, values, 1) };
+    }
+
+    /// Writes `count` whole aligned lines from index `at` on, from the lines' values at
+    /// `values` (the path chosen once, not per line).
+    #[inline(always)]
+    unsafe fn lines(&self, at: usize, values: *const T, count: usize) {
+        let len = count * Self::per_line();
+        // SAFETY: `at..at + len` is in range and this writer's (the caller's contract), and
+        // the lines are aligned to 64 bytes, so every 16 or 32 bytes of them are aligned.
         unsafe {
             let dst = self.base.add(at);
             #[cfg(target_arch = "x86_64")]
             if self.streaming {
                 use std::arch::x86_64::*;
-                if self.wide {
-                    // The CPU has AVX-512F (`Stream::new`'s contract).
-                    let v = _mm512_loadu_si512(values.cast());
-                    _mm512_stream_si512(dst.cast(), v);
-                } else {
-                    // SSE2: every x86-64.
-                    let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
-                    for k in 0..LINE / 16 {
-                        _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
+                match self.simd {
+                    // The CPU has the path's instructions (`Stream::new`'s contract).
+                    Simd::Avx512 => {
+                        let (d, s) = (dst.cast::<__m512i>(), values.cast::<__m512i>());
+                        for k in 0..count {
+                            _mm512_stream_si512(d.add(k), _mm512_loadu_si512(s.add(k)));
+                        }
+                    }
+                    Simd::Avx2 => {
+                        let (d, s) = (dst.cast::<__m256i>(), values.cast::<__m256i>());
+                        for k in 0..count * LINE / 32 {
+                            _mm256_stream_si256(d.add(k), _mm256_loadu_si256(s.add(k)));
+                        }
+                    }
+                    Simd::Baseline => {
+                        // SSE2: every x86-64.
+                        let (d, s) = (dst.cast::<__m128i>(), values.cast::<__m128i>());
+                        for k in 0..count * LINE / 16 {
+                            _mm_stream_si128(d.add(k), _mm_loadu_si128(s.add(k)));
+                        }
                     }
                 }
                 return;
             }
-            std::ptr::copy_nonoverlapping(values, dst, per);
+            std::ptr::copy_nonoverlapping(values, dst, len);
         }
     }
 
@@ -276,6 +347,35 @@ pub(super) fn fence() {
     unsafe {
         std::arch::x86_64::_mm_sfence()
     };
+}
+
+/// AVX2: a mask of the lanes of 32-byte half `h` of a line of `T` whose index in the line
+/// is in `from..to` (every bit of a lane set).
+///
+/// # Safety
+/// The CPU has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn lanes_avx2<T>(h: usize, from: usize, to: usize) -> std::arch::x86_64::__m256i {
+    use std::arch::x86_64::*;
+    // SAFETY: AVX2 (the caller's contract).
+    unsafe {
+        if size_of::<T>() == 8 {
+            let i = _mm256_add_epi64(
+                _mm256_setr_epi64x(0, 1, 2, 3),
+                _mm256_set1_epi64x(4 * h as i64),
+            );
+            let above = _mm256_cmpgt_epi64(i, _mm256_set1_epi64x(from as i64 - 1));
+            _mm256_and_si256(above, _mm256_cmpgt_epi64(_mm256_set1_epi64x(to as i64), i))
+        } else {
+            let i = _mm256_add_epi32(
+                _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+                _mm256_set1_epi32(8 * h as i32),
+            );
+            let above = _mm256_cmpgt_epi32(i, _mm256_set1_epi32(from as i32 - 1));
+            _mm256_and_si256(above, _mm256_cmpgt_epi32(_mm256_set1_epi32(to as i32), i))
+        }
+    }
 }
 
 /// `dst.copy_from_slice(src)` in whole 8-value moves and single values: short runs of a
