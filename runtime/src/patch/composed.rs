@@ -567,7 +567,6 @@ unsafe fn tight_rows<V: Lanes>(
         ends,
     } = band;
     let part = V::VECS * V::PER;
-    let first = inner_rows(&ys, n).start;
     // SAFETY: the caller's.
     unsafe {
         for p0 in (0..TILE).step_by(part).rev() {
@@ -581,23 +580,27 @@ unsafe fn tight_rows<V: Lanes>(
                     *v = V::load(rows.add(i * width + p0 + V::PER * k));
                 }
             }
-            for y in ys.clone() {
-                let mut acc = [V::zero(); 4];
-                for (i, r) in r.iter().enumerate() {
-                    let w = V::splat(*ws.add(y * BLOCK + i));
-                    for (a, v) in acc.iter_mut().zip(r).take(V::VECS) {
-                        *a = V::fmadd(w, *v, *a);
-                    }
+            // Rows 0 and N' (where the band has them) into the rows; rows 1..N' − 1 into the
+            // rows where they keep this tile there, and into the interior where it holds
+            // some of it, one row `width` and `len` values after the other.
+            let ends_of_face = [(ys.start == 0, 0), (ys.end == n + 1, n)];
+            for y in ends_of_face
+                .into_iter()
+                .filter_map(|(has, y)| has.then_some(y))
+            {
+                let acc = row_sums::<V>(&r, ws.add(y * BLOCK));
+                store_row::<V>(out.add((y - ys.start) * width + p0), &acc);
+            }
+            let inner = inner_rows(&ys, n);
+            let mut o = out.add((inner.start - ys.start) * width + p0);
+            // Value v of a row goes to `d + v` (v ≥ LEAD).
+            let mut d = inside.wrapping_sub(LEAD);
+            for y in inner {
+                let acc = row_sums::<V>(&r, ws.add(y * BLOCK));
+                if ends {
+                    store_row::<V>(o, &acc);
                 }
-                if ends || y == 0 || y == n {
-                    let o = out.add((y - ys.start) * width + p0);
-                    for (k, a) in acc.iter().enumerate().take(V::VECS) {
-                        V::store(o.add(V::PER * k), *a);
-                    }
-                }
-                if y != 0 && y != n && holds {
-                    // Value v of the row goes to `d + v` (v ≥ LEAD).
-                    let d = inside.add((y - first) * len).wrapping_sub(LEAD);
+                if holds {
                     for (k, a) in acc.iter().enumerate().take(V::VECS) {
                         // (Told apart by the part alone, so that the branches are decided
                         // when the loop over the parts is unrolled.)
@@ -609,8 +612,44 @@ unsafe fn tight_rows<V: Lanes>(
                         }
                     }
                 }
+                o = o.add(width);
+                d = d.wrapping_add(len);
             }
         }
+    }
+}
+
+/// A final row's part of a tile: `Σ_i ws[i] · r[i]` over the [`BLOCK`] start rows' part held
+/// in `r`, in increasing i.
+///
+/// # Safety
+/// The vectors' instruction set; `ws` holds [`BLOCK`] weights.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn row_sums<V: Lanes>(r: &[[V; 4]; BLOCK], ws: *const V::S) -> [V; 4] {
+    // SAFETY: the caller's.
+    unsafe {
+        let mut acc = [V::zero(); 4];
+        for (i, r) in r.iter().enumerate() {
+            let w = V::splat(*ws.add(i));
+            for (a, v) in acc.iter_mut().zip(r).take(V::VECS) {
+                *a = V::fmadd(w, *v, *a);
+            }
+        }
+        acc
+    }
+}
+
+/// Stores a row's part of a tile at `o`.
+///
+/// # Safety
+/// The vectors' instruction set; `o` has room for the part.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn store_row<V: Lanes>(o: *mut V::S, acc: &[V; 4]) {
+    for (k, a) in acc.iter().enumerate().take(V::VECS) {
+        // SAFETY: the caller's.
+        unsafe { V::store(o.add(V::PER * k), *a) };
     }
 }
 
