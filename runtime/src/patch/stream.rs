@@ -32,8 +32,8 @@ pub(super) struct Stream<'a, T> {
     count: usize,
     streaming: bool,
     /// How lines go out: one 64-byte store (AVX-512F), two of 32 bytes (AVX2) or four of 16
-    /// (SSE2, the baseline); with AVX-512F a partial line is completed and a run's tail held in
-    /// vector registers too.
+    /// (SSE2, the baseline); with AVX-512F or AVX2 a partial line is also completed, and a
+    /// run's tail held, by masked loads.
     simd: Simd,
     out: PhantomData<&'a mut [T]>,
 }
