@@ -1009,7 +1009,7 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
 #[test]
 fn every_simd_path_and_writer_gives_the_same_points() {
     use lsubdiv::generated;
-    use lsubdiv::runtime::generators::{star, torus};
+    use lsubdiv::runtime::generators::{grid_cube, star, torus};
     use lsubdiv::runtime::patch::Simd;
     let mut meshes = featured();
     meshes.push(("torus", torus(6, 5), Features::default()));
@@ -1021,6 +1021,9 @@ fn every_simd_path_and_writer_gives_the_same_points() {
     }
     meshes.push(("torus, faces along x", against, Features::default()));
     meshes.push(("star", star(), Features::default()));
+    // Ordinary faces beside EVs: with Binary-Ternary they wait for the EVs' masks to be
+    // contained and start the composed kernel after the first step (start side m > 4).
+    meshes.push(("grid cube", grid_cube(4), Features::default()));
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
         let steps = if *name == "binary-ternary" { 2 } else { 3 };

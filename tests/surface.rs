@@ -5,7 +5,7 @@ mod common;
 
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::generators::{cube, klein_bottle, prism, star, torus};
+use lsubdiv::runtime::generators::{cube, grid_cube, klein_bottle, prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, StepStats};
 use lsubdiv::runtime::topology::Topology;
@@ -265,6 +265,7 @@ fn patch_path_matches_the_reference_driver() {
             ("cube", cube()),
             ("star", star()),
             ("prism 9", prism(9)),
+            ("grid cube", grid_cube(4)),
             ("torus", torus(3, 4)),
             ("klein", klein_bottle(4, 5)),
         ] {
@@ -530,6 +531,7 @@ mod random_surfaces {
                 ("torus", torus(3, 4)),
                 ("klein", klein_bottle(4, 5)),
                 ("cube", cube()),
+                ("grid cube", grid_cube(3)),
             ] {
                 let topo = Topology::build(&mesh).unwrap();
                 for steps in 1..=4 {

@@ -54,6 +54,43 @@ pub fn cube() -> QuadMesh {
     QuadMesh { positions, faces }
 }
 
+/// The cube [-1,1]^3 with each face a `k` × `k` grid of quads: 8 vertices of valence 3 (the
+/// corners), every other vertex of valence 4, so that faces away from the corners are
+/// ordinary (for k >= 3, some faces touch no corner). 6k² + 2 vertices, 6k² faces. Panics
+/// unless k >= 1.
+pub fn grid_cube(k: usize) -> QuadMesh {
+    assert!(k >= 1, "grid_cube needs k >= 1");
+    let mut index: HashMap<[usize; 3], u32> = HashMap::new();
+    let mut positions = Vec::with_capacity(6 * k * k + 2);
+    let mut faces = Vec::with_capacity(6 * k * k);
+    let mut at = |p: [usize; 3]| -> u32 {
+        *index.entry(p).or_insert_with(|| {
+            positions.push(p.map(|c| -1.0 + 2.0 * c as f64 / k as f64));
+            (positions.len() - 1) as u32
+        })
+    };
+    for axis in 0..3 {
+        // (u, v, axis) right-handed: counter-clockwise in (u, v) is seen from +axis.
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in [0, k] {
+            for i in 0..k {
+                for j in 0..k {
+                    let mut quad = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| {
+                        let mut p = [0; 3];
+                        (p[axis], p[u], p[v]) = (side, a, b);
+                        at(p)
+                    });
+                    if side == 0 {
+                        quad.reverse();
+                    }
+                    faces.push(quad);
+                }
+            }
+        }
+    }
+    QuadMesh { positions, faces }
+}
+
 /// One Catmull–Clark *topological* split of a closed polygonal mesh given as faces of any degree
 /// (positions: face points = face centroid, edge points = edge midpoints, old vertices
 /// unchanged). Face points get valence = face degree; old vertices keep theirs.
@@ -467,6 +504,26 @@ mod tests {
         let v = volume(&m.positions, quads(&m));
         let exact = 9.0 * (TAU / 9.0).sin();
         assert!((v - exact).abs() < 1e-12, "{v} vs {exact}");
+        for k in [1, 4] {
+            let m = grid_cube(k);
+            let v = volume(&m.positions, quads(&m));
+            assert!((v - 8.0).abs() < 1e-12, "k = {k}: {v}");
+        }
+    }
+
+    #[test]
+    fn grid_cube_has_eight_evs_and_ordinary_faces() {
+        let k = 4;
+        let m = grid_cube(k);
+        assert_eq!((m.positions.len(), m.faces.len()), (6 * k * k + 2, 6 * k * k));
+        assert_eq!(boundary_edges(quads(&m)), 0);
+        let valence = vertex_faces(m.positions.len(), quads(&m));
+        assert_eq!(valence.iter().filter(|&&n| n == 3).count(), 8);
+        assert!(valence.iter().all(|&n| n == 3 || n == 4));
+        // Faces with no corner of valence 3: all but the 3 at each of the 8 corners.
+        let ordinary = m.faces.iter().filter(|f| f.iter().all(|&v| valence[v as usize] == 4));
+        assert_eq!(ordinary.count(), 6 * k * k - 24);
+        assert_eq!(grid_cube(1).faces.len(), cube().faces.len());
     }
 
     #[test]
@@ -475,6 +532,7 @@ mod tests {
         assert!(consistently_oriented(&torus(3, 7)));
         assert!(consistently_oriented(&prism(6)));
         assert!(consistently_oriented(&star()));
+        assert!(consistently_oriented(&grid_cube(3)));
         assert!(!consistently_oriented(&klein_bottle(5, 5)));
     }
 
