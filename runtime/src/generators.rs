@@ -75,11 +75,12 @@ pub fn grid_cube(k: usize) -> QuadMesh {
         for side in [0, k] {
             for i in 0..k {
                 for j in 0..k {
-                    let mut quad = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| {
-                        let mut p = [0; 3];
-                        (p[axis], p[u], p[v]) = (side, a, b);
-                        at(p)
-                    });
+                    let mut quad =
+                        [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)].map(|(a, b)| {
+                            let mut p = [0; 3];
+                            (p[axis], p[u], p[v]) = (side, a, b);
+                            at(p)
+                        });
                     if side == 0 {
                         quad.reverse();
                     }
@@ -515,13 +516,19 @@ mod tests {
     fn grid_cube_has_eight_evs_and_ordinary_faces() {
         let k = 4;
         let m = grid_cube(k);
-        assert_eq!((m.positions.len(), m.faces.len()), (6 * k * k + 2, 6 * k * k));
+        assert_eq!(
+            (m.positions.len(), m.faces.len()),
+            (6 * k * k + 2, 6 * k * k)
+        );
         assert_eq!(boundary_edges(quads(&m)), 0);
         let valence = vertex_faces(m.positions.len(), quads(&m));
         assert_eq!(valence.iter().filter(|&&n| n == 3).count(), 8);
         assert!(valence.iter().all(|&n| n == 3 || n == 4));
         // Faces with no corner of valence 3: all but the 3 at each of the 8 corners.
-        let ordinary = m.faces.iter().filter(|f| f.iter().all(|&v| valence[v as usize] == 4));
+        let ordinary = m
+            .faces
+            .iter()
+            .filter(|f| f.iter().all(|&v| valence[v as usize] == 4));
         assert_eq!(ordinary.count(), 6 * k * k - 24);
         assert_eq!(grid_cube(1).faces.len(), cube().faces.len());
     }
