@@ -7,7 +7,8 @@ use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::features::{Boundary, Features};
 use lsubdiv::runtime::generators::{
-    creased_cube, cube, grid_with_hole, open_grid, pentagon_star, polygon_prism, star, torus, tube,
+    creased_cube, cube, grid_cube, grid_with_hole, open_grid, pentagon_star, polygon_prism, star,
+    torus, tube,
 };
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner, Simd};
@@ -26,8 +27,12 @@ pub const MAX_TORUS_FACES: usize = 1 << 24;
 /// Sides of the largest built-in prism.
 pub const MAX_PRISM_SIDES: usize = 10_000;
 
+/// Grid side of the largest built-in grid cube (6·K² faces, at most [`MAX_TORUS_FACES`]).
+pub const MAX_GRID_CUBE: usize = 1_000;
+
 /// A built-in mesh (`torus:R:C`, `torus:R:C:x` the same with its faces ordered along x,
-/// `cube`, `star`, `prism:N`: n-gon caps, split by a Catmull–Clark step; open: `grid` (8 × 8
+/// `cube`, `grid-cube:K` (each face a K × K grid: 8 EVs beside ordinary faces), `star`,
+/// `prism:N`: n-gon caps, split by a Catmull–Clark step; open: `grid` (8 × 8
 /// quads), `tube` (8 along, 16 around), `hole` (a 9 × 9 grid whose centre face is a hole),
 /// `pentagon-star` (a pentagon with a triangle on each edge, split first); `creased-cube`
 /// (every edge sharp)) or an OBJ or PLY file read
@@ -82,6 +87,19 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
             }
         }
         ["cube"] => cube(),
+        ["grid-cube", k] => {
+            let k = k
+                .parse::<usize>()
+                .ok()
+                .filter(|k| (1..=MAX_GRID_CUBE).contains(k))
+                .ok_or_else(|| {
+                    Error::input(format!(
+                        "`{spec}`: a grid cube's faces are 1 × 1 to {MAX_GRID_CUBE} × \
+                         {MAX_GRID_CUBE} grids"
+                    ))
+                })?;
+            grid_cube(k)
+        }
         ["star"] => star(),
         ["prism", n] => {
             let n = n

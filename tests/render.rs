@@ -245,6 +245,10 @@ fn ppm_output_and_bad_arguments() {
             "built-in tori have at most 16777216",
         ),
         (
+            vec!["grid-cube:0", "-o", out],
+            "`grid-cube:0`: a grid cube's faces are 1 × 1 to 1000 × 1000 grids",
+        ),
+        (
             vec!["cube", "-o", out, "--camera", "0,120"],
             "elevation 120",
         ),

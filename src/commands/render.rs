@@ -23,8 +23,8 @@ pub enum Normals {
 #[derive(clap::Args)]
 pub struct RenderArgs {
     /// An OBJ or PLY file (`-`: standard input), or a built-in mesh: `cube` (3-valent EVs),
-    /// `star` (EVs of valence 3, 5, 9), `torus:R:C`, `prism:N` (n-gon caps); open `grid`,
-    /// `tube`, `hole`, `pentagon-star`; `creased-cube`.
+    /// `grid-cube:K` (each face a K × K grid), `star` (EVs of valence 3, 5, 9), `torus:R:C`,
+    /// `prism:N` (n-gon caps); open `grid`, `tube`, `hole`, `pentagon-star`; `creased-cube`.
     mesh: String,
     /// Output image, `.png` or `.ppm` (written whole or not at all).
     #[arg(short, long)]
