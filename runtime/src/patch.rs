@@ -808,8 +808,17 @@ struct Layout {
 
 impl Layout {
     fn at(self, x: i64, y: i64) -> usize {
-        let (a, b) = if self.a_is_x { (x, y) } else { (y, x) };
-        (((a + 1) as usize) * self.side + (b + 1) as usize) * 3
+        let (along_x, along_y) = self.strides();
+        (x + 1) as usize * along_x + (y + 1) as usize * along_y
+    }
+
+    /// Values from a point to the next along x, and along y.
+    fn strides(self) -> (usize, usize) {
+        if self.a_is_x {
+            (3 * self.side, 3)
+        } else {
+            (3, 3 * self.side)
+        }
     }
 }
 
@@ -2618,12 +2627,7 @@ fn load<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T])
 #[inline(always)]
 fn load_rows<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut [T], from: usize) {
     let m = layout.side;
-    // Offsets of the next point along x and along y (`Layout::at`).
-    let (along_x, along_y) = if layout.a_is_x {
-        (3 * m, 3)
-    } else {
-        (3, 3 * m)
-    };
+    let (along_x, along_y) = layout.strides();
     let (table, dst) = (&table[..m * m], &mut dst[..3 * m * m]);
     for (x, column) in table.chunks_exact(m).enumerate() {
         let mut d = x * along_x + from * along_y;

@@ -39,6 +39,8 @@
 //! a band's rows tile by tile in one tight loop with those rows' tile (or part of it) held in
 //! vector registers ([`tight_sums`]): the same operations in the same order.
 
+#[cfg(target_arch = "x86_64")]
+use super::stream::lanes_avx2;
 use super::Simd;
 use crate::real::Real;
 
@@ -576,20 +578,16 @@ unsafe fn tight_rows<V: Lanes>(
             let holds = at + part > LEAD && at < LEAD + len;
             let mut r = [[V::zero(); 4]; BLOCK];
             for (i, r) in r.iter_mut().enumerate() {
-                for (k, v) in r.iter_mut().enumerate().take(V::VECS) {
-                    *v = V::load(rows.add(i * width + p0 + V::PER * k));
-                }
+                *r = load_row::<V>(rows.add(i * width + p0));
             }
             // Rows 0 and N' (where the band has them) into the rows; rows 1..N' − 1 into the
             // rows where they keep this tile there, and into the interior where it holds
             // some of it, one row `width` and `len` values after the other.
-            let ends_of_face = [(ys.start == 0, 0), (ys.end == n + 1, n)];
-            for y in ends_of_face
-                .into_iter()
-                .filter_map(|(has, y)| has.then_some(y))
-            {
-                let acc = row_sums::<V>(&r, ws.add(y * BLOCK));
-                store_row::<V>(out.add((y - ys.start) * width + p0), &acc);
+            for (has, y) in [(ys.start == 0, 0), (ys.end == n + 1, n)] {
+                if has {
+                    let acc = row_sums::<V>(&r, ws.add(y * BLOCK));
+                    store_row::<V>(out.add((y - ys.start) * width + p0), &acc);
+                }
             }
             let inner = inner_rows(&ys, n);
             let mut o = out.add((inner.start - ys.start) * width + p0);
@@ -635,6 +633,23 @@ unsafe fn row_sums<V: Lanes>(r: &[[V; 4]; BLOCK], ws: *const V::S) -> [V; 4] {
             for (a, v) in acc.iter_mut().zip(r).take(V::VECS) {
                 *a = V::fmadd(w, *v, *a);
             }
+        }
+        acc
+    }
+}
+
+/// Loads a row's part of a tile from `p`.
+///
+/// # Safety
+/// The vectors' instruction set; `p` holds the part.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn load_row<V: Lanes>(p: *const V::S) -> [V; 4] {
+    // SAFETY: the caller's.
+    unsafe {
+        let mut acc = [V::zero(); 4];
+        for (k, a) in acc.iter_mut().enumerate().take(V::VECS) {
+            *a = V::load(p.add(V::PER * k));
         }
         acc
     }
@@ -750,14 +765,7 @@ lanes!(
     _mm256_set1_pd,
     _mm256_fmadd_pd,
     _mm256_storeu_pd,
-    |p, v, skip| _mm256_maskstore_pd(
-        p,
-        _mm256_cmpgt_epi64(
-            _mm256_setr_epi64x(0, 1, 2, 3),
-            _mm256_set1_epi64x(skip as i64 - 1)
-        ),
-        v
-    )
+    |p, v, skip| _mm256_maskstore_pd(p, lanes_avx2::<f64>(0, skip, 4), v)
 );
 lanes!(
     __m256,
@@ -769,14 +777,7 @@ lanes!(
     _mm256_set1_ps,
     _mm256_fmadd_ps,
     _mm256_storeu_ps,
-    |p, v, skip| _mm256_maskstore_ps(
-        p,
-        _mm256_cmpgt_epi32(
-            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
-            _mm256_set1_epi32(skip as i32 - 1)
-        ),
-        v
-    )
+    |p, v, skip| _mm256_maskstore_ps(p, lanes_avx2::<f32>(0, skip, 8), v)
 );
 
 /// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from

@@ -153,11 +153,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
                 for h in 0..2 {
                     let keep = lanes_avx2::<T>(h, self.count, Self::per_line());
                     let old = _mm256_loadu_si256(held.cast::<__m256i>().add(h));
-                    let new = if size_of::<T>() == 8 {
-                        _mm256_maskload_epi64(from.cast::<i64>().add(4 * h), keep)
-                    } else {
-                        _mm256_maskload_epi32(from.cast::<i32>().add(8 * h), keep)
-                    };
+                    let new = half_avx2::<T>(from, h, keep);
                     let v = _mm256_blendv_epi8(old, new, keep);
                     _mm256_stream_si256(dst.cast::<__m256i>().add(h), v);
                 }
@@ -201,12 +197,7 @@ impl<'a, T: Copy + Default> Stream<'a, T> {
             Simd::Avx2 => unsafe {
                 use std::arch::x86_64::*;
                 for h in 0..2 {
-                    let keep = lanes_avx2::<T>(h, 0, tail.len());
-                    let v = if size_of::<T>() == 8 {
-                        _mm256_maskload_epi64(from.cast::<i64>().add(4 * h), keep)
-                    } else {
-                        _mm256_maskload_epi32(from.cast::<i32>().add(8 * h), keep)
-                    };
+                    let v = half_avx2::<T>(from, h, lanes_avx2::<T>(h, 0, tail.len()));
                     _mm256_storeu_si256(to.cast::<__m256i>().add(h), v);
                 }
             },
@@ -350,13 +341,13 @@ pub(super) fn fence() {
 }
 
 /// AVX2: a mask of the lanes of 32-byte half `h` of a line of `T` whose index in the line
-/// is in `from..to` (every bit of a lane set).
+/// is in `from..to` (every bit of a lane set); half 0 is also a single vector's lanes.
 ///
 /// # Safety
 /// The CPU has AVX2.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-unsafe fn lanes_avx2<T>(h: usize, from: usize, to: usize) -> std::arch::x86_64::__m256i {
+pub(super) unsafe fn lanes_avx2<T>(h: usize, from: usize, to: usize) -> std::arch::x86_64::__m256i {
     use std::arch::x86_64::*;
     // SAFETY: AVX2 (the caller's contract).
     unsafe {
@@ -374,6 +365,29 @@ unsafe fn lanes_avx2<T>(h: usize, from: usize, to: usize) -> std::arch::x86_64::
             );
             let above = _mm256_cmpgt_epi32(i, _mm256_set1_epi32(from as i32 - 1));
             _mm256_and_si256(above, _mm256_cmpgt_epi32(_mm256_set1_epi32(to as i32), i))
+        }
+    }
+}
+
+/// AVX2: the lanes `keep` ([`lanes_avx2`]) of 32-byte half `h` of the line of `T` at `p`,
+/// zero elsewhere; only the kept lanes are read.
+///
+/// # Safety
+/// The CPU has AVX2; `p` holds the kept lanes.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn half_avx2<T>(
+    p: *const T,
+    h: usize,
+    keep: std::arch::x86_64::__m256i,
+) -> std::arch::x86_64::__m256i {
+    use std::arch::x86_64::*;
+    // SAFETY: AVX2 and the kept lanes (the caller's contract); masked-off lanes are not read.
+    unsafe {
+        if size_of::<T>() == 8 {
+            _mm256_maskload_epi64(p.cast::<i64>().add(4 * h), keep)
+        } else {
+            _mm256_maskload_epi32(p.cast::<i32>().add(8 * h), keep)
         }
     }
 }
