@@ -45,6 +45,11 @@ pub fn mesh(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked,
     Ok(read)
 }
 
+/// A size of a built-in mesh: an integer in `range`.
+fn size(s: &str, range: std::ops::RangeInclusive<usize>) -> Option<usize> {
+    s.parse().ok().filter(|n| range.contains(n))
+}
+
 /// [`mesh`] before its boundary rule is set (a file's is set while reading).
 fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Error> {
     let parts: Vec<&str> = spec.split(':').collect();
@@ -55,11 +60,7 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
         ["hole"] => return featured(grid_with_hole(9)),
         ["creased-cube"] => return featured(creased_cube()),
         ["torus", r, c] | ["torus", r, c, "x"] => {
-            let p = |s: &str| {
-                s.parse::<usize>()
-                    .ok()
-                    .filter(|&n| (3..=100_000).contains(&n))
-            };
+            let p = |s: &str| size(s, 3..=100_000);
             match (p(r), p(c)) {
                 (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => {
                     let mut t = torus(r, c);
@@ -88,29 +89,21 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
         }
         ["cube"] => cube(),
         ["grid-cube", k] => {
-            let k = k
-                .parse::<usize>()
-                .ok()
-                .filter(|k| (1..=MAX_GRID_CUBE).contains(k))
-                .ok_or_else(|| {
-                    Error::input(format!(
-                        "`{spec}`: a grid cube's faces are 1 × 1 to {MAX_GRID_CUBE} × \
-                         {MAX_GRID_CUBE} grids"
-                    ))
-                })?;
+            let k = size(k, 1..=MAX_GRID_CUBE).ok_or_else(|| {
+                Error::input(format!(
+                    "`{spec}`: a grid cube's faces are 1 × 1 to {MAX_GRID_CUBE} × \
+                     {MAX_GRID_CUBE} grids"
+                ))
+            })?;
             grid_cube(k)
         }
         ["star"] => star(),
         ["prism", n] => {
-            let n = n
-                .parse::<usize>()
-                .ok()
-                .filter(|n| (3..=MAX_PRISM_SIDES).contains(n))
-                .ok_or_else(|| {
-                    Error::input(format!(
-                        "`{spec}`: a prism has 3 to {MAX_PRISM_SIDES} sides"
-                    ))
-                })?;
+            let n = size(n, 3..=MAX_PRISM_SIDES).ok_or_else(|| {
+                Error::input(format!(
+                    "`{spec}`: a prism has 3 to {MAX_PRISM_SIDES} sides"
+                ))
+            })?;
             // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
             return split(spec, &polygon_prism(n), boundary);
         }
