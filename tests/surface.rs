@@ -292,6 +292,30 @@ fn patch_path_matches_the_reference_driver() {
     }
 }
 
+/// Where the first steps run by the reference driver (Binary-Ternary's masks are contained at
+/// EVs from its second step), the last of them scatters only near the EVs and the faces away
+/// from them take that step by its 1D plan (`patch/near.rs`): the whole reference's points to
+/// rounding, on one and two threads, alone and before a depth-first step.
+#[test]
+fn reference_step_near_the_evs_only() {
+    use lsubdiv::runtime::patch::Refiner;
+    let s = surface("binary-ternary");
+    let mesh = grid_cube(12);
+    let topo = Topology::build(&mesh).unwrap();
+    for steps in 1..=2 {
+        let (reference, _) = refine(&s, mesh.clone(), steps);
+        for threads in [1, 2] {
+            let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+            assert_eq!(r.reference_steps(), 1);
+            // The faces whose four corners are five rings or more from the cube's corners
+            // (the scheme's masks reach 2 base edges, its words 2 more) take the plan.
+            assert_eq!(r.reference_faces(), 8 * 3 * 5 * 5, "{steps} steps");
+            let d = same_points(r.refine(&mesh.positions).unwrap(), &reference.positions);
+            assert!(d < 1e-12, "{steps} steps, {threads} threads: {d:e}");
+        }
+    }
+}
+
 /// Faces around EVs too large for their interior to be staged whole (63² points after six
 /// steps of the cube) go out row by row, one writer per row: the reference driver's points,
 /// streamed or not, on one or two threads.

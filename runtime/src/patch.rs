@@ -26,7 +26,8 @@
 //! An EV child can only enter another face's ring when N' = 1; such steps, and steps whose
 //! masks are not yet contained (e.g. Binary-Ternary's first) or whose ring is not
 //! self-sustaining, run by the reference driver (`surface`) on the coarse mesh, lifted into the
-//! start numbering: one semantics for every path.
+//! start numbering: one semantics for every path. The last of them scatters only near the EVs
+//! where some faces are far enough from them to take it by its 1D plan (`patch/near.rs`).
 //!
 //! **Boundaries and sharp features** ([`crate::features`], docs/real-meshes.md). Across an
 //! edge that is sharp at a step (every boundary edge) a face's ring is the face's own odd
@@ -55,9 +56,11 @@ use std::time::Instant;
 
 mod composed;
 mod limit;
+mod near;
 mod stream;
 use composed::{Composed, Faces, Rows};
 pub use limit::{limit_available, SurfaceLimit};
+use near::Near;
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
@@ -1124,6 +1127,9 @@ pub struct Refiner<'s, S, T> {
     start_gather: Vec<u32>,
     /// The mesh cut along its sharp edges, when a reference step runs on a mesh with features.
     cut: Option<Cut>,
+    /// Where the last reference step runs on a mesh without features, when some faces are far
+    /// from its EVs.
+    near: Option<Near>,
 
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
@@ -1250,6 +1256,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 t.name
             )));
         }
+        let near = (first > 0 && plain)
+            .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
+            .flatten();
         let start_num = Numbering::new(base.topo, words[first].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
         // Every face's start patch as indices, x-major ([`load`]).
@@ -1294,6 +1303,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             out_num,
             start_gather,
             cut,
+            near,
             ordinary,
             stacks,
             fan_faces,
@@ -1349,7 +1359,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// path set. Every path gives the same points ([`Simd`]).
     pub fn set_simd(&mut self, simd: Simd) -> Simd {
         self.simd = simd.min(Simd::detect());
-        for plan in &mut self.plans {
+        for plan in self
+            .plans
+            .iter_mut()
+            .chain(self.near.as_mut().map(|n| &mut n.plan))
+        {
             plan.simd = self.simd;
         }
         self.simd
@@ -1363,6 +1377,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// Steps run by the reference driver before the depth-first ones (see the module docs).
     pub fn reference_steps(&self) -> usize {
         self.first
+    }
+
+    /// Base faces whose points after the reference steps the reference driver gives: every
+    /// face, or those near the EVs (`patch/near.rs`); none without reference steps.
+    pub fn reference_faces(&self) -> usize {
+        match (&self.near, self.first) {
+            (_, 0) => 0,
+            (Some(near), _) => self.base.topo.face_count() - near.far_count(),
+            (None, _) => self.base.topo.face_count(),
+        }
     }
 
     /// Bytes the refiner's position buffers hold now (their capacity): the start level, the
@@ -1430,6 +1454,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &mut self.start,
             );
         } else {
+            let mut before = None;
             let coarse = match &self.cut {
                 None => {
                     let mesh = QuadMesh {
@@ -1437,7 +1462,17 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         faces: self.base.topo.faces().to_vec(),
                     };
                     let lm = LabelledMesh::with_axiom(&t, mesh)?;
-                    refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?.0
+                    match &self.near {
+                        None => {
+                            refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?.0
+                        }
+                        Some(near) => {
+                            let (coarse, level) =
+                                near.refine(self.scheme, lm, self.base.topo, self.first)?;
+                            before = Some(level);
+                            coarse
+                        }
+                    }
                 }
                 // One step (checked in `with_features`) on the cut mesh with its ghost layers;
                 // the copies of a vertex come together again in the start numbering.
@@ -1459,6 +1494,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &self.start_num,
                 &mut self.start,
             );
+            if let (Some(near), Some(before)) = (&self.near, &before) {
+                near.far_faces(
+                    &t,
+                    &self.base,
+                    before,
+                    self.first,
+                    &self.start_num,
+                    &mut self.start,
+                );
+            }
             if let Some(cut) = &self.cut {
                 let ring = self.scheme.surface().rings[0];
                 let alpha = |v: u32| {

@@ -182,6 +182,19 @@ pub(crate) fn refine_ghosted<S: SurfaceScheme>(
     outer: &[bool],
 ) -> Result<LabelledMesh, SurfaceError> {
     let topo = Topology::build(&mesh.mesh)?;
+    refine_skipping(scheme, mesh, &topo, outer)
+}
+
+/// One step of `mesh` (topology `topo`) in which the vertices `skip` marks are not scattered:
+/// the new points their masks reach are wrong, and the caller keeps only the others (the
+/// ghosts of [`refine_ghosted`], or the points the patch driver makes by the step's 1D plan
+/// away from the EVs, `patch::near`).
+pub(crate) fn refine_skipping<S: SurfaceScheme>(
+    scheme: &S,
+    mesh: &LabelledMesh,
+    topo: &Topology,
+    skip: &[bool],
+) -> Result<LabelledMesh, SurfaceError> {
     let t = scheme.tables();
     let lookup = t.word_index();
     let cx = Step {
@@ -189,8 +202,8 @@ pub(crate) fn refine_ghosted<S: SurfaceScheme>(
         s: scheme.surface(),
         lookup: &lookup,
         lm: mesh,
-        topo: &topo,
-        ghosted: Some(outer),
+        topo,
+        skip: Some(skip),
     };
     Ok(cx.run()?.0)
 }
@@ -221,7 +234,7 @@ fn refine_from<S: SurfaceScheme>(
             lookup: &lookup,
             lm: &cur,
             topo,
-            ghosted: None,
+            skip: None,
         };
         let (next, st) = cx.run()?;
         cur = next;
@@ -237,9 +250,8 @@ struct Step<'a> {
     lookup: &'a HashMap<&'a [u8], u32>,
     lm: &'a LabelledMesh,
     topo: &'a Topology,
-    /// The mesh is extended by ghost faces: the vertices marked (the outer ghosts) are not
-    /// scattered.
-    ghosted: Option<&'a [bool]>,
+    /// The vertices marked are not scattered ([`refine_skipping`]).
+    skip: Option<&'a [bool]>,
 }
 
 impl Step<'_> {
@@ -460,7 +472,7 @@ impl Step<'_> {
         let mut stats = StepStats::default();
         let mut ev_norm: Vec<(u32, f64)> = Vec::new();
         for v in 0..nv as u32 {
-            if self.ghosted.is_some_and(|skip| skip[v as usize]) {
+            if self.skip.is_some_and(|skip| skip[v as usize]) {
                 continue;
             }
             let n = topo.valence(v);

@@ -1,0 +1,200 @@
+//! The reference driver's last step only near the EVs.
+//!
+//! A step whose masks are not yet contained at the EVs (\[G\] Prop. 4.8: Binary-Ternary's
+//! first) runs by the reference driver, which scatters every vertex's mask over the whole
+//! mesh. Away from the EVs that step is the tensor product of its 1D plan, as every
+//! depth-first step is (\[G\] §2.2: the bivariate scheme is the tensor product of the
+//! univariate one on regular regions). So the last such step scatters only the vertices whose
+//! masks reach a face near an EV ([`refine_skipping`]), and each face farther away takes its
+//! points from its own patch with ring, one level before, by the step's plan. Both give every
+//! point the same masks; they differ in the order of the sums (rounding).
+//!
+//! Near, in rings of base faces around an EV: where a mask reaches, r old edges (its longest
+//! mask in new knots over the shortest rule), the rays of its words (⌈d/2⌉ old edges, \[G\]
+//! §2.2.2), and the walk across a corner (one more), each counted in base edges (every base
+//! edge is at least one old edge).
+
+use super::{lift, Base, Numbering, Passes, Plan, STRIP_BYTES};
+use crate::curve::{CurveTables, NO_CHILD};
+use crate::real::Real;
+use crate::surface::{
+    refine_skipping, refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme,
+};
+use crate::topology::Topology;
+use std::collections::{HashMap, VecDeque};
+
+/// Where the last reference step runs, and the plan of the faces away from it.
+pub(super) struct Near {
+    /// Faces no special vertex is near: their points by `plan`.
+    far: Vec<u32>,
+    /// Per base face: its points at the level before the step are scattered (some special
+    /// vertex is within reach of a face whose points they reach).
+    scatter: Vec<bool>,
+    /// The step's 1D plan, without a ring: new points 0..=N' from the old −1..=N+1.
+    pub(super) plan: Plan,
+}
+
+impl Near {
+    /// The split for the reference steps `0..first` (the last of them local), or None if every
+    /// face is near a special vertex or the step's plan needs more than a patch's ring.
+    pub(super) fn new(
+        t: &CurveTables<'_>,
+        lookup: &HashMap<&[u8], u32>,
+        base: &Base<'_>,
+        word: &[u8],
+    ) -> Option<Near> {
+        let plan = Plan::new(t, lookup, word, 0).ok().filter(|p| p.complete)?;
+        // New knots from a mask's child to its farthest entry, either way (the whole mask
+        // where it has no child: even degrees).
+        let longest = (0..t.word_count())
+            .map(|w| {
+                let len = t.mask_range(w).len();
+                match t.mask_children[w] {
+                    NO_CHILD => len.saturating_sub(1),
+                    c => (c as usize).max(len.saturating_sub(c as usize + 1)),
+                }
+            })
+            .max()
+            .unwrap_or(0);
+        let shortest = (0..t.symbol_count() as u8)
+            .map(|a| t.rule(a).len())
+            .min()
+            .unwrap_or(1)
+            .max(1);
+        let reach = longest.div_ceil(shortest);
+        let near = reach + t.degree.div_ceil(2);
+        // A vertex scatters where its mask reaches a near face: `reach` from its own face.
+        let scattered = near + reach + 2;
+        let dist = rings(base.topo, &base.special, scattered + 1);
+        let closest = |f: u32| {
+            (0..4)
+                .map(|c| dist[base.topo.vertex(f, c) as usize])
+                .fold(usize::MAX, usize::min)
+        };
+        let faces = 0..base.topo.face_count() as u32;
+        let far: Vec<u32> = faces.clone().filter(|&f| closest(f) > near).collect();
+        if far.is_empty() {
+            return None;
+        }
+        let scatter = faces.map(|f| closest(f) <= scattered).collect();
+        Some(Near { far, scatter, plan })
+    }
+
+    /// Faces whose points come by the plan.
+    pub(super) fn far_count(&self) -> usize {
+        self.far.len()
+    }
+
+    /// The level after the reference steps `0..first` of `coarse` (its topology `topo`), the
+    /// last one scattered only near the special vertices (the points of the faces far from
+    /// them are wrong: [`Near::far_faces`] sets them), and the level before it.
+    pub(super) fn refine<S: SurfaceScheme>(
+        &self,
+        scheme: &S,
+        coarse: LabelledMesh,
+        topo: &Topology,
+        first: usize,
+    ) -> Result<(LabelledMesh, LabelledMesh), SurfaceError> {
+        let before = if first > 1 {
+            refine_surface_with(scheme, &coarse, topo, first - 1)?.0
+        } else {
+            coarse
+        };
+        let built;
+        let topo = if first > 1 {
+            built = Topology::build(&before.mesh)?;
+            &built
+        } else {
+            topo
+        };
+        topo.require_closed()?;
+        // The faces of the level before come base face by base face, as many each.
+        let per_face = before.mesh.faces.len() / self.scatter.len();
+        let mut skip = vec![true; before.mesh.positions.len()];
+        for (quad, _) in before
+            .mesh
+            .faces
+            .iter()
+            .zip(
+                self.scatter
+                    .iter()
+                    .flat_map(|&s| std::iter::repeat_n(s, per_face)),
+            )
+            .filter(|&(_, s)| s)
+        {
+            for &v in quad {
+                skip[v as usize] = false;
+            }
+        }
+        Ok((refine_skipping(scheme, &before, topo, &skip)?, before))
+    }
+
+    /// Sets the points of the far faces in `start` (numbering `num`): each face's patch with
+    /// its ring at the level before (`before`, `first` − 1 steps) refined by the plan along x
+    /// and y.
+    pub(super) fn far_faces<T: Real>(
+        &self,
+        t: &CurveTables<'_>,
+        base: &Base<'_>,
+        before: &LabelledMesh,
+        first: usize,
+        num: &Numbering,
+        start: &mut [[T; 3]],
+    ) {
+        let old = num.with_n(self.plan.old_side as i64 - 3);
+        let mut points = Vec::new();
+        lift(
+            t,
+            &before.mesh.faces,
+            &before.mesh.positions,
+            first - 1,
+            &old,
+            &mut points,
+        );
+        let layout = super::ring_layout(old.n, true);
+        let mut patch = vec![0.0f64; layout.side * layout.side * 3];
+        let (mut passes, mut new) = (Passes::default(), Vec::new());
+        let side = self.plan.new_side();
+        for &f in &self.far {
+            old.gather(base, f, |x, y, i| {
+                let at = layout.at(x, y);
+                patch[at..at + 3].copy_from_slice(&points[i]);
+            });
+            // [y'][x'] of side N' + 1.
+            self.plan
+                .step_transposing(&patch, &mut passes, STRIP_BYTES, &mut new);
+            for (y, row) in new.chunks_exact(side * 3).enumerate() {
+                for (x, p) in row.chunks_exact(3).enumerate() {
+                    let i = num.index(f as usize, x as i64, y as i64).0;
+                    start[i] = [p[0], p[1], p[2]].map(T::from_f64);
+                }
+            }
+        }
+    }
+}
+
+/// Rings of faces from the vertices `from` to every vertex (vertices of a face are one ring
+/// apart), counted up to `most` (farther vertices get `most`).
+fn rings(topo: &Topology, from: &[u32], most: usize) -> Vec<usize> {
+    let mut dist = vec![most; topo.vertex_count()];
+    let mut queue: VecDeque<u32> = from.iter().copied().collect();
+    for &v in from {
+        dist[v as usize] = 0;
+    }
+    while let Some(v) = queue.pop_front() {
+        let d = dist[v as usize] + 1;
+        if d >= most {
+            continue;
+        }
+        for w in topo.rotation(v) {
+            for c in 0..4 {
+                let u = topo.vertex(w.face, c) as usize;
+                if d < dist[u] {
+                    dist[u] = d;
+                    queue.push_back(u as u32);
+                }
+            }
+        }
+    }
+    dist
+}
