@@ -674,7 +674,9 @@ impl Base<'_> {
     /// neighbours' new patches: every row across an edge not sharp at step k, and the
     /// diagonal across each ordinary interior corner. Rows toward faces that are not in
     /// lock-step keep the values f's own step gave them (exact there: nothing at those points
-    /// changes between steps).
+    /// changes between steps). On a mesh without features f's own step gives every ring
+    /// point but the two next to each EV corner (its diagonal is missing, and with contained
+    /// masks it reaches only those and the EV child, \[G\] Prop. 4.8): only those are copied.
     fn refresh_ring<T: Real>(
         &self,
         f: u32,
@@ -693,25 +695,32 @@ impl Base<'_> {
         // Each edge's ring row is the row next to the edge in the face across: both run with
         // a constant step, so the row is copied point by point at two strides. The points
         // read are inside their face and those written outside f, so none is both.
+        let plain = self.features.is_plain();
+        let ev = |c: u8| self.lockstep[self.topo.vertex(f, c % 4) as usize];
         for l in 0..4u8 {
             let Some((g, gl, back)) = self.across(f, l).filter(|_| !rules.sharp[l as usize]) else {
                 continue;
             };
             let (cx, cy) = corner_at(l, n, n);
             let ((dx, dy), (ox, oy)) = (TOWARD_NEXT[l as usize], TOWARD_PREV[l as usize]);
-            let to = at((cx - ox, cy - oy));
-            let to_step = at((cx + dx - ox, cy + dy - oy)) - to;
+            let to_at = |t: i64| at((cx + t * dx - ox, cy + t * dy - oy));
             let from_at = |t: i64| at(inward_xy(gl, if back { n - t } else { t }, 1, n));
-            let from = from_at(0);
-            copy_points(
-                patches,
-                slot,
-                (g, from, from_at(1) - from),
-                (own, to, to_step),
-                n + 1,
-            );
+            let row = |(t, count): (i64, i64)| {
+                let (from, to) = (from_at(t), to_at(t));
+                let steps = (from_at(t + 1) - from, to_at(t + 1) - to);
+                ((g, from, steps.0), (own, to, steps.1), count)
+            };
+            if !plain {
+                let (from, to, count) = row((0, n + 1));
+                copy_points(patches, slot, from, to, count);
+                continue;
+            }
+            for t in [(ev(l), 0), (ev(l + 1), n)].into_iter().filter(|e| e.0) {
+                let (from, to, count) = row((t.1, 1));
+                copy_points(patches, slot, from, to, count);
+            }
         }
-        for c in 0..4u8 {
+        for c in (0..4u8).filter(|_| !plain) {
             let (Some((g, gc)), CornerKind::Real) =
                 (self.diagonal(f, c), rules.corners[c as usize])
             else {
