@@ -2349,8 +2349,9 @@ impl SurfaceVisitor for Subdivide<'_> {
 }
 
 /// The level of a mesh refined `k` times by the reference driver, in the numbering `num`. Its
-/// faces come old face by old face, row by row: each face is tracked by its base face and its
-/// offset in that face's grid (W_k × W_k, from corner 0).
+/// faces come old face by old face, each base face's as a block of W_k × W_k cells in the same
+/// order ([`cells`]); each point is taken from the one cell whose corner 0 it is, or, on the
+/// face's last row and column, from the cell beside it.
 fn lift<T: Real>(
     t: &CurveTables<'_>,
     quads: &[[u32; 4]],
@@ -2365,10 +2366,37 @@ fn lift<T: Real>(
         data.extend(positions.iter().map(|p| p.map(T::from_f64)));
         return;
     }
-    let nf = num.faces.len();
-    let mut cells: Vec<(u32, i64, i64, u8, u8)> = (0..nf as u32)
-        .map(|f| (f, 0, 0, t.axiom[0], t.axiom[0]))
-        .collect();
+    let cells = cells(t, k);
+    let n = num.n;
+    data.clear();
+    data.resize(num.len(), [T::default(); 3]);
+    // (A mesh with ghost faces has them after the base faces: they are left out.)
+    let faces = quads.chunks_exact(cells.len()).take(num.faces.len());
+    for (f, quads) in faces.enumerate() {
+        for (&(x, y), quad) in cells.iter().zip(quads) {
+            let last = (x + 1 == n, y + 1 == n);
+            for c in [0u8, 1, 2, 3] {
+                let wanted = match c {
+                    0 => true,
+                    1 => last.0,
+                    2 => last.0 && last.1,
+                    _ => last.1,
+                };
+                if wanted {
+                    let (dx, dy) = corner_at(c, 1, 1);
+                    let i = num.index(f, x + dx, y + dy).0;
+                    data[i] = positions[quad[c as usize] as usize].map(T::from_f64);
+                }
+            }
+        }
+    }
+}
+
+/// The cells of a base face refined `k` times by the reference driver, in the order it makes
+/// them: each cell of step k − 1 becomes its rule's block, row by row; (x, y) of each cell's
+/// corner 0 in the face's grid (every base face alike: its edges all carry the axiom).
+fn cells(t: &CurveTables<'_>, k: usize) -> Vec<(i64, i64)> {
+    let mut cells = vec![(0i64, 0i64, t.axiom[0], t.axiom[0])];
     let mut word = t.axiom.to_vec();
     for _ in 0..k {
         let mut off = vec![0i64];
@@ -2377,13 +2405,13 @@ fn lift<T: Real>(
         }
         cells = cells
             .iter()
-            .flat_map(|&(f, x, y, a, b)| {
+            .flat_map(|&(x, y, a, b)| {
                 let (ra, rb) = (t.rule(a), t.rule(b));
                 let (x0, y0) = (off[x as usize], off[y as usize]);
                 rb.iter().enumerate().flat_map(move |(j, &lb)| {
                     ra.iter()
                         .enumerate()
-                        .map(move |(i, &la)| (f, x0 + i as i64, y0 + j as i64, la, lb))
+                        .map(move |(i, &la)| (x0 + i as i64, y0 + j as i64, la, lb))
                 })
             })
             .collect();
@@ -2391,16 +2419,7 @@ fn lift<T: Real>(
         rewrite(t, &word, &mut next);
         word = next;
     }
-    data.clear();
-    data.resize(num.len(), [T::default(); 3]);
-    for (cell, quad) in cells.iter().zip(quads) {
-        let (f, x, y, _, _) = *cell;
-        for (c, &v) in quad.iter().enumerate() {
-            let (dx, dy) = corner_at(c as u8, 1, 1);
-            let i = num.index(f as usize, x + dx, y + dy).0;
-            data[i] = positions[v as usize].map(T::from_f64);
-        }
-    }
+    cells.into_iter().map(|(x, y, _, _)| (x, y)).collect()
 }
 
 /// A mesh cut open along the edges sharp at its first step, for the reference driver's step

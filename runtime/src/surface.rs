@@ -448,24 +448,24 @@ impl Step<'_> {
             *base = next;
             next += (len - 1) as u32;
         }
-        let mut face_base = vec![0u32; nf];
+        // Each face's grid, read for every point it gets.
+        let mut grids = Vec::with_capacity(nf);
         for f in 0..nf as u32 {
-            face_base[f as usize] = next;
-            next += ((self.count(f, 0) - 1) * (self.count(f, 1) - 1)) as u32;
+            let (p, q) = (self.count(f, 0), self.count(f, 1));
+            grids.push(FaceGrid {
+                p,
+                q,
+                corners: [0, 1, 2, 3].map(|c| topo.vertex(f, c)),
+                edges: [0, 1, 2, 3].map(|l| {
+                    let e = topo.edge_of(f, l) as usize;
+                    (edge_base[e], edge_len[e], topo.from_smaller(f, l))
+                }),
+                inside: next,
+            });
+            next += ((p - 1) * (q - 1)) as u32;
         }
         let total = next as usize;
-        let index = |f: u32, gx: i64, gy: i64| -> u32 {
-            let (p, q) = (self.count(f, 0), self.count(f, 1));
-            match site(gx, gy, p, q) {
-                Site::Corner(c) => topo.vertex(f, c),
-                Site::Edge(l, t) => {
-                    let e = topo.edge_of(f, l);
-                    let len = self.count(f, l);
-                    edge_base[e as usize] + along_edge(t, len, topo.from_smaller(f, l)) as u32
-                }
-                Site::Inside(i) => face_base[f as usize] + i as u32,
-            }
-        };
+        let index = |f: u32, gx: i64, gy: i64| grids[f as usize].index(gx, gy);
 
         let mut pos = vec![[0.0f64; 3]; total];
         let mut sum = vec![0.0f64; total];
@@ -566,6 +566,35 @@ impl Step<'_> {
         match self.s.alpha.get(n.wrapping_sub(3)) {
             Some(&a) => Ok(a),
             None => self.s.ev.alpha(n).map_err(SurfaceError::Ev),
+        }
+    }
+}
+
+/// Where a face's new points go in the new level's numbering ([`crate::grid`]): children,
+/// edge points, face points.
+struct FaceGrid {
+    /// Sides of the face's grid (sub-edges of its local edges 0 and 1).
+    p: i64,
+    q: i64,
+    /// The vertex of each corner (its child keeps its index).
+    corners: [u32; 4],
+    /// Per local edge: its first point's index, its sub-edges, and whether it runs from
+    /// the edge's smaller vertex.
+    edges: [(u32, i64, bool); 4],
+    /// The first interior point's index (the others follow row by row).
+    inside: u32,
+}
+
+impl FaceGrid {
+    /// The index of grid point (x, y).
+    fn index(&self, x: i64, y: i64) -> u32 {
+        match site(x, y, self.p, self.q) {
+            Site::Corner(c) => self.corners[c as usize],
+            Site::Edge(l, t) => {
+                let (base, len, forward) = self.edges[l as usize];
+                base + along_edge(t, len, forward) as u32
+            }
+            Site::Inside(i) => self.inside + i as u32,
         }
     }
 }
