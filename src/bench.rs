@@ -7,8 +7,8 @@ use lsubdiv::generic::GenericSurface;
 use lsubdiv::mesh_file::Checked;
 use lsubdiv::runtime::features::{Boundary, Features};
 use lsubdiv::runtime::generators::{
-    creased_cube, cube, grid_cube, grid_with_hole, open_grid, pentagon_star, polygon_prism, star,
-    torus, tube,
+    creased_cube, cube, grid_cube, grid_with_hole, icosphere, open_grid, pentagon_star,
+    polygon_prism, star, torus, tube,
 };
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{output_counts, Refiner, Simd};
@@ -30,12 +30,17 @@ pub const MAX_PRISM_SIDES: usize = 10_000;
 /// Grid side of the largest built-in grid cube (6·K² faces, at most [`MAX_TORUS_FACES`]).
 pub const MAX_GRID_CUBE: usize = 1_000;
 
+/// Level of the largest built-in icosphere (20·4^L triangles, 60·4^L quads after its first
+/// step: at most [`MAX_TORUS_FACES`]).
+pub const MAX_ICOSPHERE_LEVEL: usize = 8;
+
 /// A built-in mesh (`torus:R:C`, `torus:R:C:x` the same with its faces ordered along x,
 /// `cube`, `grid-cube:K` (each face a K × K grid: 8 EVs beside ordinary faces), `star`,
 /// `prism:N`: n-gon caps, split by a Catmull–Clark step; open: `grid` (8 × 8
 /// quads), `tube` (8 along, 16 around), `hole` (a 9 × 9 grid whose centre face is a hole),
 /// `pentagon-star` (a pentagon with a triangle on each edge, split first); `creased-cube`
-/// (every edge sharp)) or an OBJ or PLY file read
+/// (every edge sharp); `icosphere:L` (a triangle mesh, split first: every quad at two EVs))
+/// or an OBJ or PLY file read
 /// under `--max-memory max` ([`crate::limits::read_mesh`]), with its topology.
 pub fn mesh(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Error> {
     let mut read = built(spec, max, boundary)?;
@@ -108,6 +113,15 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
             return split(spec, &polygon_prism(n), boundary);
         }
         ["pentagon-star"] => return split(spec, &pentagon_star(), boundary),
+        ["icosphere", l] => {
+            let l = size(l, 0..=MAX_ICOSPHERE_LEVEL).ok_or_else(|| {
+                Error::input(format!(
+                    "`{spec}`: an icosphere's level is 0 to {MAX_ICOSPHERE_LEVEL}"
+                ))
+            })?;
+            // Triangles: the first step is a Catmull–Clark step (`runtime::polygon`).
+            return split(spec, &icosphere(l), boundary);
+        }
         _ => {
             return crate::limits::read_mesh(
                 std::path::Path::new(spec),

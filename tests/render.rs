@@ -249,6 +249,10 @@ fn ppm_output_and_bad_arguments() {
             "`grid-cube:0`: a grid cube's faces are 1 × 1 to 1000 × 1000 grids",
         ),
         (
+            vec!["icosphere:9", "-o", out],
+            "`icosphere:9`: an icosphere's level is 0 to 8",
+        ),
+        (
             vec!["cube", "-o", out, "--camera", "0,120"],
             "elevation 120",
         ),

@@ -319,6 +319,83 @@ pub fn grid_with_hole(n: usize) -> (QuadMesh, Features) {
     (open_grid(n, n), features)
 }
 
+/// The icosahedron with each triangle split into four `level` times, its vertices on the unit
+/// sphere: a triangle mesh like a scanned or modelled one, 20 · 4^level triangles. Its 12 first
+/// vertices have valence 5, the others 6; split once into quads (the first step on a polygon
+/// mesh, [`crate::polygon`]) every quad has two extraordinary corners, so every face is refined
+/// around an EV. Outward orientation. Panics above level 10 (20,971,520 triangles).
+pub fn icosphere(level: usize) -> PolyMesh {
+    assert!(level <= 10, "icosphere level {level} above 10");
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let unit = |p: [f64; 3]| {
+        let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        p.map(|c| c / r)
+    };
+    let mut positions: Vec<[f64; 3]> = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ]
+    .map(unit)
+    .to_vec();
+    let mut triangles: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut middle: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut mid = |a: u32, b: u32, positions: &mut Vec<[f64; 3]>| {
+            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (positions[a as usize], positions[b as usize]);
+                positions.push(unit(std::array::from_fn(|c| p[c] + q[c])));
+                (positions.len() - 1) as u32
+            })
+        };
+        triangles = triangles
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let ab = mid(a, b, &mut positions);
+                let bc = mid(b, c, &mut positions);
+                let ca = mid(c, a, &mut positions);
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let mut m = PolyMesh::new();
+    m.positions = positions;
+    for t in &triangles {
+        m.push_face(t);
+    }
+    m
+}
+
 /// The closed pentagonal pyramid, triangles and a pentagon: base vertices 0..5 on the unit
 /// circle at z = 0 (vertex i at angle 2πi/5), apex 5 at (0, 0, 1.2); faces the base (4, 3, 2,
 /// 1, 0) then triangle i = (i, i + 1, 5), oriented outward. 6 vertices, 10 edges, 6 faces; the
@@ -531,6 +608,47 @@ mod tests {
             .filter(|f| f.iter().all(|&v| valence[v as usize] == 4));
         assert_eq!(ordinary.count(), 6 * k * k - 24);
         assert_eq!(grid_cube(1).faces.len(), cube().faces.len());
+    }
+
+    #[test]
+    fn icosphere_is_a_closed_outward_triangle_mesh() {
+        for level in 0..=2 {
+            let m = icosphere(level);
+            let (v, f) = (
+                10 * 4usize.pow(level as u32) + 2,
+                20 * 4usize.pow(level as u32),
+            );
+            assert_eq!((m.positions.len(), m.face_count()), (v, f));
+            // Every directed edge once, and its reverse once: closed and consistently oriented.
+            let mut directed = HashMap::new();
+            let mut valence = vec![0; v];
+            for t in m.corners.chunks_exact(3) {
+                for i in 0..3 {
+                    *directed.entry((t[i], t[(i + 1) % 3])).or_insert(0) += 1;
+                    valence[t[i] as usize] += 1;
+                }
+                // Outward: the normal points away from the centre.
+                let p = |i: usize| m.positions[t[i] as usize];
+                let (a, b) = (sub(p(1), p(0)), sub(p(2), p(0)));
+                let n = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                assert!((0..3).map(|c| n[c] * p(0)[c]).sum::<f64>() > 0.0);
+            }
+            assert!(directed
+                .iter()
+                .all(|(&(a, b), &k)| k == 1 && directed.get(&(b, a)) == Some(&1)));
+            assert_eq!(valence.iter().filter(|&&n| n == 5).count(), 12);
+            assert!(valence.iter().all(|&n| n == 5 || n == 6));
+            let r = |p: &[f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            assert!(m.positions.iter().all(|p| (r(p) - 1.0).abs() < 1e-15));
+        }
+    }
+
+    fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|c| a[c] - b[c])
     }
 
     #[test]

@@ -13,8 +13,9 @@ use lsubdiv_cli::implementation::{Geometry, PathChoice};
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// `torus:R:C` (`torus:R:C:x`: its faces ordered along x, as a row-major grid), `cube`,
-    /// `grid-cube:K` (each face a K × K grid), `star`, `prism:N` (n-gon caps), open `grid`, `tube`, `hole`, `pentagon-star`,
-    /// `creased-cube`, or an OBJ or PLY file.
+    /// `grid-cube:K` (each face a K × K grid), `star`, `prism:N` (n-gon caps), `icosphere:L`
+    /// (triangles), open `grid`, `tube`, `hole`, `pentagon-star`, `creased-cube`, or an OBJ or
+    /// PLY file.
     #[arg(long, default_value = "torus:256:256")]
     mesh: String,
     #[arg(long, default_value = "uniform-binary")]

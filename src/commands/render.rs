@@ -24,7 +24,8 @@ pub enum Normals {
 pub struct RenderArgs {
     /// An OBJ or PLY file (`-`: standard input), or a built-in mesh: `cube` (3-valent EVs),
     /// `grid-cube:K` (each face a K × K grid), `star` (EVs of valence 3, 5, 9), `torus:R:C`,
-    /// `prism:N` (n-gon caps); open `grid`, `tube`, `hole`, `pentagon-star`; `creased-cube`.
+    /// `prism:N` (n-gon caps), `icosphere:L` (triangles); open `grid`, `tube`, `hole`,
+    /// `pentagon-star`; `creased-cube`.
     mesh: String,
     /// Output image, `.png` or `.ppm` (written whole or not at all).
     #[arg(short, long)]

@@ -1,8 +1,9 @@
 //! lsubdiv side of the peer comparison (see bench/peers/README.md).
 //!
 //! Subcommands (all driven by bench/peers/run.sh):
-//! - `meshes --dir D [--target N]`: writes torus.obj (torus:256:256), cube.obj, star.obj and
-//!   grid.obj (open 8 × 8) with `lsubdiv::bench::mesh` + `obj::format`, and creased.obj (the
+//! - `meshes --dir D [--target N]`: writes torus.obj (torus:256:256), cube.obj, star.obj,
+//!   grid.obj (open 8 × 8) and icosphere.obj (icosphere:4 split into quads: every face at two
+//!   EVs) with `lsubdiv::bench::mesh` + `obj::format`, and creased.obj (the
 //!   torus with OpenSubdiv's crease tags: `crease_tags`), and prints `MESH name path levels out_vertices` with the
 //!   level count `lsubdiv bench` would use for N output vertices (default 4,200,000).
 //! - `bench --obj P --name N --levels L [--runs R] [--dump F]`: times lsubdiv exactly as
@@ -59,6 +60,7 @@ fn meshes(a: &Args) -> Result<(), String> {
         ("star", "star"),
         ("grid", "grid"),
         ("creased", "torus:256:256"),
+        ("icosphere", "icosphere:4"),
     ] {
         let checked = bench::mesh(spec, u64::MAX, None).map_err(|e| e.to_string())?;
         let mesh = &checked.mesh;
