@@ -50,9 +50,18 @@ pub fn mesh(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked,
     Ok(read)
 }
 
-/// A size of a built-in mesh: an integer in `range`.
-fn size(s: &str, range: std::ops::RangeInclusive<usize>) -> Option<usize> {
-    s.parse().ok().filter(|n| range.contains(n))
+/// A size `s` of the built-in mesh `spec`: an integer in `range`, else an error saying `what`
+/// the sizes are.
+fn size(
+    spec: &str,
+    s: &str,
+    range: std::ops::RangeInclusive<usize>,
+    what: &str,
+) -> Result<usize, Error> {
+    s.parse()
+        .ok()
+        .filter(|n| range.contains(n))
+        .ok_or_else(|| Error::input(format!("`{spec}`: {what}")))
 }
 
 /// [`mesh`] before its boundary rule is set (a file's is set while reading).
@@ -65,60 +74,45 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
         ["hole"] => return featured(grid_with_hole(9)),
         ["creased-cube"] => return featured(creased_cube()),
         ["torus", r, c] | ["torus", r, c, "x"] => {
-            let p = |s: &str| size(s, 3..=100_000);
-            match (p(r), p(c)) {
-                (Some(r), Some(c)) if r * c <= MAX_TORUS_FACES => {
-                    let mut t = torus(r, c);
-                    if parts.len() == 4 {
-                        // Each face's corners from its second: edge 0 then runs along the
-                        // row, so that consecutive faces meet across edge 1 (the order of a
-                        // row-major grid), orientation kept.
-                        for f in &mut t.faces {
-                            f.rotate_left(1);
-                        }
-                    }
-                    t
-                }
-                (Some(r), Some(c)) => {
-                    return Err(Error::input(format!(
-                        "`{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
-                        r * c
-                    )))
-                }
-                _ => {
-                    return Err(Error::input(format!(
-                        "`{spec}`: torus sizes are integers from 3 to 100000"
-                    )))
+            let what = "torus sizes are integers from 3 to 100000";
+            let (r, c) = (
+                size(spec, r, 3..=100_000, what)?,
+                size(spec, c, 3..=100_000, what)?,
+            );
+            if r * c > MAX_TORUS_FACES {
+                return Err(Error::input(format!(
+                    "`{spec}`: {} faces; built-in tori have at most {MAX_TORUS_FACES} (R·C)",
+                    r * c
+                )));
+            }
+            let mut t = torus(r, c);
+            if parts.len() == 4 {
+                // Each face's corners from its second: edge 0 then runs along the row, so
+                // that consecutive faces meet across edge 1 (the order of a row-major grid),
+                // orientation kept.
+                for f in &mut t.faces {
+                    f.rotate_left(1);
                 }
             }
+            t
         }
         ["cube"] => cube(),
         ["grid-cube", k] => {
-            let k = size(k, 1..=MAX_GRID_CUBE).ok_or_else(|| {
-                Error::input(format!(
-                    "`{spec}`: a grid cube's faces are 1 × 1 to {MAX_GRID_CUBE} × \
-                     {MAX_GRID_CUBE} grids"
-                ))
-            })?;
-            grid_cube(k)
+            let most = MAX_GRID_CUBE;
+            let what = format!("a grid cube's faces are 1 × 1 to {most} × {most} grids");
+            grid_cube(size(spec, k, 1..=most, &what)?)
         }
         ["star"] => star(),
         ["prism", n] => {
-            let n = size(n, 3..=MAX_PRISM_SIDES).ok_or_else(|| {
-                Error::input(format!(
-                    "`{spec}`: a prism has 3 to {MAX_PRISM_SIDES} sides"
-                ))
-            })?;
+            let what = format!("a prism has 3 to {MAX_PRISM_SIDES} sides");
+            let n = size(spec, n, 3..=MAX_PRISM_SIDES, &what)?;
             // n-gon caps: the first step is a Catmull–Clark step (`runtime::polygon`).
             return split(spec, &polygon_prism(n), boundary);
         }
         ["pentagon-star"] => return split(spec, &pentagon_star(), boundary),
         ["icosphere", l] => {
-            let l = size(l, 0..=MAX_ICOSPHERE_LEVEL).ok_or_else(|| {
-                Error::input(format!(
-                    "`{spec}`: an icosphere's level is 0 to {MAX_ICOSPHERE_LEVEL}"
-                ))
-            })?;
+            let what = format!("an icosphere's level is 0 to {MAX_ICOSPHERE_LEVEL}");
+            let l = size(spec, l, 0..=MAX_ICOSPHERE_LEVEL, &what)?;
             // Triangles: the first step is a Catmull–Clark step (`runtime::polygon`).
             return split(spec, &icosphere(l), boundary);
         }
