@@ -392,6 +392,8 @@ struct Base<'t> {
     special: Vec<u32>,
     /// Per vertex: its faces are refined in lock-step (special, or its sharpness changes).
     lockstep: Vec<bool>,
+    /// Per vertex: its place in `special` (`u32::MAX` if it is not special).
+    special_at: Vec<u32>,
     /// Some face corner has no diagonal ring point at some step ([`CornerKind::Ev`]): the
     /// depth-first steps need masks contained there (\[G\] Prop. 4.8).
     needs_containment: bool,
@@ -455,8 +457,10 @@ impl<'t> Base<'t> {
             })
             .collect();
         let mut lockstep = vec![false; nv as usize];
-        for &v in &special {
+        let mut special_at = vec![u32::MAX; nv as usize];
+        for (i, &v) in special.iter().enumerate() {
             lockstep[v as usize] = true;
+            special_at[v as usize] = i as u32;
         }
         for v in (0..nv).filter(|_| !plain) {
             if features.changes_at(topo, v) {
@@ -494,6 +498,7 @@ impl<'t> Base<'t> {
             diagonal,
             special,
             lockstep,
+            special_at,
             needs_containment,
             rules,
             vertex_rules,
@@ -679,16 +684,12 @@ impl Base<'_> {
     /// masks it reaches only those and the EV child, \[G\] Prop. 4.8): only those are copied.
     fn refresh_ring<T: Real>(
         &self,
-        f: u32,
-        n: i64,
-        k: usize,
+        (f, n, k): (u32, i64, usize),
         layout: Layout,
         slot: &[u32],
-        patches: &mut [Vec<T>],
+        patches: &[Vec<T>],
+        put: &mut impl FnMut(usize, [T; 3]),
     ) {
-        let Some(&own) = slot.get(f as usize) else {
-            return;
-        };
         // Point (x, y) of a lock-step face's patch, as its offset.
         let at = |(x, y): (i64, i64)| layout.at(x, y) as isize;
         let rules = self.rules(f, k);
@@ -708,16 +709,16 @@ impl Base<'_> {
             let row = |(t, count): (i64, i64)| {
                 let (from, to) = (from_at(t), to_at(t));
                 let steps = (from_at(t + 1) - from, to_at(t + 1) - to);
-                ((g, from, steps.0), (own, to, steps.1), count)
+                ((g, from, steps.0), (to, steps.1), count)
             };
             if !plain {
                 let (from, to, count) = row((0, n + 1));
-                copy_points(patches, slot, from, to, count);
+                copy_points(patches, slot, from, to, count, put);
                 continue;
             }
             for t in [(ev(l), 0), (ev(l + 1), n)].into_iter().filter(|e| e.0) {
                 let (from, to, count) = row((t.1, 1));
-                copy_points(patches, slot, from, to, count);
+                copy_points(patches, slot, from, to, count, put);
             }
         }
         for c in (0..4u8).filter(|_| !plain) {
@@ -734,29 +735,29 @@ impl Base<'_> {
             let (bx, by) = TOWARD_PREV[c as usize];
             let from = at((gx + hx + kx, gy + hy + ky));
             let to = at((cx - ax - bx, cy - ay - by));
-            copy_points(patches, slot, (g, from, 0), (own, to, 0), 1);
+            copy_points(patches, slot, (g, from, 0), (to, 0), 1, put);
         }
     }
 }
 
-/// Copies `count` points from face g's patch (offset `from`, then every `from_step` values)
-/// to the patch in slot `to` (likewise); nothing if g is not in lock-step (no slot).
+/// Hands `count` points of face g's patch (offset `from`, then every `from_step` values) to
+/// `put` with their offsets in the patch being refreshed (`at`, then every `to_step`); nothing
+/// if g is not in lock-step (no slot).
 fn copy_points<T: Copy>(
-    patches: &mut [Vec<T>],
+    patches: &[Vec<T>],
     slot: &[u32],
     (g, from, from_step): (u32, isize, isize),
-    (to, at, to_step): (u32, isize, isize),
+    (at, to_step): (isize, isize),
     count: i64,
+    put: &mut impl FnMut(usize, [T; 3]),
 ) {
     let Some(&src) = slot.get(g as usize).filter(|&&s| s != u32::MAX) else {
         return;
     };
+    let patch = &patches[src as usize];
     for t in 0..count as isize {
         let (i, j) = ((from + t * from_step) as usize, (at + t * to_step) as usize);
-        let p: [T; 3] = patches[src as usize][i..i + 3]
-            .try_into()
-            .expect("three coordinates");
-        patches[to as usize][j..j + 3].copy_from_slice(&p);
+        put(j, [patch[i], patch[i + 1], patch[i + 2]]);
     }
 }
 
@@ -1728,26 +1729,34 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 a_is_x,
             };
             let k = self.first + s;
-            let children: Vec<Option<[T; 3]>> = self
-                .base
-                .special
-                .iter()
-                .zip(&self.alphas)
-                .zip(self.base.vertex_rules(k))
-                .map(|((&v, &alpha), rule)| {
-                    rule.map(|rule| match rule {
-                        VertexRule::Corner => *fans.point_of(&self.base, v, 0),
-                        VertexRule::Crease => crease_child(&self.base, &fans, plan, v, k),
-                        VertexRule::Smooth if self.base.topo.valence(v) == 4 => {
-                            ev_child(&self.base, &fans, v, vertex_rule_weights(plan))
-                        }
-                        VertexRule::Smooth => ev_child(&self.base, &fans, v, (alpha, ring)),
+            // The vertex children from the level before, the special vertices split among the
+            // workers.
+            let base = &self.base;
+            let per = base.special.len().div_ceil(self.threads).max(1);
+            let specials = base.special.chunks(per).zip(self.alphas.chunks(per));
+            let children: Vec<Option<[T; 3]>> = in_threads(
+                specials.zip(base.vertex_rules(k).chunks(per)),
+                |((vs, alphas), rules)| {
+                    let each = vs.iter().zip(alphas).zip(rules);
+                    each.map(|((&v, &alpha), rule)| {
+                        rule.map(|rule| match rule {
+                            VertexRule::Corner => *fans.point_of(base, v, 0),
+                            VertexRule::Crease => crease_child(base, &fans, plan, v, k),
+                            VertexRule::Smooth if base.topo.valence(v) == 4 => {
+                                ev_child(base, &fans, v, vertex_rule_weights(plan))
+                            }
+                            VertexRule::Smooth => ev_child(base, &fans, v, (alpha, ring)),
+                        })
                     })
-                })
-                .collect();
+                    .collect::<Vec<_>>()
+                },
+            )
+            .into_iter()
+            .flatten()
+            .collect();
             let (n_new, new_a_is_x) = (plan.n_new, !a_is_x);
             if last {
-                for (&v, child) in self.base.special.iter().zip(&children) {
+                for (&v, child) in base.special.iter().zip(&children) {
                     if let Some(child) = child {
                         // SAFETY: the workers are done; nothing else writes the output now.
                         unsafe { out.write(v as usize, child) };
@@ -1755,21 +1764,37 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
             } else {
                 let layout = ring_layout(n_new, new_a_is_x);
-                for (&v, child) in self.base.special.iter().zip(&children) {
-                    let Some(child) = child else { continue };
-                    for w in self.base.topo.rotation(v) {
-                        let (cx, cy) = corner_at(w.corner, n_new, n_new);
-                        let i = layout.at(cx, cy);
-                        new[self.fan_slot[w.face as usize] as usize][i..i + 3]
-                            .copy_from_slice(child);
+                let (faces, slot) = (&self.fan_faces, &self.fan_slot);
+                // The ring points each face takes from its neighbours, all read before any
+                // patch changes (they are inside the neighbours, where nothing below writes).
+                let rings = in_threads(faces.chunks(chunk), |faces| {
+                    let mut got = Vec::new();
+                    for &f in faces {
+                        let mut put = |at, p| got.push((f, at, p));
+                        base.refresh_ring((f, n_new, k + 1), layout, slot, new, &mut put);
                     }
-                }
-                for &f in &self.fan_faces {
-                    self.base
-                        .refresh_ring(f, n_new, k + 1, layout, &self.fan_slot, new);
-                    let patch = &mut new[self.fan_slot[f as usize] as usize];
-                    self.base.load_phantoms((f, n_new, k + 1), layout, patch);
-                }
+                    got
+                });
+                // Then each face's own patch: the children at its corners, those ring points,
+                // its phantoms.
+                let work = faces.chunks(chunk).zip(new.chunks_mut(chunk)).zip(rings);
+                in_threads(work, |((faces, patches), got)| {
+                    let mut got = got.into_iter().peekable();
+                    for (&f, patch) in faces.iter().zip(patches) {
+                        for c in 0..4u8 {
+                            let i = base.special_at[base.topo.vertex(f, c) as usize];
+                            if let Some(&Some(child)) = children.get(i as usize) {
+                                let (x, y) = corner_at(c, n_new, n_new);
+                                let at = layout.at(x, y);
+                                patch[at..at + 3].copy_from_slice(&child);
+                            }
+                        }
+                        while let Some((_, at, p)) = got.next_if(|g| g.0 == f) {
+                            patch[at..at + 3].copy_from_slice(&p);
+                        }
+                        base.load_phantoms((f, n_new, k + 1), layout, patch);
+                    }
+                });
             }
             std::mem::swap(old, new);
             self.level_seconds[s] += times.iter().sum::<f64>() + lap(&mut clock);
@@ -2012,8 +2037,18 @@ fn in_threads<I: Send, R: Send>(
     work: impl Fn(I) -> R + Sync,
 ) -> Vec<R> {
     let work = &work;
+    let mut items = items.peekable();
+    let first = items.next();
+    if items.peek().is_none() {
+        // One item: on this thread (no spawn, and its caches).
+        return first.map(work).into_iter().collect();
+    }
     std::thread::scope(|sc| {
-        let handles: Vec<_> = items.map(|item| sc.spawn(move || work(item))).collect();
+        let handles: Vec<_> = first
+            .into_iter()
+            .chain(items)
+            .map(|item| sc.spawn(move || work(item)))
+            .collect();
         handles
             .into_iter()
             .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
@@ -2151,12 +2186,12 @@ pub fn footprint(
     });
     // The per-element tables: each face's numbering, diagonals, slot among the ordinary or
     // the fan faces and in `fan_slot`, chain link and hole flag; each edge's sharpness; each
-    // vertex's sharpness and lock-step flag.
+    // vertex's sharpness, lock-step flag and place among the special vertices.
     let per_face = size_of::<FaceNumbering>() + size_of::<[u32; 4]>() + 2 * size_of::<u32>() + 2;
     let tables = f0
         .saturating_mul(per_face as u128)
         .saturating_add(e0)
-        .saturating_add(2 * v0);
+        .saturating_add(6 * v0);
     let start = output_counts(v0, e0, f0, n(first))
         .0
         .saturating_add(ghosts)
