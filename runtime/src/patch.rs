@@ -291,6 +291,11 @@ impl Plan {
     }
 }
 
+/// Faces (or special vertices) a worker takes between two lock-step levels at least: less
+/// work than that does not pay for a thread (the cube's 24 fan faces over 10 levels ran 8 %
+/// slower on two threads split finer).
+const BETWEEN: usize = 1024;
+
 /// Values of a fan face's interior staged before they are written (64 KiB of f64).
 const STAGE: usize = 8192;
 
@@ -1732,7 +1737,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             // The vertex children from the level before, the special vertices split among the
             // workers.
             let base = &self.base;
-            let per = base.special.len().div_ceil(self.threads).max(1);
+            let per = base.special.len().div_ceil(self.threads).max(BETWEEN);
             let specials = base.special.chunks(per).zip(self.alphas.chunks(per));
             let children: Vec<Option<[T; 3]>> = in_threads(
                 specials.zip(base.vertex_rules(k).chunks(per)),
@@ -1767,6 +1772,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 let (faces, slot) = (&self.fan_faces, &self.fan_slot);
                 // The ring points each face takes from its neighbours, all read before any
                 // patch changes (they are inside the neighbours, where nothing below writes).
+                let chunk = faces.len().div_ceil(self.threads).max(BETWEEN);
                 let rings = in_threads(faces.chunks(chunk), |faces| {
                     let mut got = Vec::new();
                     for &f in faces {
@@ -2030,29 +2036,29 @@ fn scatter_border<T: Real>(
     }
 }
 
-/// Runs `work` on every item, each in its own scoped thread, and returns the results in order
-/// (a worker's panic is raised again here).
+/// Runs `work` on every item and returns the results in order: the first on this thread, each
+/// other in its own scoped thread (a worker's panic is raised again here). One share stays
+/// where the caller's data is: a single worker spawned for it ran the 256 × 256 torus 17 %
+/// (f64) and 41 % (f32) slower on this host, as fast when pinned to one CPU
+/// (docs/benchmarks.md).
 fn in_threads<I: Send, R: Send>(
     items: impl Iterator<Item = I>,
     work: impl Fn(I) -> R + Sync,
 ) -> Vec<R> {
     let work = &work;
-    let mut items = items.peekable();
-    let first = items.next();
-    if items.peek().is_none() {
-        // One item: on this thread (no spawn, and its caches).
-        return first.map(work).into_iter().collect();
-    }
+    let mut items = items;
+    let Some(first) = items.next() else {
+        return Vec::new();
+    };
     std::thread::scope(|sc| {
-        let handles: Vec<_> = first
-            .into_iter()
-            .chain(items)
-            .map(|item| sc.spawn(move || work(item)))
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
+        let others: Vec<_> = items.map(|item| sc.spawn(move || work(item))).collect();
+        let mut results = vec![work(first)];
+        results.extend(
+            others
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
+        );
+        results
     })
 }
 
