@@ -9,10 +9,10 @@
 //! points from its own patch with ring, one level before, by the step's plan. Both give every
 //! point the same masks; they differ in the order of the sums (rounding).
 //!
-//! Near, in rings of base faces around an EV: where a mask reaches, r old edges (its longest
-//! mask in new knots over the shortest rule), the rays of its words (⌈d/2⌉ old edges, \[G\]
-//! §2.2.2), and the walk across a corner (one more), each counted in base edges (every base
-//! edge is at least one old edge).
+//! Near, in rings of base faces around an EV: r + ⌈d/2⌉, where a mask reaches (r old edges: its
+//! longest half in new knots over the shortest rule), the vertices its words' rays pass
+//! (⌈d/2⌉ − 1, \[G\] §2.2.2), and the walk across a corner (one more), each counted in base
+//! edges (every base edge is at least one old edge).
 
 use super::{lift, Base, Numbering, Passes, Plan, STRIP_BYTES};
 use crate::curve::{CurveTables, NO_CHILD};
