@@ -591,6 +591,18 @@ mod random_surfaces {
                     }
                 }
             }
+            // A scheme whose first steps the reference driver takes runs the last of them only
+            // near the EVs where faces are far from them (`patch/near.rs`), as on the 16 × 16-grid
+            // cube.
+            let mesh = grid_cube(16);
+            let topo = Topology::build(&mesh).unwrap();
+            let steps = Refiner::<_, f64>::new(&s, &topo, 4, 1).unwrap().reference_steps();
+            let side = s.tables().image_len(&s.scheme().ls.axiom, steps);
+            if steps > 0 && (mesh.faces.len() as u128) * side * side <= 4 * MAX_POINTS as u128 {
+                let mut r = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
+                let d = same_points(r.refine(&mesh.positions).unwrap(), &refine(&s, mesh.clone(), steps).0.positions);
+                prop_assert!(d < 1e-12, "grid cube 16, {steps} reference steps, {} faces by the reference: {d:e}\n{text}", r.reference_faces());
+            }
         }
     }
 }
