@@ -55,10 +55,12 @@ use std::collections::HashMap;
 use std::time::Instant;
 
 mod composed;
+mod handoff;
 mod limit;
 mod near;
 mod stream;
 use composed::{Composed, Faces, Rows};
+use handoff::Handoff;
 pub use limit::{limit_available, SurfaceLimit};
 use near::Near;
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
@@ -864,6 +866,25 @@ impl<T> Fans<'_, T> {
         p[i..i + 3].try_into().expect("three coordinates")
     }
 
+    /// A point of a vertex's 1-ring as the face of wedge w holds it ([`one_ring`]).
+    fn spot(&self, w: crate::topology::Wedge, spot: Spot) -> [T; 3]
+    where
+        T: Copy,
+    {
+        let n = self.n;
+        let (cx, cy) = corner_at(w.corner, n, n);
+        let (nx, ny) = TOWARD_NEXT[w.corner as usize];
+        let (px, py) = TOWARD_PREV[w.corner as usize];
+        // E_k is the edge shared with the previous wedge: the one not toward `next`.
+        let (ex, ey) = if w.next_is_plus { (px, py) } else { (nx, ny) };
+        let (x, y) = match spot {
+            Spot::Centre => (cx, cy),
+            Spot::Spoke => (cx + ex, cy + ey),
+            Spot::Diagonal => (cx + nx + px, cy + ny + py),
+        };
+        *self.point(w.face, x, y)
+    }
+
     /// Vertex v's point, as the face of wedge w of its rotation holds it.
     fn point_of(&self, base: &Base<'_>, v: u32, w: usize) -> &[T; 3] {
         let w = base.topo.rotation(v)[w];
@@ -1154,6 +1175,10 @@ pub struct Refiner<'s, S, T> {
     stacks: Vec<bool>,
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
+    /// What the fan faces hand each other between levels on a mesh without features, and
+    /// its box ([`Handoff`]).
+    handoff: Option<Handoff>,
+    handed: Vec<[T; 3]>,
     threads: usize,
     /// Scratch per strip of a large patch's step ([`Refiner::set_strip_bytes`]).
     strip_bytes: usize,
@@ -1306,6 +1331,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         for (i, &f) in fan_faces.iter().enumerate() {
             fan_slot[f as usize] = i as u32;
         }
+        let handoff = Handoff::new(&base, &fan_faces, &fan_slot);
         Ok(Refiner {
             scheme,
             base,
@@ -1321,6 +1347,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             near,
             ordinary,
             stacks,
+            handoff,
+            handed: Vec::new(),
             fan_faces,
             fan_slot,
             threads: threads.max(1),
@@ -1420,7 +1448,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     .sum::<usize>()
             })
             .sum();
-        let points = self.start.capacity() + self.output.capacity();
+        let points = self.start.capacity() + self.output.capacity() + self.handed.capacity();
         (fans + scratch + 3 * points) * size_of::<T>()
     }
 
@@ -1651,18 +1679,25 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
+        let handoff = self.handoff.as_ref();
+        let handed = &mut self.handed;
+        handed.resize(handoff.map_or(0, Handoff::len), [T::default(); 3]);
         for (s, plan) in self.plans.iter().enumerate() {
             let last = s + 1 == self.plans.len();
             let chunk = self.fan_faces.len().div_ceil(self.threads).max(1);
             let (out, out_num, strip_bytes) = (&out, &self.out_num, self.strip_bytes);
             let streaming = last && streaming;
+            let (n_new, new_a_is_x) = (plan.n_new, !a_is_x);
+            let layouts = (ring_layout(n, a_is_x), ring_layout(n_new, new_a_is_x));
+            let gives = &SharedOut::new(handed);
             let work = self
                 .fan_faces
                 .chunks(chunk)
                 .zip(old.chunks(chunk))
                 .zip(new.chunks_mut(chunk))
-                .zip(&mut self.scratch);
-            let times = in_threads(work, |(((faces, old), new), scratch)| {
+                .zip(&mut self.scratch)
+                .enumerate();
+            let times = in_threads(work, |(i, (((faces, old), new), scratch))| {
                 let mut clock = Instant::now();
                 // The last level's interior of a face: staged whole, if it fits the stage, and
                 // written as one run (consecutive faces' runs continue each other); else one
@@ -1676,7 +1711,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // by this writer or (one per row) those below.
                 let mut interiors = unsafe { out.stream(streaming, Simd::Baseline) };
                 let mut rows = Vec::new();
-                for ((&f, src), dst) in faces.iter().zip(old).zip(new) {
+                for (q, ((&f, src), dst)) in faces.iter().zip(old).zip(new).enumerate() {
                     if last {
                         if !staged {
                             rows.extend((0..=out_num.n).map(|_| {
@@ -1718,6 +1753,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     } else {
                         plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                     }
+                    if let Some(h) = handoff {
+                        let new = (!last).then_some((&dst[..], n_new, layouts.1));
+                        // SAFETY: each point of the box has one giver; nothing reads the box
+                        // until the workers are done.
+                        unsafe { h.give(i * chunk + q, (src, n, layouts.0), new, gives) };
+                    }
                 }
                 interiors.finish();
                 if streaming {
@@ -1739,18 +1780,29 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let base = &self.base;
             let per = base.special.len().div_ceil(self.threads).max(BETWEEN);
             let specials = base.special.chunks(per).zip(self.alphas.chunks(per));
+            let handed = &*handed;
             let children: Vec<Option<[T; 3]>> = in_threads(
-                specials.zip(base.vertex_rules(k).chunks(per)),
-                |((vs, alphas), rules)| {
-                    let each = vs.iter().zip(alphas).zip(rules);
-                    each.map(|((&v, &alpha), rule)| {
+                specials.zip(base.vertex_rules(k).chunks(per)).enumerate(),
+                |(c, ((vs, alphas), rules))| {
+                    let each = vs.iter().zip(alphas).zip(rules).enumerate();
+                    each.map(|(q, ((&v, &alpha), rule))| {
+                        let topo = base.topo;
+                        let from_fans = |_, w, spot| fans.spot(w, spot);
                         rule.map(|rule| match rule {
                             VertexRule::Corner => *fans.point_of(base, v, 0),
                             VertexRule::Crease => crease_child(base, &fans, plan, v, k),
-                            VertexRule::Smooth if base.topo.valence(v) == 4 => {
-                                ev_child(base, &fans, v, vertex_rule_weights(plan))
+                            VertexRule::Smooth if topo.valence(v) == 4 => {
+                                ev_child(topo, v, vertex_rule_weights(plan), from_fans)
                             }
-                            VertexRule::Smooth => ev_child(base, &fans, v, (alpha, ring)),
+                            VertexRule::Smooth => match handoff {
+                                Some(h) => {
+                                    let one = h.ring(c * per + q, handed);
+                                    ev_child(topo, v, (alpha, ring), |k, _, spot| {
+                                        one.point(k, spot)
+                                    })
+                                }
+                                None => ev_child(topo, v, (alpha, ring), from_fans),
+                            },
                         })
                     })
                     .collect::<Vec<_>>()
@@ -1759,7 +1811,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .into_iter()
             .flatten()
             .collect();
-            let (n_new, new_a_is_x) = (plan.n_new, !a_is_x);
             if last {
                 for (&v, child) in base.special.iter().zip(&children) {
                     if let Some(child) = child {
@@ -1768,14 +1819,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     }
                 }
             } else {
-                let layout = ring_layout(n_new, new_a_is_x);
+                let layout = layouts.1;
                 let (faces, slot) = (&self.fan_faces, &self.fan_slot);
                 // The ring points each face takes from its neighbours, all read before any
-                // patch changes (they are inside the neighbours, where nothing below writes).
+                // patch changes (they are inside the neighbours, where nothing below writes);
+                // on a mesh without features they were handed on during the step.
                 let chunk = faces.len().div_ceil(self.threads).max(BETWEEN);
                 let rings = in_threads(faces.chunks(chunk), |faces| {
                     let mut got = Vec::new();
-                    for &f in faces {
+                    for &f in faces.iter().filter(|_| handoff.is_none()) {
                         let mut put = |at, p| got.push((f, at, p));
                         base.refresh_ring((f, n_new, k + 1), layout, slot, new, &mut put);
                     }
@@ -1784,9 +1836,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // Then each face's own patch: the children at its corners, those ring points,
                 // its phantoms.
                 let work = faces.chunks(chunk).zip(new.chunks_mut(chunk)).zip(rings);
-                in_threads(work, |((faces, patches), got)| {
+                in_threads(work.enumerate(), |(i, ((faces, patches), got))| {
                     let mut got = got.into_iter().peekable();
-                    for (&f, patch) in faces.iter().zip(patches) {
+                    for (q, (&f, patch)) in faces.iter().zip(patches).enumerate() {
                         for c in 0..4u8 {
                             let i = base.special_at[base.topo.vertex(f, c) as usize];
                             if let Some(&Some(child)) = children.get(i as usize) {
@@ -1797,6 +1849,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         }
                         while let Some((_, at, p)) = got.next_if(|g| g.0 == f) {
                             patch[at..at + 3].copy_from_slice(&p);
+                        }
+                        if let Some(h) = handoff {
+                            h.take(i * chunk + q, (n_new, layout), handed, patch);
                         }
                         base.load_phantoms((f, n_new, k + 1), layout, patch);
                     }
@@ -2217,6 +2272,8 @@ pub fn footprint(
     } else {
         0
     };
+    // What the fan faces hand each other between levels, and its box ([`Handoff`]).
+    let handoff = fan_faces.saturating_mul(handoff::bytes_per_fan_face(point));
     let workers = (threads.max(1) as u128)
         .saturating_mul(side(steps).max(8192))
         .saturating_mul(2 * point);
@@ -2227,7 +2284,7 @@ pub fn footprint(
         vertices,
         quads,
         input,
-        refining: [start, fans, workers, output]
+        refining: [start, fans, handoff, workers, output]
             .iter()
             .fold(0u128, |a, &b| a.saturating_add(b)),
         output,
@@ -2609,7 +2666,7 @@ fn dart_child(
     } else {
         rule
     };
-    one_ring(topo, v, rule, |w, spot| {
+    one_ring(topo, v, rule, |_, w, spot| {
         let c = match spot {
             Spot::Centre => w.corner,
             Spot::Spoke if w.next_is_plus => (w.corner + 3) % 4,
@@ -2825,13 +2882,13 @@ fn one_ring(
     topo: &Topology,
     v: u32,
     (alpha, ring): (f64, [f64; 2]),
-    point: impl Fn(crate::topology::Wedge, Spot) -> [f64; 3],
+    point: impl Fn(usize, crate::topology::Wedge, Spot) -> [f64; 3],
 ) -> [f64; 3] {
     let rot = topo.rotation(v);
-    let mut acc = point(rot[0], Spot::Centre).map(|x| alpha * x);
-    for &w in rot {
+    let mut acc = point(0, rot[0], Spot::Centre).map(|x| alpha * x);
+    for (k, &w) in rot.iter().enumerate() {
         for (spot, weight) in [(Spot::Spoke, ring[0]), (Spot::Diagonal, ring[1])] {
-            for (a, x) in acc.iter_mut().zip(point(w, spot)) {
+            for (a, x) in acc.iter_mut().zip(point(k, w, spot)) {
                 *a += weight * x;
             }
         }
@@ -2854,26 +2911,16 @@ fn vertex_rule_weights(plan: &Plan) -> (f64, [f64; 2]) {
     (w0 * w0, [w0 * w1, w1 * w1])
 }
 
-/// The child of v from its 1-ring in the old level's patches ([`one_ring`]).
+/// The child of v from its old 1-ring ([`one_ring`]), `point(k, wedge, spot)` reading it
+/// (from the old level's patches, [`Fans::spot`], or the handoff's box).
 fn ev_child<T: Real>(
-    base: &Base<'_>,
-    level: &Fans<'_, T>,
+    topo: &Topology,
     v: u32,
     rule: (f64, [f64; 2]),
+    point: impl Fn(usize, crate::topology::Wedge, Spot) -> [T; 3],
 ) -> [T; 3] {
-    let n = level.n;
-    let child = one_ring(base.topo, v, rule, |w, spot| {
-        let (cx, cy) = corner_at(w.corner, n, n);
-        let (nx, ny) = TOWARD_NEXT[w.corner as usize];
-        let (px, py) = TOWARD_PREV[w.corner as usize];
-        // E_k is the edge shared with the previous wedge: the one not toward `next`.
-        let (ex, ey) = if w.next_is_plus { (px, py) } else { (nx, ny) };
-        let (x, y) = match spot {
-            Spot::Centre => (cx, cy),
-            Spot::Spoke => (cx + ex, cy + ey),
-            Spot::Diagonal => (cx + nx + px, cy + ny + py),
-        };
-        level.point(w.face, x, y).map(|c| c.to_f64())
+    let child = one_ring(topo, v, rule, |k, w, spot| {
+        point(k, w, spot).map(|c| c.to_f64())
     });
     child.map(T::from_f64)
 }

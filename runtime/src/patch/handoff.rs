@@ -1,0 +1,229 @@
+//! What the fan faces of a mesh without features read from each other between two lock-step
+//! levels (`Refiner::fan_faces`): each EV's old 1-ring, for its child (\[G\] §3), and per EV
+//! corner the two new ring points next to it, which the face's own step cannot give (its
+//! diagonal is missing; with contained masks it reaches only those and the EV child, \[G\]
+//! Prop. 4.8). Read from the neighbours' patches after the step, these were cache misses
+//! (a quarter of the time on a triangle mesh, every face at an EV: `perf`, docs/benchmarks.md).
+//! Here each face's worker pushes them into one small box right after the face's step, while
+//! both of its patches are in cache, and the EV children and the rings read the box in order.
+//! The same values are copied and summed in the same order: the same bits.
+
+use super::{Base, Layout, SharedOut, Spot};
+use crate::grid::{corner_at, TOWARD_NEXT, TOWARD_PREV};
+use crate::real::Real;
+
+/// A point near corner c of a face (side N): the corner plus i steps toward corner c + 1 and
+/// j steps toward corner c − 1.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct CornerPoint {
+    corner: u8,
+    i: i8,
+    j: i8,
+}
+
+impl CornerPoint {
+    /// Its offset in a patch of side N stored in `layout`.
+    fn at(self, n: i64, layout: Layout) -> usize {
+        let c = self.corner as usize;
+        let (cx, cy) = corner_at(self.corner, n, n);
+        let ((ax, ay), (bx, by)) = (TOWARD_NEXT[c], TOWARD_PREV[c]);
+        let (i, j) = (i64::from(self.i), i64::from(self.j));
+        layout.at(cx + i * ax + j * bx, cy + i * ay + j * by)
+    }
+}
+
+/// One point a face hands on: from its old patch (an EV's 1-ring) or its new one (a
+/// neighbour's ring), to its place in the box.
+#[derive(Clone, Copy, Debug)]
+struct Give {
+    from: CornerPoint,
+    old: bool,
+    to: u32,
+}
+
+/// Per fan face (by slot) the points it gives and the ring points it takes; per special
+/// vertex where its 1-ring lies in the box.
+pub(super) struct Handoff {
+    /// Face slot s gives `gives[give_at[s]..give_at[s + 1]]`.
+    give_at: Vec<u32>,
+    gives: Vec<Give>,
+    /// Face slot s takes its ring points `takes[take_at[s]..take_at[s + 1]]` from the box at
+    /// the same indices.
+    take_at: Vec<u32>,
+    takes: Vec<CornerPoint>,
+    /// Special vertex i's old 1-ring in the box from `ring_at[i]`: the vertex, then per wedge
+    /// of its rotation the spoke shared with the wedge before and the diagonal.
+    ring_at: Vec<u32>,
+    /// Points in the box.
+    len: usize,
+}
+
+/// Bytes a [`Handoff`] holds at most per fan face, its box included (`patch::footprint`): a
+/// face takes two ring points per corner and gives them to its neighbours, and gives each of
+/// its corners' vertices at most three points of the 1-ring; `point` bytes per point.
+pub(super) fn bytes_per_fan_face(point: u128) -> u128 {
+    let (takes, gives) = (8u128, 8 + 12);
+    let tables = takes * size_of::<CornerPoint>() as u128 + gives * size_of::<Give>() as u128;
+    // The two slot tables, where each special vertex's 1-ring starts (at most one per wedge,
+    // four per face), and the box's points (every take and every 1-ring point).
+    tables + 2 * 4 + 4 * 4 + (takes + 12) * point
+}
+
+impl Handoff {
+    /// The handoff of `fans` (fan faces, and each face's slot among them), `None` on a mesh
+    /// with features (whose rings take whole rows from the neighbours and whose special
+    /// vertices have other rules, `Base::refresh_ring`).
+    pub(super) fn new(base: &Base<'_>, fans: &[u32], slot: &[u32]) -> Option<Handoff> {
+        if !base.features.is_plain() {
+            return None;
+        }
+        let topo = base.topo;
+        let slot_of = |f: u32| slot.get(f as usize).copied().filter(|&s| s != u32::MAX);
+        let mut gives: Vec<Vec<Give>> = vec![Vec::new(); fans.len()];
+        // The rings: across edge l of face f, at each end whose vertex is in lock-step, the
+        // point of the face g across one step inside from the shared edge.
+        let (mut take_at, mut takes) = (vec![0u32], Vec::new());
+        for &f in fans {
+            let lockstep = |c: u8| base.lockstep[topo.vertex(f, c % 4) as usize];
+            for l in 0..4u8 {
+                let Some((g, gl, back)) = base.across(f, l) else {
+                    continue;
+                };
+                let Some(gs) = slot_of(g) else { continue };
+                for at_start in [true, false] {
+                    let c = if at_start { l } else { (l + 1) % 4 };
+                    if !lockstep(c) {
+                        continue;
+                    }
+                    // f's ring point next to corner c across edge l; in g, the edge's end at
+                    // that vertex is gl's start when the parameters agree.
+                    let (i, j) = if at_start { (0, -1) } else { (-1, 0) };
+                    let (gc, gi, gj) = if at_start != back {
+                        (gl, 0, 1)
+                    } else {
+                        ((gl + 1) % 4, 1, 0)
+                    };
+                    gives[gs as usize].push(Give {
+                        from: CornerPoint {
+                            corner: gc,
+                            i: gi,
+                            j: gj,
+                        },
+                        old: false,
+                        to: takes.len() as u32,
+                    });
+                    takes.push(CornerPoint { corner: c, i, j });
+                }
+            }
+            take_at.push(takes.len() as u32);
+        }
+        // The 1-rings, after the ring points.
+        let mut len = takes.len();
+        let mut ring_at = Vec::with_capacity(base.special.len());
+        for &v in &base.special {
+            ring_at.push(len as u32);
+            let rot = topo.rotation(v);
+            for (k, w) in rot.iter().enumerate() {
+                let s = slot_of(w.face)? as usize;
+                let at = |i, j| CornerPoint {
+                    corner: w.corner,
+                    i,
+                    j,
+                };
+                // The spoke shared with the wedge before (`one_ring`).
+                let spoke = if w.next_is_plus { at(0, 1) } else { at(1, 0) };
+                let centre = (k == 0).then(|| (at(0, 0), len));
+                let ring = [(spoke, len + 1 + 2 * k), (at(1, 1), len + 2 + 2 * k)];
+                for (from, to) in centre.into_iter().chain(ring) {
+                    let to = to as u32;
+                    gives[s].push(Give {
+                        from,
+                        old: true,
+                        to,
+                    });
+                }
+            }
+            len += 1 + 2 * rot.len();
+        }
+        let mut give_at = vec![0u32];
+        for g in &gives {
+            give_at.push(give_at.last().copied().unwrap_or(0) + g.len() as u32);
+        }
+        Some(Handoff {
+            give_at,
+            gives: gives.into_iter().flatten().collect(),
+            take_at,
+            takes,
+            ring_at,
+            len,
+        })
+    }
+
+    /// Points in the box.
+    pub(super) fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Face slot s's gives into `out` after its step: from its old patch (side `n`,
+    /// `layouts.0`) and, unless this was the last step, from its new one (side `n_new`,
+    /// `layouts.1`).
+    ///
+    /// # Safety
+    /// No other thread writes the box at the same time as this face's gives (each box point
+    /// has one giver), nor reads it.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) unsafe fn give<T: Real>(
+        &self,
+        s: usize,
+        (old, n, old_layout): (&[T], i64, Layout),
+        new: Option<(&[T], i64, Layout)>,
+        out: &SharedOut<T>,
+    ) {
+        let range = self.give_at[s] as usize..self.give_at[s + 1] as usize;
+        for g in &self.gives[range] {
+            let (patch, at) = match (g.old, new) {
+                (true, _) => (old, g.from.at(n, old_layout)),
+                (false, Some((new, n_new, new_layout))) => (new, g.from.at(n_new, new_layout)),
+                (false, None) => continue,
+            };
+            let p = [patch[at], patch[at + 1], patch[at + 2]];
+            // SAFETY: box point `to` has this face as its only giver (the caller's contract).
+            unsafe { out.write(g.to as usize, &p) };
+        }
+    }
+
+    /// Sets face slot s's ring points next to its EV corners in its new patch (side N,
+    /// `layout`) from the box.
+    pub(super) fn take<T: Real>(
+        &self,
+        s: usize,
+        (n, layout): (i64, Layout),
+        from: &[[T; 3]],
+        patch: &mut [T],
+    ) {
+        let range = self.take_at[s] as usize..self.take_at[s + 1] as usize;
+        for (p, to) in from[range.clone()].iter().zip(&self.takes[range]) {
+            let at = to.at(n, layout);
+            patch[at..at + 3].copy_from_slice(p);
+        }
+    }
+
+    /// Special vertex i's old 1-ring in the box.
+    pub(super) fn ring<'b, T>(&self, i: usize, from: &'b [[T; 3]]) -> OneRing<'b, T> {
+        OneRing(&from[self.ring_at[i] as usize..])
+    }
+}
+
+/// A special vertex's old 1-ring as [`Handoff::ring`] reads it from the box.
+pub(super) struct OneRing<'b, T>(&'b [[T; 3]]);
+
+impl<T: Copy> OneRing<'_, T> {
+    /// The point `spot` of wedge k ([`super::one_ring`]).
+    pub(super) fn point(&self, k: usize, spot: Spot) -> [T; 3] {
+        match spot {
+            Spot::Centre => self.0[0],
+            Spot::Spoke => self.0[1 + 2 * k],
+            Spot::Diagonal => self.0[2 + 2 * k],
+        }
+    }
+}
