@@ -174,8 +174,31 @@ impl Plan {
         self.pass_any(src, len, first, dst);
     }
 
+    /// The pass with slabs of a small patch's common lengths made constants (points of
+    /// sides 4 to 11), so that a row's sums unroll: a fan face's patch is that small in its
+    /// first steps, where the calls and loops per row cost more than the sums.
     #[inline(always)]
     fn pass_any<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
+        match len {
+            12 => self.pass_sized::<T, 12>(src, first, dst),
+            15 => self.pass_sized::<T, 15>(src, first, dst),
+            18 => self.pass_sized::<T, 18>(src, first, dst),
+            21 => self.pass_sized::<T, 21>(src, first, dst),
+            24 => self.pass_sized::<T, 24>(src, first, dst),
+            27 => self.pass_sized::<T, 27>(src, first, dst),
+            30 => self.pass_sized::<T, 30>(src, first, dst),
+            33 => self.pass_sized::<T, 33>(src, first, dst),
+            _ => self.pass_len(src, len, first, dst),
+        }
+    }
+
+    #[inline(always)]
+    fn pass_sized<T: Real, const L: usize>(&self, src: &[T], first: usize, dst: &mut [T]) {
+        self.pass_len(src, L, first, dst);
+    }
+
+    #[inline(always)]
+    fn pass_len<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
         for (row, d) in self.rows[first..].iter().zip(dst.chunks_exact_mut(len)) {
             let slab = |x: usize| &src[x * len..(x + 1) * len];
             let w = |i: usize| T::from_f64(self.parents[row.start + i].1);
