@@ -1873,10 +1873,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         while let Some((_, at, p)) = got.next_if(|g| g.0 == f) {
                             patch[at..at + 3].copy_from_slice(&p);
                         }
-                        if let Some(h) = handoff {
-                            h.take(i * chunk + q, (n_new, layout), handed, patch);
+                        match handoff {
+                            Some(h) => h.take(i * chunk + q, (n_new, layout), handed, patch),
+                            None => base.load_phantoms((f, n_new, k + 1), layout, patch),
                         }
-                        base.load_phantoms((f, n_new, k + 1), layout, patch);
                     }
                 });
             }

@@ -9,6 +9,7 @@
 //! The same values are copied and summed in the same order: the same bits.
 
 use super::{Base, Layout, SharedOut, Spot};
+use crate::features::CornerKind;
 use crate::grid::{corner_at, TOWARD_NEXT, TOWARD_PREV};
 use crate::real::Real;
 
@@ -51,6 +52,9 @@ pub(super) struct Handoff {
     /// the same indices.
     take_at: Vec<u32>,
     takes: Vec<CornerPoint>,
+    /// Per face slot, its corners at an EV (bit c), whose diagonal ring point does not exist
+    /// and is kept zero (the face's only phantoms, `Base::phantoms`).
+    ev_corners: Vec<u8>,
     /// Special vertex i's old 1-ring in the box from `ring_at[i]`: the vertex, then per wedge
     /// of its rotation the spoke shared with the wedge before and the diagonal.
     ring_at: Vec<u32>,
@@ -64,15 +68,17 @@ pub(super) struct Handoff {
 pub(super) fn bytes_per_fan_face(point: u128) -> u128 {
     let (takes, gives) = (8u128, 8 + 12);
     let tables = takes * size_of::<CornerPoint>() as u128 + gives * size_of::<Give>() as u128;
-    // The two slot tables, where each special vertex's 1-ring starts (at most one per wedge,
-    // four per face), and the box's points (every take and every 1-ring point).
-    tables + 2 * 4 + 4 * 4 + (takes + 12) * point
+    // The two slot tables and the EV corners, where each special vertex's 1-ring starts (at
+    // most one per wedge, four per face), and the box's points (every take and every 1-ring
+    // point).
+    tables + 2 * 4 + 1 + 4 * 4 + (takes + 12) * point
 }
 
 impl Handoff {
     /// The handoff of `fans` (fan faces, and each face's slot among them), `None` on a mesh
-    /// with features (whose rings take whole rows from the neighbours and whose special
-    /// vertices have other rules, `Base::refresh_ring`).
+    /// with features (whose rings take whole rows from the neighbours, whose phantoms are
+    /// made from the refreshed points and whose special vertices have other rules,
+    /// `Base::refresh_ring`).
     pub(super) fn new(base: &Base<'_>, fans: &[u32], slot: &[u32]) -> Option<Handoff> {
         if !base.features.is_plain() {
             return None;
@@ -83,7 +89,18 @@ impl Handoff {
         // The rings: across edge l of face f, at each end whose vertex is in lock-step, the
         // point of the face g across one step inside from the shared edge.
         let (mut take_at, mut takes) = (vec![0u32], Vec::new());
+        let mut ev_corners = Vec::with_capacity(fans.len());
         for &f in fans {
+            let rules = base.rules(f, 0);
+            let mut ev = 0u8;
+            for (c, kind) in rules.corners.iter().enumerate() {
+                match kind {
+                    CornerKind::Real => {}
+                    CornerKind::Ev => ev |= 1 << c,
+                    _ => return None,
+                }
+            }
+            ev_corners.push(ev);
             let lockstep = |c: u8| base.lockstep[topo.vertex(f, c % 4) as usize];
             for l in 0..4u8 {
                 let Some((g, gl, back)) = base.across(f, l) else {
@@ -154,6 +171,7 @@ impl Handoff {
             gives: gives.into_iter().flatten().collect(),
             take_at,
             takes,
+            ev_corners,
             ring_at,
             len,
         })
@@ -193,7 +211,7 @@ impl Handoff {
     }
 
     /// Sets face slot s's ring points next to its EV corners in its new patch (side N,
-    /// `layout`) from the box.
+    /// `layout`) from the box, and zeroes the diagonal at those corners.
     pub(super) fn take<T: Real>(
         &self,
         s: usize,
@@ -205,6 +223,10 @@ impl Handoff {
         for (p, to) in from[range.clone()].iter().zip(&self.takes[range]) {
             let at = to.at(n, layout);
             patch[at..at + 3].copy_from_slice(p);
+        }
+        for corner in (0..4).filter(|c| self.ev_corners[s] & (1 << c) != 0) {
+            let at = CornerPoint { corner, i: -1, j: -1 }.at(n, layout);
+            patch[at..at + 3].fill(T::default());
         }
     }
 
