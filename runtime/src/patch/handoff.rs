@@ -225,7 +225,12 @@ impl Handoff {
             patch[at..at + 3].copy_from_slice(p);
         }
         for corner in (0..4).filter(|c| self.ev_corners[s] & (1 << c) != 0) {
-            let at = CornerPoint { corner, i: -1, j: -1 }.at(n, layout);
+            let at = CornerPoint {
+                corner,
+                i: -1,
+                j: -1,
+            }
+            .at(n, layout);
             patch[at..at + 3].fill(T::default());
         }
     }
