@@ -1696,9 +1696,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             }
             let t = &self.start_gather[f as usize * m * m..][..m * m];
             let layout = ring_layout(self.start_num.n, a_is_x);
+            // A point the start level does not have (an EV's diagonal) loads as zero: on a
+            // mesh without features (a handoff) that is every phantom.
             load(t, &self.start, layout, patch);
-            self.base
-                .load_phantoms((f, self.start_num.n, self.first), layout, patch);
+            if self.handoff.is_none() {
+                self.base
+                    .load_phantoms((f, self.start_num.n, self.first), layout, patch);
+            }
         }
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
