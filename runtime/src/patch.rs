@@ -22,7 +22,9 @@
 //! with contained masks (\[G\] Prop. 4.8) it only reaches the EV child and the two ring points
 //! next to the corner. Faces with an EV corner therefore advance in lock-step: after each step
 //! the EV child is set from its old 1-ring, (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)),
-//! and those two ring points are copied from the neighbouring faces of the fan, which own them.
+//! and those two ring points are copied from the neighbouring faces of the fan, which own them
+//! (on a mesh without features each face hands them on, with its corners' 1-ring points, right
+//! after its step, `patch/handoff.rs`).
 //! An EV child can only enter another face's ring when N' = 1; such steps, and steps whose
 //! masks are not yet contained (e.g. Binary-Ternary's first) or whose ring is not
 //! self-sustaining, run by the reference driver (`surface`) on the coarse mesh, lifted into the
