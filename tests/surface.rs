@@ -292,6 +292,39 @@ fn patch_path_matches_the_reference_driver() {
     }
 }
 
+/// A triangle mesh split into quads has every face at an EV (the triangle's centre, valence 3,
+/// and its corner), so every face advances in lock-step and hands its neighbours their ring
+/// points and its EVs their 1-rings through the handoff's box (`patch/handoff.rs`): the
+/// reference driver's points on one, two and three threads, the same bits on each, with more
+/// fan faces (3,840) than one worker takes between levels, so the box is given and taken in
+/// several shares.
+#[test]
+fn a_triangle_mesh_hands_its_rings_on() {
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::generators::icosphere;
+    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::runtime::polygon::catmull_clark;
+    let mesh = catmull_clark(&icosphere(3), &Features::default())
+        .unwrap()
+        .mesh;
+    let topo = Topology::build(&mesh).unwrap();
+    assert_eq!(mesh.faces.len(), 3840);
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        let steps = 2;
+        let (reference, _) = refine(&s, mesh.clone(), steps);
+        let mut one = None;
+        for threads in [1, 2, 3] {
+            let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+            let points = r.refine(&mesh.positions).unwrap().to_vec();
+            let d = same_points(&points, &reference.positions);
+            assert!(d < 1e-12, "{name}, {threads} threads: {d:e}");
+            let one = one.get_or_insert_with(|| points.clone());
+            assert!(*one == points, "{name}: {threads} threads against one");
+        }
+    }
+}
+
 /// Where the first steps run by the reference driver (Binary-Ternary's masks are contained at
 /// EVs from its second step), the last of them scatters only near the EVs and the faces away
 /// from them take that step by its 1D plan (`patch/near.rs`): the whole reference's points to
