@@ -1748,8 +1748,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                 unsafe { out.stream(streaming, Simd::Baseline) }
                             }));
                         }
+                        // Edges 1 (x = N', t = y) and 3 (x = 0, t = N' − y) where face f owns
+                        // them: the run of each, for the inner rows' end points.
+                        let sides = [1, 3].map(|l| {
+                            let (e, forward, owner) = out_num.faces[f as usize].edge(l);
+                            owner.then_some((out_num.nv + e as usize * k, forward))
+                        });
                         // Strips of rows y (the parity chosen above), x from a0: the interior
-                        // points as a run, the border by ownership.
+                        // points as a run, the border by ownership (an inner row's two ends
+                        // straight to their edges).
                         let each = |a0: usize, y: usize, row: &[T]| {
                             let point = |x: i64, _| {
                                 let i = (x as usize - a0) * 3;
@@ -1770,7 +1777,17 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                     unsafe { rows[y as usize].run(first * 3, &row[a..b]) };
                                 }
                             }
-                            scatter_border(out_num, f as usize, &xs, &(y..=y), point, out);
+                            if y == 0 || y == n {
+                                scatter_border(out_num, f as usize, &xs, &(y..=y), point, out);
+                                return;
+                            }
+                            for ((x, t), side) in [(n, y), (0, n - y)].into_iter().zip(sides) {
+                                if let Some((run, forward)) = side.filter(|_| xs.contains(&x)) {
+                                    let i = run + along_edge(t, n, forward);
+                                    // SAFETY: face f is the only writer of an edge it owns.
+                                    unsafe { out.write(i, &point(x, y)) };
+                                }
+                            }
                         };
                         plan.step_strips(src, &mut scratch.p, strip_bytes, each);
                         if staged {
