@@ -62,7 +62,7 @@ mod limit;
 mod near;
 mod stream;
 use composed::{Composed, Faces, Rows};
-use handoff::Handoff;
+use handoff::{Handoff, Offsets};
 pub use limit::{limit_available, SurfaceLimit};
 use near::Near;
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
@@ -1718,6 +1718,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let streaming = last && streaming;
             let (n_new, new_a_is_x) = (plan.n_new, !a_is_x);
             let layouts = (ring_layout(n, a_is_x), ring_layout(n_new, new_a_is_x));
+            let offsets = (Offsets::new(n, layouts.0), Offsets::new(n_new, layouts.1));
             let gives = &SharedOut::new(handed);
             let work = self
                 .fan_faces
@@ -1800,10 +1801,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         plan.step_transposing(src, &mut scratch.p, strip_bytes, dst);
                     }
                     if let Some(h) = handoff {
-                        let new = (!last).then_some((&dst[..], n_new, layouts.1));
+                        let new = (!last).then_some((&dst[..], &offsets.1));
                         // SAFETY: each point of the box has one giver; nothing reads the box
                         // until the workers are done.
-                        unsafe { h.give(i * chunk + q, (src, n, layouts.0), new, gives) };
+                        unsafe { h.give(i * chunk + q, (src, &offsets.0), new, gives) };
                     }
                 }
                 interiors.finish();
@@ -1897,7 +1898,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                             patch[at..at + 3].copy_from_slice(&p);
                         }
                         match handoff {
-                            Some(h) => h.take(i * chunk + q, (n_new, layout), handed, patch),
+                            Some(h) => h.take(i * chunk + q, &offsets.1, handed, patch),
                             None => base.load_phantoms((f, n_new, k + 1), layout, patch),
                         }
                     }

@@ -23,13 +23,29 @@ pub(super) struct CornerPoint {
 }
 
 impl CornerPoint {
-    /// Its offset in a patch of side N stored in `layout`.
-    fn at(self, n: i64, layout: Layout) -> usize {
-        let c = self.corner as usize;
-        let (cx, cy) = corner_at(self.corner, n, n);
-        let ((ax, ay), (bx, by)) = (TOWARD_NEXT[c], TOWARD_PREV[c]);
-        let (i, j) = (i64::from(self.i), i64::from(self.j));
-        layout.at(cx + i * ax + j * bx, cy + i * ay + j * by)
+    /// Its place among the 36 points next to the corners ([`Offsets`]).
+    fn index(self) -> usize {
+        self.corner as usize * 9 + (self.i + 1) as usize * 3 + (self.j + 1) as usize
+    }
+}
+
+/// The offsets of the points next to the four corners (i, j = −1..=1) in a patch of side N
+/// stored in a layout: found once per level, not once per point handed on.
+pub(super) struct Offsets([usize; 36]);
+
+impl Offsets {
+    pub(super) fn new(n: i64, layout: Layout) -> Offsets {
+        Offsets(std::array::from_fn(|k| {
+            let c = k / 9;
+            let (i, j) = ((k / 3 % 3) as i64 - 1, (k % 3) as i64 - 1);
+            let (cx, cy) = corner_at(c as u8, n, n);
+            let ((ax, ay), (bx, by)) = (TOWARD_NEXT[c], TOWARD_PREV[c]);
+            layout.at(cx + i * ax + j * bx, cy + i * ay + j * by)
+        }))
+    }
+
+    fn at(&self, p: CornerPoint) -> usize {
+        self.0[p.index()]
     }
 }
 
@@ -182,55 +198,53 @@ impl Handoff {
         self.len
     }
 
-    /// Face slot s's gives into `out` after its step: from its old patch (side `n`,
-    /// `layouts.0`) and, unless this was the last step, from its new one (side `n_new`,
-    /// `layouts.1`).
+    /// Face slot s's gives into `out` after its step: from its old patch and, unless this was
+    /// the last step, from its new one (each with its [`Offsets`]).
     ///
     /// # Safety
     /// No other thread writes the box at the same time as this face's gives (each box point
     /// has one giver), nor reads it.
-    #[allow(clippy::too_many_arguments)]
     pub(super) unsafe fn give<T: Real>(
         &self,
         s: usize,
-        (old, n, old_layout): (&[T], i64, Layout),
-        new: Option<(&[T], i64, Layout)>,
+        old: (&[T], &Offsets),
+        new: Option<(&[T], &Offsets)>,
         out: &SharedOut<T>,
     ) {
         let range = self.give_at[s] as usize..self.give_at[s + 1] as usize;
         for g in &self.gives[range] {
-            let (patch, at) = match (g.old, new) {
-                (true, _) => (old, g.from.at(n, old_layout)),
-                (false, Some((new, n_new, new_layout))) => (new, g.from.at(n_new, new_layout)),
+            let (patch, offsets) = match (g.old, new) {
+                (true, _) => old,
+                (false, Some(new)) => new,
                 (false, None) => continue,
             };
+            let at = offsets.at(g.from);
             let p = [patch[at], patch[at + 1], patch[at + 2]];
             // SAFETY: box point `to` has this face as its only giver (the caller's contract).
             unsafe { out.write(g.to as usize, &p) };
         }
     }
 
-    /// Sets face slot s's ring points next to its EV corners in its new patch (side N,
-    /// `layout`) from the box, and zeroes the diagonal at those corners.
+    /// Sets face slot s's ring points next to its EV corners in its new patch (`offsets`)
+    /// from the box, and zeroes the diagonal at those corners.
     pub(super) fn take<T: Real>(
         &self,
         s: usize,
-        (n, layout): (i64, Layout),
+        offsets: &Offsets,
         from: &[[T; 3]],
         patch: &mut [T],
     ) {
         let range = self.take_at[s] as usize..self.take_at[s + 1] as usize;
         for (p, to) in from[range.clone()].iter().zip(&self.takes[range]) {
-            let at = to.at(n, layout);
+            let at = offsets.at(*to);
             patch[at..at + 3].copy_from_slice(p);
         }
         for corner in (0..4).filter(|c| self.ev_corners[s] & (1 << c) != 0) {
-            let at = CornerPoint {
+            let at = offsets.at(CornerPoint {
                 corner,
                 i: -1,
                 j: -1,
-            }
-            .at(n, layout);
+            });
             patch[at..at + 3].fill(T::default());
         }
     }
