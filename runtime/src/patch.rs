@@ -233,10 +233,10 @@ impl Plan {
         src: &[T],
         p: &mut Passes<T>,
         strip_bytes: usize,
-        dst: &mut Vec<T>,
+        dst: &mut [T],
     ) {
         let side = self.new_side();
-        let dst = grown(dst, side * side * 3);
+        let dst = &mut dst[..side * side * 3];
         self.strips(src, p, strip_bytes, |a0, w, at, _| {
             if w == side {
                 // One strip: the new rows are the whole of `dst`, in one pass.
@@ -719,9 +719,10 @@ impl Base<'_> {
         (f, n, k): (u32, i64, usize),
         layout: Layout,
         slot: &[u32],
-        patches: &[Vec<T>],
+        patches: &[T],
         put: &mut impl FnMut(usize, [T; 3]),
     ) {
+        let patches = (patches, patch_len(n));
         // Point (x, y) of a lock-step face's patch, as its offset.
         let at = |(x, y): (i64, i64)| layout.at(x, y) as isize;
         let rules = self.rules(f, k);
@@ -772,11 +773,12 @@ impl Base<'_> {
     }
 }
 
-/// Hands `count` points of face g's patch (offset `from`, then every `from_step` values) to
-/// `put` with their offsets in the patch being refreshed (`at`, then every `to_step`); nothing
-/// if g is not in lock-step (no slot).
+/// Hands `count` points of face g's patch (offset `from`, then every `from_step` values; the
+/// level's patches one after the other, `len` values each) to `put` with their offsets in the
+/// patch being refreshed (`at`, then every `to_step`); nothing if g is not in lock-step (no
+/// slot).
 fn copy_points<T: Copy>(
-    patches: &[Vec<T>],
+    (patches, len): (&[T], usize),
     slot: &[u32],
     (g, from, from_step): (u32, isize, isize),
     (at, to_step): (isize, isize),
@@ -786,7 +788,7 @@ fn copy_points<T: Copy>(
     let Some(&src) = slot.get(g as usize).filter(|&&s| s != u32::MAX) else {
         return;
     };
-    let patch = &patches[src as usize];
+    let patch = &patches[src as usize * len..][..len];
     for t in 0..count as isize {
         let (i, j) = ((from + t * from_step) as usize, (at + t * to_step) as usize);
         put(j, [patch[i], patch[i + 1], patch[i + 2]]);
@@ -875,19 +877,40 @@ fn ring_layout(n: i64, a_is_x: bool) -> Layout {
     }
 }
 
-/// The patches (ring included) of the faces with an EV corner, one buffer per face.
+/// The patches (ring included) of the faces with an EV corner at one level, one after the
+/// other in their slots' order.
 struct Fans<'a, T> {
     /// Face → its slot (`u32::MAX`: an ordinary face).
     slot: &'a [u32],
-    patches: &'a [Vec<T>],
+    patches: &'a [T],
     n: i64,
     a_is_x: bool,
+}
+
+/// Values of a fan face's patch of side N, its ring included.
+fn patch_len(n: i64) -> usize {
+    let m = (n + 3) as usize;
+    m * m * 3
+}
+
+/// `buf` cut into `count` consecutive pieces of `len` values (the last ones shorter or empty):
+/// one per worker.
+fn pieces<T>(mut buf: &mut [T], len: usize, count: usize) -> Vec<&mut [T]> {
+    (0..count)
+        .map(|_| {
+            let at = len.min(buf.len());
+            let (piece, rest) = std::mem::take(&mut buf).split_at_mut(at);
+            buf = rest;
+            piece
+        })
+        .collect()
 }
 
 impl<T> Fans<'_, T> {
     fn point(&self, f: u32, x: i64, y: i64) -> &[T; 3] {
         let i = ring_layout(self.n, self.a_is_x).at(x, y);
-        let p = &self.patches[self.slot[f as usize] as usize];
+        let len = patch_len(self.n);
+        let p = &self.patches[self.slot[f as usize] as usize * len..][..len];
         p[i..i + 3].try_into().expect("three coordinates")
     }
 
@@ -1213,8 +1236,9 @@ pub struct Refiner<'s, S, T> {
     stack: usize,
     start: Vec<[T; 3]>,
     output: Vec<[T; 3]>,
-    /// The fans' patches at the current and the next level.
-    fans: [Vec<Vec<T>>; 2],
+    /// The fans' patches at the current and the next level, each level's one after the
+    /// other (read and written in order, level by level).
+    fans: [Vec<T>; 2],
     /// Wall time of the phases of the last `refine`.
     phase_seconds: Phases,
     /// One scratch per worker, kept across steps and calls (no fresh pages per step).
@@ -1462,7 +1486,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// `refine` to the next, and [`footprint`] bounds them.
     pub fn buffer_bytes(&self) -> usize {
         let values = |v: &Vec<T>| v.capacity();
-        let fans: usize = self.fans.iter().flatten().map(values).sum();
+        let fans: usize = self.fans.iter().map(values).sum();
         let scratch: usize = self
             .scratch
             .iter()
@@ -1690,12 +1714,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let m = (self.start_num.n + 3) as usize;
         let streaming = self.streams_output();
         let [old, new] = &mut self.fans;
-        old.resize_with(self.fan_faces.len(), Vec::new);
-        new.resize_with(self.fan_faces.len(), Vec::new);
-        for (patch, &f) in old.iter_mut().zip(&self.fan_faces) {
-            if patch.len() < m * m * 3 {
-                patch.resize(m * m * 3, T::default());
-            }
+        let faces = self.fan_faces.len();
+        let start = grown(old, faces * m * m * 3);
+        for (patch, &f) in start.chunks_exact_mut(m * m * 3).zip(&self.fan_faces) {
             let t = &self.start_gather[f as usize * m * m..][..m * m];
             let layout = ring_layout(self.start_num.n, a_is_x);
             // A point the start level does not have (an EV's diagonal) loads as zero: on a
@@ -1720,11 +1741,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let layouts = (ring_layout(n, a_is_x), ring_layout(n_new, new_a_is_x));
             let offsets = (Offsets::new(n, layouts.0), Offsets::new(n_new, layouts.1));
             let gives = &SharedOut::new(handed);
+            // Each worker's faces' patches, old and new (none kept after the last step).
+            let (old_len, new_len) = (patch_len(n), if last { 0 } else { patch_len(n_new) });
+            let olds = &old[..faces * old_len];
+            let news = pieces(grown(new, faces * new_len), chunk * new_len, self.threads);
             let work = self
                 .fan_faces
                 .chunks(chunk)
-                .zip(old.chunks(chunk))
-                .zip(new.chunks_mut(chunk))
+                .zip(olds.chunks(chunk * old_len))
+                .zip(news)
                 .zip(&mut self.scratch)
                 .enumerate();
             let times = in_threads(work, |(i, (((faces, old), new), scratch))| {
@@ -1741,7 +1766,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // by this writer or (one per row) those below.
                 let mut interiors = unsafe { out.stream(streaming, Simd::Baseline) };
                 let mut rows = Vec::new();
-                for (q, ((&f, src), dst)) in faces.iter().zip(old).zip(new).enumerate() {
+                let news = new.chunks_exact_mut(new_len.max(1)).map(Some);
+                let news = news.chain(std::iter::repeat_with(|| None));
+                for (q, ((&f, src), dst)) in faces
+                    .iter()
+                    .zip(old.chunks_exact(old_len))
+                    .zip(news)
+                    .enumerate()
+                {
+                    let dst = dst.unwrap_or_default();
                     if last {
                         if !staged {
                             rows.extend((0..=out_num.n).map(|_| {
@@ -1817,7 +1850,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let ring = st.rings[(self.first + s).min(st.rings.len() - 1)];
             let fans = Fans {
                 slot: &self.fan_slot,
-                patches: old,
+                patches: olds,
                 n,
                 a_is_x,
             };
@@ -1872,19 +1905,22 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // patch changes (they are inside the neighbours, where nothing below writes);
                 // on a mesh without features they were handed on during the step.
                 let chunk = faces.len().div_ceil(self.threads).max(BETWEEN);
+                let new_level = &new[..faces.len() * new_len];
                 let rings = in_threads(faces.chunks(chunk), |faces| {
                     let mut got = Vec::new();
                     for &f in faces.iter().filter(|_| handoff.is_none()) {
                         let mut put = |at, p| got.push((f, at, p));
-                        base.refresh_ring((f, n_new, k + 1), layout, slot, new, &mut put);
+                        base.refresh_ring((f, n_new, k + 1), layout, slot, new_level, &mut put);
                     }
                     got
                 });
                 // Then each face's own patch: the children at its corners, those ring points,
                 // its phantoms.
-                let work = faces.chunks(chunk).zip(new.chunks_mut(chunk)).zip(rings);
+                let patches = new[..faces.len() * new_len].chunks_mut(chunk * new_len);
+                let work = faces.chunks(chunk).zip(patches).zip(rings);
                 in_threads(work.enumerate(), |(i, ((faces, patches), got))| {
                     let mut got = got.into_iter().peekable();
+                    let patches = patches.chunks_exact_mut(new_len);
                     for (q, (&f, patch)) in faces.iter().zip(patches).enumerate() {
                         for c in 0..4u8 {
                             let i = base.special_at[base.topo.vertex(f, c) as usize];

@@ -153,8 +153,8 @@ impl Near {
         );
         let layout = super::ring_layout(old.n, true);
         let mut patch = vec![0.0f64; layout.side * layout.side * 3];
-        let (mut passes, mut new) = (Passes::default(), Vec::new());
         let side = self.plan.new_side();
+        let (mut passes, mut new) = (Passes::default(), vec![0.0f64; side * side * 3]);
         for &f in &self.far {
             old.gather(base, f, |x, y, i| {
                 let at = layout.at(x, y);
