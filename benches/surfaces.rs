@@ -109,7 +109,8 @@ fn main() {
     } else {
         3
     };
-    let meshes = ["torus:256:256", "cube", "star"];
+    // A closed grid, EVs among ordinary faces, and a triangle mesh (every face at an EV).
+    let meshes = ["torus:256:256", "cube", "star", "icosphere:4"];
     let schemes = ["uniform-binary", "binary-ternary", "fibonacci"];
     let mut configs: Vec<Vec<String>> = Vec::new();
     for mesh in meshes {
