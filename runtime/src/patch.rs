@@ -62,7 +62,7 @@ mod limit;
 mod near;
 mod stream;
 use composed::{Composed, Faces, Rows};
-use handoff::{Handoff, Offsets};
+use handoff::{CornerPoint, Handoff, Offsets};
 pub use limit::{limit_available, SurfaceLimit};
 use near::Near;
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
@@ -919,17 +919,7 @@ impl<T> Fans<'_, T> {
     where
         T: Copy,
     {
-        let n = self.n;
-        let (cx, cy) = corner_at(w.corner, n, n);
-        let (nx, ny) = TOWARD_NEXT[w.corner as usize];
-        let (px, py) = TOWARD_PREV[w.corner as usize];
-        // E_k is the edge shared with the previous wedge: the one not toward `next`.
-        let (ex, ey) = if w.next_is_plus { (px, py) } else { (nx, ny) };
-        let (x, y) = match spot {
-            Spot::Centre => (cx, cy),
-            Spot::Spoke => (cx + ex, cy + ey),
-            Spot::Diagonal => (cx + nx + px, cy + ny + py),
-        };
+        let (x, y) = CornerPoint::of_ring(w, spot).xy(self.n);
         *self.point(w.face, x, y)
     }
 
@@ -1766,15 +1756,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // by this writer or (one per row) those below.
                 let mut interiors = unsafe { out.stream(streaming, Simd::Baseline) };
                 let mut rows = Vec::new();
-                let news = new.chunks_exact_mut(new_len.max(1)).map(Some);
-                let news = news.chain(std::iter::repeat_with(|| None));
-                for (q, ((&f, src), dst)) in faces
-                    .iter()
-                    .zip(old.chunks_exact(old_len))
-                    .zip(news)
-                    .enumerate()
-                {
-                    let dst = dst.unwrap_or_default();
+                // (None kept after the last step: every `dst` empty.)
+                let mut news = new.chunks_exact_mut(new_len.max(1));
+                for (q, (&f, src)) in faces.iter().zip(old.chunks_exact(old_len)).enumerate() {
+                    let dst = news.next().unwrap_or_default();
                     if last {
                         if !staged {
                             rows.extend((0..=out_num.n).map(|_| {
@@ -1906,14 +1891,20 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // on a mesh without features they were handed on during the step.
                 let chunk = faces.len().div_ceil(self.threads).max(BETWEEN);
                 let new_level = &new[..faces.len() * new_len];
-                let rings = in_threads(faces.chunks(chunk), |faces| {
-                    let mut got = Vec::new();
-                    for &f in faces.iter().filter(|_| handoff.is_none()) {
-                        let mut put = |at, p| got.push((f, at, p));
-                        base.refresh_ring((f, n_new, k + 1), layout, slot, new_level, &mut put);
-                    }
-                    got
-                });
+                let rings = if handoff.is_some() {
+                    Vec::new()
+                } else {
+                    in_threads(faces.chunks(chunk), |faces| {
+                        let mut got = Vec::new();
+                        for &f in faces {
+                            let mut put = |at, p| got.push((f, at, p));
+                            let new = new_level;
+                            base.refresh_ring((f, n_new, k + 1), layout, slot, new, &mut put);
+                        }
+                        got
+                    })
+                };
+                let rings = rings.into_iter().chain(std::iter::repeat_with(Vec::new));
                 // Then each face's own patch: the children at its corners, those ring points,
                 // its phantoms.
                 let patches = new[..faces.len() * new_len].chunks_mut(chunk * new_len);

@@ -12,6 +12,7 @@ use super::{Base, Layout, SharedOut, Spot};
 use crate::features::CornerKind;
 use crate::grid::{corner_at, TOWARD_NEXT, TOWARD_PREV};
 use crate::real::Real;
+use crate::topology::Wedge;
 
 /// A point near corner c of a face (side N): the corner plus i steps toward corner c + 1 and
 /// j steps toward corner c − 1.
@@ -23,6 +24,32 @@ pub(super) struct CornerPoint {
 }
 
 impl CornerPoint {
+    /// The point `spot` of a vertex's 1-ring in the face of wedge `w` ([`super::one_ring`]):
+    /// the vertex at the wedge's corner, the spoke it shares with the wedge before (the edge
+    /// not toward `next`), the diagonal.
+    pub(super) fn of_ring(w: Wedge, spot: Spot) -> CornerPoint {
+        let (i, j) = match spot {
+            Spot::Centre => (0, 0),
+            Spot::Spoke if w.next_is_plus => (0, 1),
+            Spot::Spoke => (1, 0),
+            Spot::Diagonal => (1, 1),
+        };
+        CornerPoint {
+            corner: w.corner,
+            i,
+            j,
+        }
+    }
+
+    /// Where it lies in a face of side N.
+    pub(super) fn xy(self, n: i64) -> (i64, i64) {
+        let c = self.corner as usize;
+        let (cx, cy) = corner_at(self.corner, n, n);
+        let ((ax, ay), (bx, by)) = (TOWARD_NEXT[c], TOWARD_PREV[c]);
+        let (i, j) = (i64::from(self.i), i64::from(self.j));
+        (cx + i * ax + j * bx, cy + i * ay + j * by)
+    }
+
     /// Its place among the 36 points next to the corners ([`Offsets`]).
     fn index(self) -> usize {
         self.corner as usize * 9 + (self.i + 1) as usize * 3 + (self.j + 1) as usize
@@ -36,11 +63,13 @@ pub(super) struct Offsets([usize; 36]);
 impl Offsets {
     pub(super) fn new(n: i64, layout: Layout) -> Offsets {
         Offsets(std::array::from_fn(|k| {
-            let c = k / 9;
-            let (i, j) = ((k / 3 % 3) as i64 - 1, (k % 3) as i64 - 1);
-            let (cx, cy) = corner_at(c as u8, n, n);
-            let ((ax, ay), (bx, by)) = (TOWARD_NEXT[c], TOWARD_PREV[c]);
-            layout.at(cx + i * ax + j * bx, cy + i * ay + j * by)
+            let p = CornerPoint {
+                corner: (k / 9) as u8,
+                i: (k / 3 % 3) as i8 - 1,
+                j: (k % 3) as i8 - 1,
+            };
+            let (x, y) = p.xy(n);
+            layout.at(x, y)
         }))
     }
 
@@ -158,21 +187,18 @@ impl Handoff {
             let rot = topo.rotation(v);
             for (k, w) in rot.iter().enumerate() {
                 let s = slot_of(w.face)? as usize;
-                let at = |i, j| CornerPoint {
-                    corner: w.corner,
-                    i,
-                    j,
-                };
-                // The spoke shared with the wedge before (`one_ring`).
-                let spoke = if w.next_is_plus { at(0, 1) } else { at(1, 0) };
-                let centre = (k == 0).then(|| (at(0, 0), len));
-                let ring = [(spoke, len + 1 + 2 * k), (at(1, 1), len + 2 + 2 * k)];
-                for (from, to) in centre.into_iter().chain(ring) {
-                    let to = to as u32;
+                // The box's order, [`OneRing::point`]: the vertex, then per wedge its spoke and
+                // diagonal.
+                let centre = (k == 0).then_some((Spot::Centre, len));
+                let ring = [
+                    (Spot::Spoke, len + 1 + 2 * k),
+                    (Spot::Diagonal, len + 2 + 2 * k),
+                ];
+                for (spot, to) in centre.into_iter().chain(ring) {
                     gives[s].push(Give {
-                        from,
+                        from: CornerPoint::of_ring(*w, spot),
                         old: true,
-                        to,
+                        to: to as u32,
                     });
                 }
             }
