@@ -57,6 +57,7 @@ use std::collections::HashMap;
 use std::time::Instant;
 
 mod composed;
+mod direct;
 mod handoff;
 mod limit;
 mod near;
@@ -1186,6 +1187,8 @@ pub struct Refiner<'s, S, T> {
     base: Base<'s>,
     /// Steps run by the reference driver before the depth-first ones.
     first: usize,
+    /// The depth-first steps after them that run level by level (`patch/direct.rs`).
+    direct: Vec<direct::Step>,
     /// One plan per depth-first step.
     plans: Vec<Plan>,
     /// The plans composed, for the ordinary faces (none without depth-first steps).
@@ -1225,6 +1228,8 @@ pub struct Refiner<'s, S, T> {
     /// Ordinary faces refined as one stack at most ([`Refiner::set_stack`]).
     stack: usize,
     start: Vec<[T; 3]>,
+    /// The level before `start` while the level-by-level steps run.
+    level: Vec<[T; 3]>,
     output: Vec<[T; 3]>,
     /// The fans' patches at the current and the next level, each level's one after the
     /// other (read and written in order, level by level).
@@ -1338,11 +1343,22 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let near = (first > 0 && plain)
             .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
-        let start_num = Numbering::new(base.topo, words[first].len() as i64);
+        // The first depth-first steps of a mesh of small fans, level by level.
+        let nf = topo.face_count();
+        let fans = (0..nf as u32).filter(|&f| !base.ordinary(f)).count();
+        let lead = direct::leading(&base, fans, plans.iter().map(|p| p.n_new));
+        let direct: Vec<direct::Step> = (first..)
+            .zip(plans.drain(..lead))
+            .map(|(k, plan)| {
+                let ring = st.rings[k.min(st.rings.len() - 1)];
+                direct::Step::new(&base, &plan, words[k].len() as i64, ring)
+            })
+            .collect();
+        let start_level = first + lead;
+        let start_num = Numbering::new(base.topo, words[start_level].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
         // Every face's start patch as indices, x-major ([`load`]).
         let m = ring_layout(start_num.n, true);
-        let nf = topo.face_count();
         let mut start_gather = vec![u32::MAX; nf * m.side * m.side];
         for (f, t) in start_gather.chunks_exact_mut(m.side * m.side).enumerate() {
             start_num.gather(&base, f as u32, |x, y, i| t[m.at(x, y) / 3] = i as u32);
@@ -1359,7 +1375,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
-        let (ordinary, stacks) = base.chains(&ordinary, first);
+        let (ordinary, stacks) = base.chains(&ordinary, start_level);
         let composed = (!plans.is_empty()).then(|| {
             let rows = plans
                 .iter()
@@ -1375,6 +1391,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             scheme,
             base,
             first,
+            direct,
             plans,
             composed,
             simd: Simd::detect(),
@@ -1395,6 +1412,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             stream_bytes: STREAM_BYTES,
             stack: usize::MAX,
             start: Vec::new(),
+            level: Vec::new(),
             output: Vec::new(),
             fans: [Vec::new(), Vec::new()],
             phase_seconds: Phases::default(),
@@ -1461,6 +1479,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.first
     }
 
+    /// The level the patches start from: after the reference and the level-by-level steps.
+    pub(super) fn start_level(&self) -> usize {
+        self.first + self.direct.len()
+    }
+
     /// Base faces whose points after the reference steps the reference driver gives: every
     /// face, or those near the EVs (`patch/near.rs`); none without reference steps.
     pub fn reference_faces(&self) -> usize {
@@ -1487,7 +1510,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     .sum::<usize>()
             })
             .sum();
-        let points = self.start.capacity() + self.output.capacity() + self.handed.capacity();
+        let points = [&self.start, &self.level, &self.output]
+            .map(Vec::capacity)
+            .iter()
+            .sum::<usize>()
+            + self.handed.capacity();
         (fans + scratch + 3 * points) * size_of::<T>()
     }
 
@@ -1526,13 +1553,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
         let t = self.scheme.tables();
         let clock = Instant::now();
+        // The level after the reference steps: the patches' start level, or the first of the
+        // level-by-level steps.
+        let lifted = self.direct.first().map_or(&self.start_num, |d| d.old());
         if self.first == 0 {
             lift(
                 &t,
                 self.base.topo.faces(),
                 positions,
                 0,
-                &self.start_num,
+                lifted,
                 &mut self.start,
             );
         } else {
@@ -1573,18 +1603,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &coarse.mesh.faces,
                 &coarse.mesh.positions,
                 self.first,
-                &self.start_num,
+                lifted,
                 &mut self.start,
             );
             if let (Some(near), Some(before)) = (&self.near, &before) {
-                near.far_faces(
-                    &t,
-                    &self.base,
-                    before,
-                    self.first,
-                    &self.start_num,
-                    &mut self.start,
-                );
+                near.far_faces(&t, &self.base, before, self.first, lifted, &mut self.start);
             }
             if let Some(cut) = &self.cut {
                 let ring = self.scheme.surface().rings[0];
@@ -1596,7 +1619,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     &self.base,
                     (&alpha, ring),
                     positions,
-                    &self.start_num,
+                    lifted,
                     &mut self.start,
                 );
             }
@@ -1604,6 +1627,21 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             for v in (0..self.base.topo.vertex_count() as u32).filter(|&v| corner(v)) {
                 self.start[v as usize] = positions[v as usize].map(T::from_f64);
             }
+        }
+        self.level_seconds.clear();
+        self.level_seconds
+            .resize(self.direct.len() + self.plans.len(), 0.0);
+        for (step, seconds) in self.direct.iter().zip(&mut self.level_seconds) {
+            let clock = Instant::now();
+            step.run(
+                &self.base,
+                &self.alphas,
+                &self.start,
+                &mut self.level,
+                self.threads,
+            );
+            std::mem::swap(&mut self.start, &mut self.level);
+            *seconds = clock.elapsed().as_secs_f64();
         }
         self.phase_seconds = Phases {
             start: clock.elapsed().as_secs_f64(),
@@ -1619,8 +1657,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             self.output = vec![[T::default(); 3]; self.out_num.len()];
         }
         self.scratch.resize_with(self.threads, Scratch::default);
-        self.level_seconds.clear();
-        self.level_seconds.resize(self.plans.len(), 0.0);
         let clock = Instant::now();
         self.ordinary_faces();
         self.phase_seconds.ordinary = clock.elapsed().as_secs_f64();
@@ -1642,7 +1678,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let out = SharedOut::new(&mut self.output);
         let (out, start, simd, most) = (&out, &self.start, self.simd, self.stack);
         let num = &self.out_num;
-        let (n0, first, n) = (self.start_num.n, self.first, num.n as usize);
+        let (n0, first, n) = (self.start_num.n, self.start_level(), num.n as usize);
         let k = n - 1;
         let table = &self.start_gather;
         let base = &self.base;
@@ -1698,6 +1734,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             return;
         }
         let st = self.scheme.surface();
+        let start_level = self.start_level();
         // Each step transposes: start so that the last level comes out row-major, which
         // the scatter reads best.
         let mut a_is_x = self.plans.len() % 2 == 1;
@@ -1714,7 +1751,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             load(t, &self.start, layout, patch);
             if self.handoff.is_none() {
                 self.base
-                    .load_phantoms((f, self.start_num.n, self.first), layout, patch);
+                    .load_phantoms((f, self.start_num.n, start_level), layout, patch);
             }
         }
         let mut n = self.start_num.n;
@@ -1832,14 +1869,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 lap(&mut clock)
             });
             let mut clock = Instant::now();
-            let ring = st.rings[(self.first + s).min(st.rings.len() - 1)];
+            let ring = st.rings[(start_level + s).min(st.rings.len() - 1)];
             let fans = Fans {
                 slot: &self.fan_slot,
                 patches: olds,
                 n,
                 a_is_x,
             };
-            let k = self.first + s;
+            let k = start_level + s;
             // The vertex children from the level before, the special vertices split among the
             // workers.
             let base = &self.base;
@@ -1932,7 +1969,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 });
             }
             std::mem::swap(old, new);
-            self.level_seconds[s] += times.iter().sum::<f64>() + lap(&mut clock);
+            self.level_seconds[self.direct.len() + s] +=
+                times.iter().sum::<f64>() + lap(&mut clock);
             n = n_new;
             a_is_x = new_a_is_x;
         }
@@ -2125,7 +2163,7 @@ fn reversed<'s, T: Copy>(line: &[T], spare: &'s mut [T]) -> &'s [T] {
 }
 
 /// Writes the points (x, y) ∈ `xs` × `ys` of face f's final patch (`point(x, y)`) on the
-/// border of the face that face f owns: points of owned edges, owned corners.
+/// border of the face that face f owns ([`owned_border`]).
 fn scatter_border<T: Real>(
     num: &Numbering,
     f: usize,
@@ -2133,6 +2171,21 @@ fn scatter_border<T: Real>(
     ys: &std::ops::RangeInclusive<i64>,
     point: impl Fn(i64, i64) -> [T; 3],
     out: &SharedOut<T>,
+) {
+    owned_border(num, f, xs, ys, |x, y, i| {
+        // SAFETY: face f is the only writer of the points of an edge or corner it owns.
+        unsafe { out.write(i, &point(x, y)) }
+    });
+}
+
+/// The points (x, y) ∈ `xs` × `ys` on the border of face f that face f owns, points of
+/// owned edges and owned corners, as `put(x, y, index)`.
+fn owned_border(
+    num: &Numbering,
+    f: usize,
+    xs: &std::ops::RangeInclusive<i64>,
+    ys: &std::ops::RangeInclusive<i64>,
+    mut put: impl FnMut(i64, i64, usize),
 ) {
     let n = num.n;
     let k = (n - 1) as usize;
@@ -2152,15 +2205,11 @@ fn scatter_border<T: Real>(
             };
             let base = num.nv + e as usize * k;
             for t in ts {
-                let (x, y) = (cx + t * dx, cy + t * dy);
-                let i = base + along_edge(t, n, forward);
-                // SAFETY: face f is the only writer of the points of an edge it owns.
-                unsafe { out.write(i, &point(x, y)) };
+                put(cx + t * dx, cy + t * dy, base + along_edge(t, n, forward));
             }
         }
         if num.faces[f].owns_corner(l) && xs.contains(&cx) && ys.contains(&cy) {
-            // SAFETY: face f is the only writer of a corner it owns.
-            unsafe { out.write(num.faces[f].vertex[l] as usize, &point(cx, cy)) };
+            put(cx, cy, num.faces[f].vertex[l] as usize);
         }
     }
 }
@@ -2249,8 +2298,9 @@ pub struct Footprint {
 /// `contained_from`) on `mesh` by a [`Refiner`] with `threads` workers and positions of
 /// `scalar_bytes` bytes, predicted from the label words before anything is built (saturating).
 /// It follows the refiner's plan: the steps before masks are contained run on the whole mesh
-/// when it has EVs, faces with an EV corner are refined as whole patches level by level, the
-/// others composed (`patch/composed.rs`), with a face's scratch per worker.
+/// when it has EVs, the first steps of a mesh of small fans level by level
+/// (`patch/direct.rs`), then faces with an EV corner are refined as whole patches in
+/// lock-step, the others composed (`patch/composed.rs`), with a face's scratch per worker.
 pub fn footprint(
     t: &CurveTables<'_>,
     contained_from: usize,
@@ -2286,6 +2336,13 @@ pub fn footprint(
     } else {
         contained_from.min(steps)
     };
+    // The depth-first steps run level by level (`patch/direct.rs`), and the level the
+    // patches start from.
+    let lead = base.as_ref().map_or(0, |b| {
+        let sides = (first..steps).map(|s| i64::try_from(n(s + 1)).unwrap_or(i64::MAX));
+        direct::leading(b, usize::try_from(fan_faces).unwrap_or(usize::MAX), sides)
+    });
+    let start_level = first + lead;
     let point = 3 * scalar_bytes;
     // Points of a patch with its ring after s steps.
     let side = |s: usize| {
@@ -2327,19 +2384,38 @@ pub fn footprint(
         .saturating_mul(per_face as u128)
         .saturating_add(e0)
         .saturating_add(6 * v0);
-    let start = output_counts(v0, e0, f0, n(first))
+    let start = output_counts(v0, e0, f0, n(start_level))
         .0
         .saturating_add(ghosts)
         .saturating_mul(point)
-        .saturating_add(f0.saturating_mul(side(first)).saturating_mul(4))
+        .saturating_add(f0.saturating_mul(side(start_level)).saturating_mul(4))
         .saturating_add(rules)
         .saturating_add(tables);
     // The fans' two levels (the last step writes straight to the output), and each worker's
     // scratch: bounded by two patches of the last level (a fan step's strips and staged
     // interior; an ordinary stack's rows refined along x, a band of a face's final rows and
     // its edge runs; at least 8192 points).
-    let fans = if steps > first {
-        let before = |k: usize| side(steps.saturating_sub(k).max(first));
+    // The level-by-level steps: the level before the start level (a buffer as large as it at
+    // most), and per step its tables: each face's patch as indices, the border points it
+    // owns (index pairs), each EV's 1-ring (its vertex and two points per face corner at it).
+    let direct = if lead > 0 {
+        (first..start_level).fold(
+            output_counts(v0, e0, f0, n(start_level))
+                .0
+                .saturating_mul(point),
+            |a, k| {
+                let border = f0.saturating_mul(n(k + 1).saturating_mul(4).saturating_add(5)) * 8;
+                let rings = (2 * v0 + 8 * f0 + 1) * 4;
+                a.saturating_add(f0.saturating_mul(side(k)).saturating_mul(4))
+                    .saturating_add(border)
+                    .saturating_add(rings)
+            },
+        )
+    } else {
+        0
+    };
+    let fans = if steps > start_level {
+        let before = |k: usize| side(steps.saturating_sub(k).max(start_level));
         fan_faces
             .saturating_mul(before(1).saturating_add(before(2)))
             .saturating_mul(point)
@@ -2358,7 +2434,7 @@ pub fn footprint(
         vertices,
         quads,
         input,
-        refining: [start, fans, handoff, workers, output]
+        refining: [start, direct, fans, handoff, workers, output]
             .iter()
             .fold(0u128, |a, &b| a.saturating_add(b)),
         output,

@@ -156,7 +156,7 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
         let (t, st) = (self.scheme.tables(), self.scheme.surface());
         let (base, topo) = (&self.base, self.base.topo);
         let features = &base.features;
-        let steps = self.first + self.plans.len();
+        let steps = self.start_level() + self.plans.len();
         let special = ruled(self.scheme, topo, features, steps)?;
         let (k, nv) = (steps, topo.vertex_count() as u32);
         let rule = |v: u32| rule(topo, features, v, k);
