@@ -1638,7 +1638,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &self.alphas,
                 &self.start,
                 &mut self.level,
-                self.threads,
+                (self.threads, self.simd),
             );
             std::mem::swap(&mut self.start, &mut self.level);
             *seconds = clock.elapsed().as_secs_f64();

@@ -17,9 +17,9 @@
 
 use super::{
     ev_child, in_threads, owned_border, ring_layout, Base, CornerPoint, Numbering, Plan, SharedOut,
-    Spot, BETWEEN,
+    Simd, Spot, BETWEEN,
 };
-use crate::real::Real;
+use crate::real::{axpy_slab, Real};
 use crate::topology::Wedge;
 
 /// The largest side N' a level-by-level step refines to ([`leading`]).
@@ -46,10 +46,13 @@ pub(super) fn leading(
 pub(super) struct Step {
     old: Numbering,
     new: Numbering,
-    /// The step's 1D matrix, dense: per new point X' = 0..=N' its weights on the old points
-    /// x = −1..=N+1 (zeros where the plan has no parent: adding their products changes no
-    /// bit, so the sums are the plan's, `combine`).
+    /// The step's 1D matrix as a band: per new point X' = 0..=N' the first old point of its
+    /// band (`lo`, from x = −1) and its weights on the `band` old points from there (zeros
+    /// where the plan has no parent: adding their products changes no bit, so the sums are
+    /// the plan's, `combine`).
+    lo: Vec<usize>,
     weights: Vec<f64>,
+    band: usize,
     /// Per face, its patch of level k (ring included) as indices into that level, x-major
     /// (`u32::MAX` where an EV's diagonal is missing).
     gather: Vec<u32>,
@@ -72,10 +75,17 @@ impl Step {
         let m = ring_layout(n, true);
         let side = (plan.n_new + 1) as usize;
         let h = (plan.rows.len() - side) / 2;
-        let mut weights = vec![0.0; side * m.side];
-        for (xn, w) in weights.chunks_exact_mut(m.side).enumerate() {
-            for &(x, wt) in &plan.parents[plan.rows[xn + h].clone()] {
-                w[x] = wt;
+        let parents = |xn: usize| &plan.parents[plan.rows[xn + h].clone()];
+        // Parents come in increasing x: the band spans the first to the last.
+        let span = |ps: &[(usize, f64)]| ps.last().map_or(0, |l| l.0 + 1 - ps[0].0);
+        let band = (0..side).map(|xn| span(parents(xn))).max().unwrap_or(0);
+        let lo: Vec<usize> = (0..side)
+            .map(|xn| parents(xn).first().map_or(0, |p| p.0).min(m.side - band))
+            .collect();
+        let mut weights = vec![0.0; side * band];
+        for (xn, w) in weights.chunks_exact_mut(band).enumerate() {
+            for &(x, wt) in parents(xn) {
+                w[x - lo[xn]] = wt;
             }
         }
         let faces = base.topo.face_count();
@@ -111,7 +121,9 @@ impl Step {
         Step {
             old,
             new,
+            lo,
             weights,
+            band,
             gather,
             border,
             border_at,
@@ -134,7 +146,7 @@ impl Step {
         alphas: &[f64],
         old: &[[T; 3]],
         new: &mut Vec<[T; 3]>,
-        threads: usize,
+        (threads, simd): (usize, Simd),
     ) {
         let m = (self.old.n + 3) as usize;
         let side = (self.new.n + 1) as usize;
@@ -145,11 +157,19 @@ impl Step {
         let chunk = faces.div_ceil(threads).max(BETWEEN);
         in_threads((0..faces).step_by(chunk), |from| {
             let faces = from..(from + chunk).min(faces);
-            // The common sizes as constants, so that the loops over them unroll.
-            match (m, side) {
-                (4, 3) => self.faces(4, 3, &weights, faces, old, out),
-                (5, 5) => self.faces(5, 5, &weights, faces, old, out),
-                _ => self.faces(m, side, &weights, faces, old, out),
+            let job = Job {
+                sizes: (m, side, self.band),
+                weights: &weights,
+                faces,
+                old,
+                out,
+            };
+            match simd {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `Simd::Avx2` and `Simd::Avx512` are only handed out where the CPU has
+                // AVX2.
+                Simd::Avx2 | Simd::Avx512 => unsafe { self.faces_avx2(job) },
+                _ => self.faces_sized(job),
             }
         });
         // Each EV's child from its old 1-ring.
@@ -174,62 +194,97 @@ impl Step {
         });
     }
 
-    /// Faces `faces`' points: each face's patch (side m) gathered, refined along x, then
-    /// along y into its (N'+1)² points (`side` a row), of which it writes those it owns.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn faces_avx2<T: Real>(&self, job: Job<'_, T>) {
+        self.faces_sized(job);
+    }
+
+    /// [`Step::faces`] with the common sizes as constants, so that the loops over them unroll.
     #[inline(always)]
-    fn faces<T: Real>(
-        &self,
-        m: usize,
-        side: usize,
-        weights: &[T],
-        faces: std::ops::Range<usize>,
-        old: &[[T; 3]],
-        out: &SharedOut<T>,
-    ) {
-        let zero = [T::default(); 3];
-        let (mut patch, mut along_x) = (vec![zero; m * m], vec![zero; side * m]);
-        let mut grid = vec![zero; side * side];
+    fn faces_sized<T: Real>(&self, job: Job<'_, T>) {
+        match job.sizes {
+            (4, 3, 3) => self.faces((4, 3, 3), job),
+            (5, 5, 3) => self.faces((5, 5, 3), job),
+            sizes => self.faces(sizes, job),
+        }
+    }
+
+    /// The job's faces' points: each face's patch (side m, x-major) gathered, refined along x
+    /// (slabs of whole rows), transposed, and refined along y into its (N'+1)² points
+    /// (`side` a row), of which it writes those it owns.
+    #[inline(always)]
+    fn faces<T: Real>(&self, (m, side, band): (usize, usize, usize), job: Job<'_, T>) {
+        let Job {
+            weights,
+            faces,
+            old,
+            out,
+            ..
+        } = job;
+        let zero = T::default();
+        let (mut patch, mut along_x) = (vec![zero; m * m * 3], vec![zero; side * m * 3]);
+        let (mut across, mut grid) = (vec![zero; m * side * 3], vec![zero; side * side * 3]);
         let k = side - 2;
         for f in faces {
-            for (p, &i) in patch.iter_mut().zip(&self.gather[f * m * m..][..m * m]) {
-                *p = old.get(i as usize).copied().unwrap_or(zero);
+            for (p, &i) in patch
+                .chunks_exact_mut(3)
+                .zip(&self.gather[f * m * m..][..m * m])
+            {
+                p.copy_from_slice(old.get(i as usize).unwrap_or(&[zero; 3]));
             }
-            // Along x: each new X' for every old row y (patch x-major: P[x·m + y]).
-            for (a, w) in along_x.chunks_exact_mut(m).zip(weights.chunks_exact(m)) {
-                for (y, a) in a.iter_mut().enumerate() {
-                    *a = sum(w, |x| patch[x * m + y]);
+            // Along x: new row X' (old points y) from the rows of its band.
+            for (xn, a) in along_x.chunks_exact_mut(m * 3).enumerate() {
+                let w = &weights[xn * band..][..band];
+                banded(a, w, &patch[self.lo[xn] * m * 3..], m * 3);
+            }
+            // Transposed: per old y, the new points X'.
+            for (xn, a) in along_x.chunks_exact(m * 3).enumerate() {
+                for (y, p) in a.chunks_exact(3).enumerate() {
+                    across[(y * side + xn) * 3..][..3].copy_from_slice(p);
                 }
             }
             // Along y: the face's rows Y'.
-            for (row, w) in grid.chunks_exact_mut(side).zip(weights.chunks_exact(m)) {
-                for (g, a) in row.iter_mut().zip(along_x.chunks_exact(m)) {
-                    *g = sum(w, |y| a[y]);
-                }
+            for (yn, g) in grid.chunks_exact_mut(side * 3).enumerate() {
+                let w = &weights[yn * band..][..band];
+                banded(g, w, &across[self.lo[yn] * side * 3..], side * 3);
             }
+            let at = |g: usize| [grid[g * 3], grid[g * 3 + 1], grid[g * 3 + 2]];
             let first = self.new.interior(f);
             for y in 1..side - 1 {
                 for x in 1..side - 1 {
                     // SAFETY: face f is the only writer of its interior.
-                    unsafe { out.write(first + (y - 1) * k + x - 1, &grid[y * side + x]) };
+                    unsafe { out.write(first + (y - 1) * k + x - 1, &at(y * side + x)) };
                 }
             }
             let border = self.border_at[f] as usize..self.border_at[f + 1] as usize;
             for &(g, i) in &self.border[border] {
                 // SAFETY: face f is the only writer of the border points it owns.
-                unsafe { out.write(i as usize, &grid[g as usize]) };
+                unsafe { out.write(i as usize, &at(g as usize)) };
             }
         }
     }
 }
 
-/// `Σ_x w[x] · p(x)`, in increasing x.
+/// What a worker refines: its faces, from level `old` into `out`, with the step's band
+/// weights in `T` and its sizes (m, N' + 1, band).
+struct Job<'a, T> {
+    sizes: (usize, usize, usize),
+    weights: &'a [T],
+    faces: std::ops::Range<usize>,
+    old: &'a [[T; 3]],
+    out: &'a SharedOut<T>,
+}
+
+/// `dst = Σ_i w[i] · src[i·len ..][..len]`, in increasing i (element-wise, a row at a time:
+/// vectorises).
 #[inline(always)]
-fn sum<T: Real>(w: &[T], p: impl Fn(usize) -> [T; 3]) -> [T; 3] {
-    let mut acc = p(0).map(|c| w[0] * c);
-    for (x, &w) in w.iter().enumerate().skip(1) {
-        for (a, c) in acc.iter_mut().zip(p(x)) {
-            *a += w * c;
-        }
+fn banded<T: Real>(dst: &mut [T], w: &[T], src: &[T], len: usize) {
+    let dst = &mut dst[..len];
+    for (d, &s) in dst.iter_mut().zip(&src[..len]) {
+        *d = w[0] * s;
     }
-    acc
+    for (i, &w) in w.iter().enumerate().skip(1) {
+        axpy_slab(dst, w, &src[i * len..][..len]);
+    }
 }
