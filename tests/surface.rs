@@ -293,36 +293,106 @@ fn patch_path_matches_the_reference_driver() {
 }
 
 /// A triangle mesh split into quads has every face at an EV (the triangle's centre, valence 3,
-/// and its corner), so every face advances in lock-step and hands its neighbours their ring
-/// points and its EVs their 1-rings through the handoff's box (`patch/handoff.rs`): the
-/// reference driver's points on one, two and three threads, the same bits on each, with more
-/// fan faces (3,840) than one worker takes between levels, so the box is given and taken in
-/// several shares.
+/// and its corner): after its first steps, level by level, every face advances in lock-step
+/// and hands its neighbours their ring points and its EVs their 1-rings through the handoff's
+/// box (`patch/handoff.rs`): the reference driver's points on one, two and three threads, the
+/// same bits on each; and with more fan faces (3,840) than one worker takes between levels, so
+/// that the box is given and taken in several shares, the same bits as one share.
 #[test]
 fn a_triangle_mesh_hands_its_rings_on() {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::generators::icosphere;
     use lsubdiv::runtime::patch::Refiner;
-    use lsubdiv::runtime::polygon::catmull_clark;
-    let mesh = catmull_clark(&icosphere(3), &Features::default())
-        .unwrap()
-        .mesh;
-    let topo = Topology::build(&mesh).unwrap();
-    assert_eq!(mesh.faces.len(), 3840);
+    let lockstep =
+        |r: &Refiner<'_, _, f64>, steps: usize| steps - r.reference_steps() - r.level_steps();
+    let small = split_icosphere(1);
+    let topo = Topology::build(&small).unwrap();
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
-        let steps = 2;
-        let (reference, _) = refine(&s, mesh.clone(), steps);
+        let steps = 5;
+        let (reference, _) = refine(&s, small.clone(), steps);
         let mut one = None;
         for threads in [1, 2, 3] {
             let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
-            let points = r.refine(&mesh.positions).unwrap().to_vec();
+            // At least two lock-step levels, so that a ring is handed on between them.
+            assert!(lockstep(&r, steps) >= 2, "{name}");
+            let points = r.refine(&small.positions).unwrap().to_vec();
             let d = same_points(&points, &reference.positions);
             assert!(d < 1e-12, "{name}, {threads} threads: {d:e}");
             let one = one.get_or_insert_with(|| points.clone());
             assert!(*one == points, "{name}: {threads} threads against one");
         }
     }
+    let large = split_icosphere(3);
+    let topo = Topology::build(&large).unwrap();
+    assert_eq!(large.faces.len(), 3840);
+    let s = surface("uniform-binary");
+    let steps = 4;
+    let mut one = None;
+    for threads in [1, 2, 3] {
+        let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+        assert!(lockstep(&r, steps) >= 2);
+        let points = r.refine(&large.positions).unwrap().to_vec();
+        let one = one.get_or_insert_with(|| points.clone());
+        assert!(*one == points, "{threads} threads against one");
+    }
+}
+
+/// The first steps of a mesh whose faces are mostly at EVs run level by level, each face
+/// computing the points it owns from the level before (`patch/direct.rs`): every step of the
+/// split icosphere refined once or twice by uniform binary, some of them for the other
+/// schemes; the reference driver's points in f64 and f32, on one to three threads, bit for bit
+/// the same. A mesh of mostly ordinary faces has none.
+#[test]
+fn a_mesh_of_small_fans_starts_level_by_level() {
+    use lsubdiv::runtime::patch::Refiner;
+    let mesh = split_icosphere(3);
+    let topo = Topology::build(&mesh).unwrap();
+    assert_eq!(mesh.faces.len(), 3840);
+    for name in generated::SURFACE_NAMES {
+        let s = surface(name);
+        for steps in 1..=2 {
+            let (reference, _) = refine(&s, mesh.clone(), steps);
+            let mut one = None;
+            for threads in [1, 2, 3] {
+                let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+                if *name == "uniform-binary" {
+                    assert_eq!(r.level_steps(), steps, "{name}, {steps} steps");
+                }
+                let points = r.refine(&mesh.positions).unwrap().to_vec();
+                let d = same_points(&points, &reference.positions);
+                assert!(d < 1e-12, "{name}, {steps} steps, {threads} threads: {d:e}");
+                let one = one.get_or_insert_with(|| points.clone());
+                assert!(*one == points, "{name}, {steps} steps: {threads} threads");
+            }
+            // f32: the f64 points, point for point, to f32 rounding.
+            let mut r = Refiner::<_, f32>::new(&s, &topo, steps, 2).unwrap();
+            let narrow = r.refine(&mesh.positions).unwrap();
+            let wide = one.as_ref().unwrap();
+            assert_eq!(narrow.len(), wide.len());
+            let d = narrow
+                .iter()
+                .zip(wide)
+                .flat_map(|(p, q)| (0..3).map(move |c| (f64::from(p[c]) - q[c]).abs()));
+            let d = d.fold(0.0, f64::max);
+            assert!(d < 1e-5, "{name}, {steps} steps, f32: {d:e}");
+        }
+        assert!(
+            Refiner::<_, f64>::new(&s, &Topology::build(&grid_cube(4)).unwrap(), 2, 1)
+                .unwrap()
+                .level_steps()
+                == 0
+        );
+    }
+}
+
+/// A triangle mesh, split into quads (every face at two EVs: the triangle's centre, valence 3,
+/// and its vertex, valence 5 or 6).
+fn split_icosphere(level: usize) -> QuadMesh {
+    use lsubdiv::runtime::features::Features;
+    use lsubdiv::runtime::generators::icosphere;
+    use lsubdiv::runtime::polygon::catmull_clark;
+    catmull_clark(&icosphere(level), &Features::default())
+        .unwrap()
+        .mesh
 }
 
 /// Where the first steps run by the reference driver (Binary-Ternary's masks are contained at
@@ -531,6 +601,10 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
         ("fibonacci", cube(), 6),
         ("binary-ternary", star(), 3),
         ("uniform-binary", torus(8, 8), 3),
+        ("uniform-binary", split_icosphere(1), 1),
+        ("uniform-binary", split_icosphere(1), 2),
+        ("uniform-binary", split_icosphere(1), 4),
+        ("fibonacci", split_icosphere(1), 4),
     ] {
         let s = surface(name);
         let topo = Topology::build(&mesh).unwrap();

@@ -25,6 +25,9 @@
 //! and those two ring points are copied from the neighbouring faces of the fan, which own them
 //! (on a mesh without features each face hands them on, with its corners' 1-ring points, right
 //! after its step, `patch/handoff.rs`).
+//! On a mesh without features whose faces are mostly at EVs (a triangle mesh split into quads)
+//! the first such steps, while patches are small, run level by level instead, each face
+//! computing only the points it owns (`patch/direct.rs`).
 //! An EV child can only enter another face's ring when N' = 1; such steps, and steps whose
 //! masks are not yet contained (e.g. Binary-Ternary's first) or whose ring is not
 //! self-sustaining, run by the reference driver (`surface`) on the coarse mesh, lifted into the
@@ -1245,7 +1248,8 @@ pub struct Refiner<'s, S, T> {
 /// Wall time of the phases of one refinement, in seconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Phases {
-    /// The start level: lifting the input, and the reference driver's steps if any.
+    /// The start level: lifting the input, the reference driver's steps and the level-by-level
+    /// steps (`patch/direct.rs`) if any.
     pub start: f64,
     /// Every step of the faces with four ordinary corners, depth first.
     pub ordinary: f64,
@@ -1479,6 +1483,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.first
     }
 
+    /// Steps after the reference steps that run level by level, every level stored whole
+    /// (see `patch/direct.rs`): the first steps of a mesh of small fans.
+    pub fn level_steps(&self) -> usize {
+        self.direct.len()
+    }
+
     /// The level the patches start from: after the reference and the level-by-level steps.
     pub(super) fn start_level(&self) -> usize {
         self.first + self.direct.len()
@@ -1556,6 +1566,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         // The level after the reference steps: the patches' start level, or the first of the
         // level-by-level steps.
         let lifted = self.direct.first().map_or(&self.start_num, |d| d.old());
+        // Each level-by-level step swaps the two levels: after an odd count, swap back, so that
+        // every `refine` puts the same levels in the same buffer (none grows a second time).
+        if self.direct.len() % 2 == 1 {
+            std::mem::swap(&mut self.start, &mut self.level);
+        }
         if self.first == 0 {
             lift(
                 &t,
