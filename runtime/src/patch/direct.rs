@@ -11,9 +11,8 @@
 //! gathered by one index table per level, by the step's 1D plan along x then along y (\[G\]
 //! §2.2: the tensor product of the univariate step), and each EV's child comes from its old
 //! 1-ring (`one_ring`). With contained masks (\[G\] Prop. 4.8) an EV's missing diagonal only
-//! reaches the EV's child and ring points outside the face, so no point a face owns needs it
-//! (it loads as zero, as in the patches). The last such level is the patches' start level, or
-//! the output.
+//! reaches the EV's child and ring points outside the face, so no point a face writes needs it.
+//! The last such level is the patches' start level, or the output.
 
 use super::{
     ev_child, in_threads, owned_border, ring_layout, Base, CornerPoint, Numbering, Plan, SharedOut,
@@ -53,8 +52,7 @@ pub(super) struct Step {
     lo: Vec<usize>,
     weights: Vec<f64>,
     band: usize,
-    /// Per face, its patch of level k (ring included) as indices into that level, x-major
-    /// (`u32::MAX` where an EV's diagonal is missing).
+    /// Per face, its patch of level k (ring included) as indices into that level, x-major.
     gather: Vec<u32>,
     /// Per face (from `border_at[f]`), the border points it owns but EVs: (Y'·(N'+1) + X',
     /// index in level k + 1).
@@ -92,6 +90,11 @@ impl Step {
         let mut gather = vec![u32::MAX; faces * m.side * m.side];
         for (f, t) in gather.chunks_exact_mut(m.side * m.side).enumerate() {
             old.gather(base, f as u32, |x, y, i| t[m.at(x, y) / 3] = i as u32);
+            // An EV's missing diagonal reaches no point the face writes (its product weight
+            // is an exact zero there): it reads the face's corner 0 instead, so that the
+            // gather needs no test.
+            let corner = t[m.at(0, 0) / 3];
+            t.iter_mut().filter(|i| **i == u32::MAX).for_each(|i| *i = corner);
         }
         let (mut border, mut border_at) = (Vec::new(), vec![0]);
         let all = 0..=new.n;
@@ -231,7 +234,7 @@ impl Step {
                 .chunks_exact_mut(3)
                 .zip(&self.gather[f * m * m..][..m * m])
             {
-                p.copy_from_slice(old.get(i as usize).unwrap_or(&[zero; 3]));
+                p.copy_from_slice(&old[i as usize]);
             }
             // Along x: new row X' (old points y) from the rows of its band.
             for (xn, a) in along_x.chunks_exact_mut(m * 3).enumerate() {
