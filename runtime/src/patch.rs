@@ -1165,6 +1165,17 @@ impl<T: Copy> SharedOut<T> {
         unsafe { self.ptr.add(i).write(*p) };
     }
 
+    /// Points i..i + len, to write.
+    ///
+    /// # Safety
+    /// No other thread reads or writes them while the slice lives.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn run(&self, i: usize, len: usize) -> &mut [[T; 3]] {
+        assert!(i + len <= self.len, "output run in range");
+        // SAFETY: in range (checked); exclusive to this caller (the function's contract).
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(i), len) }
+    }
+
     /// A writer of runs of the output's values ([`Stream::new`]: non-temporal where
     /// `streaming`, with the vectors of `simd`).
     ///

@@ -221,8 +221,8 @@ impl Step {
     }
 
     /// The job's faces' points: each face's patch (side m, x-major) gathered, refined along x
-    /// (slabs of whole rows), transposed, and refined along y into its (N'+1)² points
-    /// (`side` a row), of which it writes those it owns.
+    /// (slabs of whole rows), transposed, and refined along y into the points of its (N'+1)²
+    /// (`side` a row) that it owns.
     #[inline(always)]
     fn faces<T: Real>(&self, (m, side, band): (usize, usize, usize), job: Job<'_, T>) {
         let Job {
@@ -234,8 +234,8 @@ impl Step {
         } = job;
         let zero = T::default();
         let (mut patch, mut along_x) = (vec![zero; m * m * 3], vec![zero; side * m * 3]);
-        let (mut across, mut grid) = (vec![zero; m * side * 3], vec![zero; side * side * 3]);
-        let k = side - 2;
+        let mut across = vec![zero; m * side * 3];
+        let (k, row) = (side - 2, side * 3);
         for f in faces {
             for (p, &i) in patch
                 .chunks_exact_mut(3)
@@ -246,7 +246,7 @@ impl Step {
             // Along x: new row X' (old points y) from the rows of its band.
             for (xn, a) in along_x.chunks_exact_mut(m * 3).enumerate() {
                 let w = &weights[xn * band..][..band];
-                banded(a, w, &patch[self.lo[xn] * m * 3..], m * 3);
+                banded(a, w, &patch[self.lo[xn] * m * 3..], (m * 3, m * 3));
             }
             // Transposed: per old y, the new points X'.
             for (xn, a) in along_x.chunks_exact(m * 3).enumerate() {
@@ -254,23 +254,22 @@ impl Step {
                     across[(y * side + xn) * 3..][..3].copy_from_slice(p);
                 }
             }
-            // Along y: the face's rows Y'.
-            for (yn, g) in grid.chunks_exact_mut(side * 3).enumerate() {
+            // Along y, only the points the face writes: its interior rows straight into its
+            // run of the level, then each border point it owns.
+            // SAFETY: face f is the only writer of its interior.
+            let inside = unsafe { out.run(self.new.interior(f), k * k) }.as_flattened_mut();
+            for (yn, dst) in (1..side - 1).zip(inside.chunks_exact_mut(k * 3)) {
                 let w = &weights[yn * band..][..band];
-                banded(g, w, &across[self.lo[yn] * side * 3..], side * 3);
-            }
-            let at = |g: usize| [grid[g * 3], grid[g * 3 + 1], grid[g * 3 + 2]];
-            let first = self.new.interior(f);
-            for y in 1..side - 1 {
-                for x in 1..side - 1 {
-                    // SAFETY: face f is the only writer of its interior.
-                    unsafe { out.write(first + (y - 1) * k + x - 1, &at(y * side + x)) };
-                }
+                banded(dst, w, &across[self.lo[yn] * row + 3..], (k * 3, row));
             }
             let border = self.border_at[f] as usize..self.border_at[f + 1] as usize;
             for &(g, i) in &self.border[border] {
+                let (yn, xn) = (g as usize / side, g as usize % side);
+                let mut p = [zero; 3];
+                let w = &weights[yn * band..][..band];
+                banded(&mut p, w, &across[self.lo[yn] * row + xn * 3..], (3, row));
                 // SAFETY: face f is the only writer of the border points it owns.
-                unsafe { out.write(i as usize, &at(g as usize)) };
+                unsafe { out.write(i as usize, &p) };
             }
         }
     }
@@ -286,15 +285,15 @@ struct Job<'a, T> {
     out: &'a SharedOut<T>,
 }
 
-/// `dst = Σ_i w[i] · src[i·len ..][..len]`, in increasing i (element-wise, a row at a time:
-/// vectorises).
+/// `dst = Σ_i w[i] · src[i·stride ..][..len]`, in increasing i (element-wise, a row at a
+/// time: vectorises).
 #[inline(always)]
-fn banded<T: Real>(dst: &mut [T], w: &[T], src: &[T], len: usize) {
+fn banded<T: Real>(dst: &mut [T], w: &[T], src: &[T], (len, stride): (usize, usize)) {
     let dst = &mut dst[..len];
     for (d, &s) in dst.iter_mut().zip(&src[..len]) {
         *d = w[0] * s;
     }
     for (i, &w) in w.iter().enumerate().skip(1) {
-        axpy_slab(dst, w, &src[i * len..][..len]);
+        axpy_slab(dst, w, &src[i * stride..][..len]);
     }
 }
