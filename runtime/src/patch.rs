@@ -1544,10 +1544,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.phase_seconds
     }
 
-    /// Time of each depth-first step of the last `refine` (after [`Refiner::reference_steps`]),
-    /// summed over the workers, so with several threads it exceeds the wall time: the fans'
-    /// steps each in its own (the EV fix-up after a step in that step), the ordinary faces'
-    /// composed steps all in the last.
+    /// Time of each depth-first step of the last `refine` (after [`Refiner::reference_steps`]):
+    /// the level-by-level steps first ([`Refiner::level_steps`], wall time each), then the
+    /// others summed over the workers, so with several threads they exceed the wall time: the
+    /// fans' steps each in its own (the EV fix-up after a step in that step), the ordinary
+    /// faces' composed steps all in the last.
     pub fn level_seconds(&self) -> &[f64] {
         &self.level_seconds
     }

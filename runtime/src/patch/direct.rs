@@ -9,8 +9,8 @@
 //! level stored whole in its numbering (`Numbering`): each face computes only the points it
 //! owns (its interior, the edges and corners it owns) from its patch of the level before,
 //! gathered by one index table per level, by the step's 1D plan along x then along y (\[G\]
-//! §2.2: the tensor product of the univariate step), and each EV's child comes from its old
-//! 1-ring (`one_ring`). With contained masks (\[G\] Prop. 4.8) an EV's missing diagonal only
+//! §2.2: the tensor product of the univariate step; whole rows at a time, AVX2 where the CPU
+//! has it), and each EV's child comes from its old 1-ring (`one_ring`). With contained masks (\[G\] Prop. 4.8) an EV's missing diagonal only
 //! reaches the EV's child and ring points outside the face, so no point a face writes needs it.
 //! The last such level is the patches' start level, or the output.
 
@@ -25,8 +25,9 @@ use crate::topology::Wedge;
 const SIDE: i64 = 4;
 
 /// Faces (or EVs) a worker takes in a level-by-level step at least: a face's step is short
-/// (55 ns at N' = 2), and on the 2-vCPU VM a thread starts and joins in ~47 µs; two workers
-/// of the icosphere's 15,360 faces ran its second level in 2.2 ms against one worker's 1.7.
+/// (under 50 ns at N' = 2), and on the 2-vCPU VM a thread starts and joins in ~47 µs; two
+/// workers of the icosphere's 15,360 faces ran its second level in 2.2 ms against one
+/// worker's 1.7.
 const PER_WORKER: usize = 16384;
 
 /// How many of the leading depth-first steps (new sides `sides`, in order) run level by
