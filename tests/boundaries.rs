@@ -1102,3 +1102,83 @@ fn every_simd_path_and_writer_gives_the_same_points() {
         }
     }
 }
+
+/// An open triangle mesh with a sharp and a semi-sharp crease, split into quads: every face at
+/// an EV (the triangles' centres), so its first steps run level by level, phantoms and vertex
+/// rules included (`patch/direct.rs`). Beside a torus with more faces than it has (a separate
+/// component, far along x), no step runs level by level, and the two refinements give the
+/// same points to rounding, on one and two threads; the boundary and the creases keep their
+/// properties above.
+#[test]
+fn an_open_creased_triangle_mesh_starts_level_by_level() {
+    use lsubdiv::runtime::generators::{icosphere, torus};
+    use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
+    use lsubdiv_testkit::points::same_points;
+    // The icosphere without its cap above z = 0.6, its vertices renumbered.
+    let sphere = icosphere(2);
+    let mut open = PolyMesh::new();
+    let mut index = vec![u32::MAX; sphere.positions.len()];
+    for face in sphere.faces() {
+        if face.iter().all(|&v| sphere.positions[v as usize][2] > 0.6) {
+            continue;
+        }
+        let kept: Vec<u32> = face
+            .iter()
+            .map(|&v| {
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = open.positions.len() as u32;
+                    open.positions.push(sphere.positions[v as usize]);
+                }
+                index[v as usize]
+            })
+            .collect();
+        open.push_face(&kept);
+    }
+    // A crease along two edges of a triangle below the cap, one of them semi-sharp.
+    let t = open.faces().nth(7).unwrap().to_vec();
+    let mut features = Features::default();
+    features.creases.push(([t[0], t[1]], Sharpness::INFINITE));
+    features.creases.push(([t[1], t[2]], Sharpness::steps(2)));
+    let split = catmull_clark(&open, &features).unwrap();
+    let (mesh, features) = (split.mesh, split.features);
+    let mut far = torus(40, 40);
+    let nv = mesh.positions.len() as u32;
+    let mut both = mesh.clone();
+    both.positions
+        .extend(far.positions.iter().map(|p| [p[0] + 100.0, p[1], p[2]]));
+    both.faces
+        .extend(far.faces.drain(..).map(|f| f.map(|v| v + nv)));
+    assert!(both.faces.len() > 2 * mesh.faces.len());
+    let (topo, topo_both) = (
+        Topology::build(&mesh).unwrap(),
+        Topology::build(&both).unwrap(),
+    );
+    let ring = torus(40, 40);
+    let topo_torus = Topology::build(&ring).unwrap();
+    for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
+        let s = surface(name);
+        for steps in 1..=3 {
+            for threads in [1, 2] {
+                let refine = |topo: &Topology, mesh: &QuadMesh, features: &Features| {
+                    let mut r =
+                        Refiner::<_, f64>::with_features(&s, topo, features, steps, threads)
+                            .unwrap();
+                    let points = r.refine(&mesh.positions).unwrap().to_vec();
+                    (r.level_steps(), points)
+                };
+                let (lead, alone) = refine(&topo, &mesh, &features);
+                let (none, together) = refine(&topo_both, &both, &features);
+                assert_eq!(none, 0, "{name}, {steps} steps");
+                if name == "uniform-binary" {
+                    assert!(lead >= steps.min(2), "{name}, {steps} steps: {lead}");
+                }
+                let closed = Features::default();
+                let torus = refine(&topo_torus, &ring, &closed).1;
+                let moved = torus.iter().map(|p| [p[0] + 100.0, p[1], p[2]]);
+                let expected: Vec<[f64; 3]> = alone.iter().copied().chain(moved).collect();
+                let d = same_points(&together, &expected);
+                assert!(d < 1e-12, "{name}, {steps} steps, {threads} threads: {d:e}");
+            }
+        }
+    }
+}

@@ -25,7 +25,7 @@
 //! and those two ring points are copied from the neighbouring faces of the fan, which own them
 //! (on a mesh without features each face hands them on, with its corners' 1-ring points, right
 //! after its step, `patch/handoff.rs`).
-//! On a mesh without features whose faces are mostly at EVs (a triangle mesh split into quads)
+//! On a mesh without holes whose faces are mostly at EVs (a triangle mesh split into quads)
 //! the first such steps, while patches are small, run level by level instead, each face
 //! computing only the points it owns (`patch/direct.rs`).
 //! An EV child can only enter another face's ring when N' = 1; such steps, and steps whose
@@ -917,22 +917,6 @@ impl<T> Fans<'_, T> {
         let p = &self.patches[self.slot[f as usize] as usize * len..][..len];
         p[i..i + 3].try_into().expect("three coordinates")
     }
-
-    /// A point of a vertex's 1-ring as the face of wedge w holds it ([`one_ring`]).
-    fn spot(&self, w: crate::topology::Wedge, spot: Spot) -> [T; 3]
-    where
-        T: Copy,
-    {
-        let (x, y) = CornerPoint::of_ring(w, spot).xy(self.n);
-        *self.point(w.face, x, y)
-    }
-
-    /// Vertex v's point, as the face of wedge w of its rotation holds it.
-    fn point_of(&self, base: &Base<'_>, v: u32, w: usize) -> &[T; 3] {
-        let w = base.topo.rotation(v)[w];
-        let (cx, cy) = corner_at(w.corner, self.n, self.n);
-        self.point(w.face, cx, cy)
-    }
 }
 
 /// The buffers between one step's two passes, and one new row.
@@ -1366,7 +1350,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .zip(plans.drain(..lead))
             .map(|(k, plan)| {
                 let ring = st.rings[k.min(st.rings.len() - 1)];
-                direct::Step::new(&base, &plan, words[k].len() as i64, ring)
+                direct::Step::new(&base, plan, (words[k].len() as i64, k), ring)
             })
             .collect();
         let start_level = first + lead;
@@ -1915,23 +1899,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 |(c, ((vs, alphas), rules))| {
                     let each = vs.iter().zip(alphas).zip(rules).enumerate();
                     each.map(|(q, ((&v, &alpha), rule))| {
-                        let topo = base.topo;
-                        let from_fans = |_, w, spot| fans.spot(w, spot);
-                        rule.map(|rule| match rule {
-                            VertexRule::Corner => *fans.point_of(base, v, 0),
-                            VertexRule::Crease => crease_child(base, &fans, plan, v, k),
-                            VertexRule::Smooth if topo.valence(v) == 4 => {
-                                ev_child(topo, v, vertex_rule_weights(plan), from_fans)
+                        let ev = base.topo.valence(v) != 4;
+                        rule.map(|rule| match (rule, handoff) {
+                            (VertexRule::Smooth, Some(h)) if ev => {
+                                let one = h.ring(c * per + q, handed);
+                                ev_child(base.topo, v, (alpha, ring), |k, _, spot| {
+                                    one.point(k, spot)
+                                })
                             }
-                            VertexRule::Smooth => match handoff {
-                                Some(h) => {
-                                    let one = h.ring(c * per + q, handed);
-                                    ev_child(topo, v, (alpha, ring), |k, _, spot| {
-                                        one.point(k, spot)
-                                    })
-                                }
-                                None => ev_child(topo, v, (alpha, ring), from_fans),
-                            },
+                            _ => {
+                                let at = |f, x, y| *fans.point(f, x, y);
+                                vertex_child(base, (v, rule, alpha), (plan, ring, k), n, at)
+                            }
                         })
                     })
                     .collect::<Vec<_>>()
@@ -2987,16 +2966,46 @@ fn load_rows<T: Real>(table: &[u32], start: &[[T; 3]], layout: Layout, dst: &mut
     }
 }
 
+/// The child of special vertex v by its rule after step k (`plan`, the EVs' 1-ring weights
+/// `ring`), from the old level (side N) as `point(face, x, y)` reads it: a corner stays, a
+/// crease takes its curve rule ([`crease_child`]), a smooth vertex its 1-ring rule (the
+/// tensor vertex mask at valence 4, α's elsewhere, \[G\] §3).
+fn vertex_child<T: Real>(
+    base: &Base<'_>,
+    (v, rule, alpha): (u32, VertexRule, f64),
+    (plan, ring, k): (&Plan, [f64; 2], usize),
+    n: i64,
+    point: impl Fn(u32, i64, i64) -> [T; 3],
+) -> [T; 3] {
+    let topo = base.topo;
+    let spot = |_, w: crate::topology::Wedge, spot| {
+        let (x, y) = CornerPoint::of_ring(w, spot).xy(n);
+        point(w.face, x, y)
+    };
+    match rule {
+        VertexRule::Corner => {
+            let w = topo.rotation(v)[0];
+            let (cx, cy) = corner_at(w.corner, n, n);
+            point(w.face, cx, cy)
+        }
+        VertexRule::Crease => crease_child(base, plan, (v, k), n, point),
+        VertexRule::Smooth if topo.valence(v) == 4 => {
+            ev_child(topo, v, vertex_rule_weights(plan), spot)
+        }
+        VertexRule::Smooth => ev_child(topo, v, (alpha, ring), spot),
+    }
+}
+
 /// The child of a crease vertex: the curve rule along its two sharp edges, the 1D plan's
 /// weights for its new point X' = 0 (the mask of its word, which is a palindrome: the word
 /// at a vertex of the symmetric W_s, \[G\] Cor. 4.4) on the points at distance |x| along
-/// the two sharp edges of the old level.
+/// the two sharp edges of the old level (side N, `point(face, x, y)`).
 fn crease_child<T: Real>(
     base: &Base<'_>,
-    level: &Fans<'_, T>,
     plan: &Plan,
-    v: u32,
-    k: usize,
+    (v, k): (u32, usize),
+    n: i64,
+    point: impl Fn(u32, i64, i64) -> [T; 3],
 ) -> [T; 3] {
     let rot = base.topo.rotation(v);
     let sharp = base.features.sharp_spokes(base.topo, v, k);
@@ -3013,8 +3022,8 @@ fn crease_child<T: Real>(
     for &(x, wt) in &plan.parents[plan.rows[h].clone()] {
         let x = x as i64 - 1;
         let (w, (dx, dy)) = if x < 0 { behind } else { ahead };
-        let (cx, cy) = corner_at(w.corner, level.n, level.n);
-        let p = level.point(w.face, cx + x.abs() * dx, cy + x.abs() * dy);
+        let (cx, cy) = corner_at(w.corner, n, n);
+        let p = point(w.face, cx + x.abs() * dx, cy + x.abs() * dy);
         for (a, q) in acc.iter_mut().zip(p) {
             *a += wt * q.to_f64();
         }

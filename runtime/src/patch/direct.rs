@@ -1,23 +1,28 @@
 //! The first steps of a mesh of small fans, level by level.
 //!
-//! Faces with an EV corner step in lock-step as whole patches (`Refiner::fan_faces`). In the
-//! first steps those patches are small (side 4 at N = 1), and a face's step there — its
-//! patch loaded and stored, two passes with a transpose between, its ring handed on, its
-//! writers — costs several times its sums: refined once, the icosphere's faces (each at two
-//! EVs) took 200 ns each against OpenSubdiv's 47 (docs/benchmarks.md). On a mesh without
-//! features whose faces are mostly such fans those steps run level by level instead, every
-//! level stored whole in its numbering (`Numbering`): each face computes only the points it
-//! owns (its interior, the edges and corners it owns) from its patch of the level before,
-//! gathered by one index table per level, by the step's 1D plan along x then along y (\[G\]
-//! §2.2: the tensor product of the univariate step; whole rows at a time, AVX2 where the CPU
-//! has it), and each EV's child comes from its old 1-ring (`one_ring`). With contained masks (\[G\] Prop. 4.8) an EV's missing diagonal only
-//! reaches the EV's child and ring points outside the face, so no point a face writes needs it.
-//! The last such level is the patches' start level, or the output.
+//! Faces with an EV corner (or a corner whose vertex a rule sets) step in lock-step as whole
+//! patches (`Refiner::fan_faces`). In the first steps those patches are small (side 4 at
+//! N = 1), and a face's step there — its patch loaded and stored, two passes with a transpose
+//! between, its ring handed on, its writers — costs several times its sums: refined once, the
+//! icosphere's faces (each at two EVs) took 200 ns each against OpenSubdiv's 47
+//! (docs/benchmarks.md). On a mesh without holes whose faces are mostly such fans (a triangle
+//! mesh split into quads, open or closed, creased or not) those steps run level by level
+//! instead, every level stored whole in its numbering (`Numbering`): each face computes only
+//! the points it owns (its interior, the edges and corners it owns) from its patch of the
+//! level before — gathered by one index table per level, its phantoms set by the step's
+//! rules (`Base::load_phantoms`: odd reflections across sharp edges, corners by their kind) —
+//! by the step's 1D plan along x then along y (\[G\] §2.2: the tensor product of the
+//! univariate step; whole rows at a time, AVX2 where the CPU has it); each vertex a rule sets
+//! gets its child by that rule (`vertex_child`: an EV's from its old 1-ring by an index
+//! table). With contained masks (\[G\] Prop. 4.8) an EV's missing diagonal only reaches the
+//! EV's child and ring points outside the face, so no point a face writes needs it. The last
+//! such level is the patches' start level, or the output.
 
 use super::{
-    ev_child, in_threads, owned_border, ring_layout, Base, CornerPoint, Numbering, Plan, SharedOut,
-    Simd, Spot,
+    ev_child, in_threads, owned_border, ring_layout, vertex_child, Base, CornerPoint, Numbering,
+    Plan, SharedOut, Simd, Spot,
 };
+use crate::features::VertexRule;
 use crate::real::{axpy_slab, Real};
 use crate::topology::Wedge;
 
@@ -31,8 +36,8 @@ const SIDE: i64 = 4;
 const PER_WORKER: usize = 16384;
 
 /// How many of the leading depth-first steps (new sides `sides`, in order) run level by
-/// level: on a mesh without features or holes whose faces are at least half fans, those to a
-/// side of at most [`SIDE`]; none elsewhere (a mesh of ordinary faces composes every step,
+/// level: on a mesh without holes whose faces are at least half fans, those to a side of at
+/// most [`SIDE`]; none elsewhere (a mesh of ordinary faces composes every step,
 /// `patch/composed.rs`, which a stored level would only slow down).
 pub(super) fn leading(
     base: &Base<'_>,
@@ -41,7 +46,7 @@ pub(super) fn leading(
 ) -> usize {
     let features = &base.features;
     let mostly_fans = 2 * fan_faces >= base.topo.face_count();
-    if !features.is_plain() || features.has_holes() || !mostly_fans {
+    if features.has_holes() || !mostly_fans {
         return 0;
     }
     sides.take_while(|&n| n <= SIDE).count()
@@ -49,6 +54,9 @@ pub(super) fn leading(
 
 /// One step run level by level: level k (side N, numbered `old`) to level k + 1 (`new`).
 pub(super) struct Step {
+    plan: Plan,
+    /// The step's index k (its sharpness, phantoms and vertex rules).
+    k: usize,
     old: Numbering,
     new: Numbering,
     /// The step's 1D matrix as a band: per new point X' = 0..=N' the first old point of its
@@ -60,8 +68,8 @@ pub(super) struct Step {
     band: usize,
     /// Per face, its patch of level k (ring included) as indices into that level, x-major.
     gather: Vec<u32>,
-    /// Per face (from `border_at[f]`), the border points it owns but EVs: (Y'·(N'+1) + X',
-    /// index in level k + 1).
+    /// Per face (from `border_at[f]`), the border points it owns but those a vertex rule sets:
+    /// (Y'·(N'+1) + X', index in level k + 1).
     border: Vec<(u32, u32)>,
     border_at: Vec<u32>,
     /// Per special vertex (from `ring_at[i]`), its 1-ring in level k as [`one_ring`] reads
@@ -70,10 +78,12 @@ pub(super) struct Step {
     ring_at: Vec<u32>,
     /// The 1-ring weights of this step (\[G\] §3).
     ring: [f64; 2],
+    /// Whether the mesh has no features (no phantoms to set).
+    plain: bool,
 }
 
 impl Step {
-    pub(super) fn new(base: &Base<'_>, plan: &Plan, n: i64, ring: [f64; 2]) -> Step {
+    pub(super) fn new(base: &Base<'_>, plan: Plan, (n, k): (i64, usize), ring: [f64; 2]) -> Step {
         let old = Numbering::new(base.topo, n);
         let new = old.with_n(plan.n_new);
         let m = ring_layout(n, true);
@@ -106,10 +116,12 @@ impl Step {
         }
         let (mut border, mut border_at) = (Vec::new(), vec![0]);
         let all = 0..=new.n;
+        let rules = base.vertex_rules(k);
         for f in 0..faces {
             let put = |x: i64, y: i64, i: usize| {
-                let ev = i < base.special_at.len() && base.special_at[i] != u32::MAX;
-                if !ev {
+                let at = base.special_at.get(i).copied().unwrap_or(u32::MAX);
+                let ruled = rules.get(at as usize).is_some_and(Option::is_some);
+                if !ruled {
                     border.push(((y as usize * side + x as usize) as u32, i as u32));
                 }
             };
@@ -130,6 +142,8 @@ impl Step {
             ring_at.push(rings.len() as u32);
         }
         Step {
+            plan,
+            k,
             old,
             new,
             lo,
@@ -141,6 +155,7 @@ impl Step {
             rings,
             ring_at,
             ring,
+            plain: base.features.is_plain(),
         }
     }
 
@@ -169,6 +184,7 @@ impl Step {
         in_threads((0..faces).step_by(chunk), |from| {
             let faces = from..(from + chunk).min(faces);
             let job = Job {
+                base,
                 sizes: (m, side, self.band),
                 weights: &weights,
                 faces,
@@ -183,23 +199,43 @@ impl Step {
                 _ => self.faces_sized(job),
             }
         });
-        // Each EV's child from its old 1-ring.
+        // Each special vertex's child by its rule (an EV's from its 1-ring by the table).
         let per = base.special.len().div_ceil(threads).max(PER_WORKER);
         let work = base.special.iter().enumerate().step_by(per);
+        let rules = base.vertex_rules(self.k);
+        let layout = ring_layout(self.old.n, true);
+        let point = |f: u32, x: i64, y: i64| {
+            old[self.gather[f as usize * m * m + layout.at(x, y) / 3] as usize]
+        };
         in_threads(work, |(from, _)| {
             let to = (from + per).min(base.special.len());
             for (i, &v) in base.special[from..to].iter().enumerate() {
                 let i = from + i;
-                let ring = &self.rings[self.ring_at[i] as usize..self.ring_at[i + 1] as usize];
-                let child = ev_child(base.topo, v, (alphas[i], self.ring), |k, _, spot| {
-                    let at = match spot {
-                        Spot::Centre => 0,
-                        Spot::Spoke => 1 + 2 * k,
-                        Spot::Diagonal => 2 + 2 * k,
-                    };
-                    old[ring[at] as usize]
-                });
-                // SAFETY: no face writes an EV; each EV is written by its own worker only.
+                let Some(rule) = rules[i] else {
+                    continue; // Its face's patch gives it.
+                };
+                let child = if rule == VertexRule::Smooth && base.topo.valence(v) != 4 {
+                    let ring = &self.rings[self.ring_at[i] as usize..self.ring_at[i + 1] as usize];
+                    ev_child(base.topo, v, (alphas[i], self.ring), |k, _, spot| {
+                        let at = match spot {
+                            Spot::Centre => 0,
+                            Spot::Spoke => 1 + 2 * k,
+                            Spot::Diagonal => 2 + 2 * k,
+                        };
+                        old[ring[at] as usize]
+                    })
+                } else {
+                    let (plan, ring) = (&self.plan, self.ring);
+                    vertex_child(
+                        base,
+                        (v, rule, alphas[i]),
+                        (plan, ring, self.k),
+                        self.old.n,
+                        point,
+                    )
+                };
+                // SAFETY: no face writes a vertex a rule sets; each is written by its own
+                // worker only.
                 unsafe { out.write(v as usize, &child) };
             }
         });
@@ -227,12 +263,14 @@ impl Step {
     #[inline(always)]
     fn faces<T: Real>(&self, (m, side, band): (usize, usize, usize), job: Job<'_, T>) {
         let Job {
+            base,
             weights,
             faces,
             old,
             out,
             ..
         } = job;
+        let (n, layout) = (self.old.n, ring_layout(self.old.n, true));
         let zero = T::default();
         let (mut patch, mut along_x) = (vec![zero; m * m * 3], vec![zero; side * m * 3]);
         let mut across = vec![zero; m * side * 3];
@@ -243,6 +281,10 @@ impl Step {
                 .zip(&self.gather[f * m * m..][..m * m])
             {
                 p.copy_from_slice(&old[i as usize]);
+            }
+            // Across sharp edges and at corners without a diagonal: the phantoms of step k.
+            if !self.plain {
+                base.load_phantoms((f as u32, n, self.k), layout, &mut patch);
             }
             // Along x: new row X' (old points y) from the rows of its band.
             for (xn, a) in along_x.chunks_exact_mut(m * 3).enumerate() {
@@ -279,6 +321,7 @@ impl Step {
 /// What a worker refines: its faces, from level `old` into `out`, with the step's band
 /// weights in `T` and its sizes (m, N' + 1, band).
 struct Job<'a, T> {
+    base: &'a Base<'a>,
     sizes: (usize, usize, usize),
     weights: &'a [T],
     faces: std::ops::Range<usize>,
