@@ -1103,12 +1103,11 @@ fn every_simd_path_and_writer_gives_the_same_points() {
     }
 }
 
-/// An open triangle mesh with a sharp and a semi-sharp crease, split into quads: every face at
-/// an EV (the triangles' centres), so its first steps run level by level, phantoms and vertex
-/// rules included (`patch/direct.rs`). Beside a torus with more faces than it has (a separate
-/// component, far along x), no step runs level by level, and the two refinements give the
-/// same points to rounding, on one and two threads; the boundary and the creases keep their
-/// properties above.
+/// An open triangle mesh with a sharp and a semi-sharp crease and a sharp vertex, split into
+/// quads: every face at an EV (the triangles' centres), so its first steps run level by level,
+/// phantoms and vertex rules included (`patch/direct.rs`). Beside a torus with more faces than
+/// it has (a separate component, far along x), no step runs level by level, and the two
+/// refinements give the same points to rounding, on one and two threads.
 #[test]
 fn an_open_creased_triangle_mesh_starts_level_by_level() {
     use lsubdiv::runtime::generators::{icosphere, torus};
@@ -1139,6 +1138,9 @@ fn an_open_creased_triangle_mesh_starts_level_by_level() {
     let mut features = Features::default();
     features.creases.push(([t[0], t[1]], Sharpness::INFINITE));
     features.creases.push(([t[1], t[2]], Sharpness::steps(2)));
+    // And a sharp vertex on another triangle.
+    let corner = open.faces().nth(40).unwrap()[0];
+    features.corners.push((corner, Sharpness::INFINITE));
     let split = catmull_clark(&open, &features).unwrap();
     let (mesh, features) = (split.mesh, split.features);
     let mut far = torus(40, 40);
