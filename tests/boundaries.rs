@@ -1103,8 +1103,8 @@ fn every_simd_path_and_writer_gives_the_same_points() {
     }
 }
 
-/// An open triangle mesh with a sharp and a semi-sharp crease and a sharp vertex, split into
-/// quads: every face at an EV (the triangles' centres), so its first steps run level by level,
+/// An open triangle mesh with a sharp and a semi-sharp crease, a sharp vertex and a hole,
+/// split into quads: every face at an EV (the triangles' centres), so its first steps run level by level,
 /// phantoms and vertex rules included (`patch/direct.rs`). Beside a torus with more faces than
 /// it has (a separate component, far along x), no step runs level by level, and the two
 /// refinements give the same points to rounding, on one and two threads.
@@ -1141,6 +1141,8 @@ fn an_open_creased_triangle_mesh_starts_level_by_level() {
     // And a sharp vertex on another triangle.
     let corner = open.faces().nth(40).unwrap()[0];
     features.corners.push((corner, Sharpness::INFINITE));
+    // And a hole (refined like every face, its points left out of the output mesh).
+    features.holes.push(60);
     let split = catmull_clark(&open, &features).unwrap();
     let (mesh, features) = (split.mesh, split.features);
     let mut far = torus(40, 40);

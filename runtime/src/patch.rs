@@ -25,7 +25,7 @@
 //! and those two ring points are copied from the neighbouring faces of the fan, which own them
 //! (on a mesh without features each face hands them on, with its corners' 1-ring points, right
 //! after its step, `patch/handoff.rs`).
-//! On a mesh without holes whose faces are mostly at EVs (a triangle mesh split into quads)
+//! On a mesh whose faces are mostly at EVs (a triangle mesh split into quads)
 //! the first such steps, while patches are small, run level by level instead, each face
 //! computing only the points it owns (`patch/direct.rs`).
 //! An EV child can only enter another face's ring when N' = 1; such steps, and steps whose

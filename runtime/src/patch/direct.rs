@@ -5,8 +5,9 @@
 //! N = 1), and a face's step there — its patch loaded and stored, two passes with a transpose
 //! between, its ring handed on, its writers — costs several times its sums: refined once, the
 //! icosphere's faces (each at two EVs) took 200 ns each against OpenSubdiv's 47
-//! (docs/benchmarks.md). On a mesh without holes whose faces are mostly such fans (a triangle
-//! mesh split into quads, open or closed, creased or not) those steps run level by level
+//! (docs/benchmarks.md). On a mesh whose faces are mostly such fans (a triangle mesh split
+//! into quads, open or closed, creased or not, with holes or not: a hole is refined like every
+//! face, its points only left out of the output mesh) those steps run level by level
 //! instead, every level stored whole in its numbering (`Numbering`): each face computes only
 //! the points it owns (its interior, the edges and corners it owns) from its patch of the
 //! level before — gathered by one index table per level, its phantoms set by the step's
@@ -36,17 +37,15 @@ const SIDE: i64 = 4;
 const PER_WORKER: usize = 16384;
 
 /// How many of the leading depth-first steps (new sides `sides`, in order) run level by
-/// level: on a mesh without holes whose faces are at least half fans, those to a side of at
-/// most [`SIDE`]; none elsewhere (a mesh of ordinary faces composes every step,
+/// level: on a mesh whose faces are at least half fans, those to a side of at most
+/// [`SIDE`]; none elsewhere (a mesh of ordinary faces composes every step,
 /// `patch/composed.rs`, which a stored level would only slow down).
 pub(super) fn leading(
     base: &Base<'_>,
     fan_faces: usize,
     sides: impl Iterator<Item = i64>,
 ) -> usize {
-    let features = &base.features;
-    let mostly_fans = 2 * fan_faces >= base.topo.face_count();
-    if features.has_holes() || !mostly_fans {
+    if 2 * fan_faces < base.topo.face_count() {
         return 0;
     }
     sides.take_while(|&n| n <= SIDE).count()
