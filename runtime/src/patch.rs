@@ -1068,6 +1068,17 @@ impl Numbering {
 }
 
 impl Numbering {
+    /// Every face's patch with its ring as indices into this numbering, x-major ([`load`]),
+    /// `u32::MAX` where a point does not exist ([`Numbering::gather`]).
+    fn gather_table(&self, base: &Base<'_>) -> Vec<u32> {
+        let m = ring_layout(self.n, true);
+        let mut table = vec![u32::MAX; base.topo.face_count() * m.side * m.side];
+        for (f, t) in table.chunks_exact_mut(m.side * m.side).enumerate() {
+            self.gather(base, f as u32, |x, y, i| t[m.at(x, y) / 3] = i as u32);
+        }
+        table
+    }
+
     /// Face f's patch with its ring (side N+3): `put(x, y, i)` for each point and its index
     /// in this numbering; ring points across a boundary and the diagonal point at an
     /// extraordinary corner do not exist and are not handed.
@@ -1344,8 +1355,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .flatten();
         // The first depth-first steps of a mesh of small fans, level by level.
         let nf = topo.face_count();
-        let fans = (0..nf as u32).filter(|&f| !base.ordinary(f)).count();
-        let lead = direct::leading(&base, fans, plans.iter().map(|p| p.n_new));
+        let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
+            (0..nf as u32).partition(|&f| base.ordinary(f));
+        let lead = direct::leading(&base, fan_faces.len(), plans.iter().map(|p| p.n_new));
         let direct: Vec<direct::Step> = (first..)
             .zip(plans.drain(..lead))
             .map(|(k, plan)| {
@@ -1356,12 +1368,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let start_level = first + lead;
         let start_num = Numbering::new(base.topo, words[start_level].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
-        // Every face's start patch as indices, x-major ([`load`]).
         let m = ring_layout(start_num.n, true);
-        let mut start_gather = vec![u32::MAX; nf * m.side * m.side];
-        for (f, t) in start_gather.chunks_exact_mut(m.side * m.side).enumerate() {
-            start_num.gather(&base, f as u32, |x, y, i| t[m.at(x, y) / 3] = i as u32);
-        }
+        let start_gather = start_num.gather_table(&base);
         // α for the special vertices that are interior and extraordinary (unused otherwise).
         let alphas = base
             .special
@@ -1371,9 +1379,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 n => st.alpha(n).map_err(SurfaceError::Ev),
             })
             .collect::<Result<_, _>>()?;
-
-        let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
-            (0..nf as u32).partition(|&f| base.ordinary(f));
         let (ordinary, stacks) = base.chains(&ordinary, start_level);
         let composed = (!plans.is_empty()).then(|| {
             let rows = plans
@@ -3059,6 +3064,18 @@ enum Spot {
     Spoke,
     /// The wedge face's corner opposite the vertex.
     Diagonal,
+}
+
+impl Spot {
+    /// Its place, seen from wedge k, in a vertex's 1-ring laid out in the order [`one_ring`]
+    /// reads it: the vertex, then per wedge its spoke and its diagonal.
+    fn in_ring(self, k: usize) -> usize {
+        match self {
+            Spot::Centre => 0,
+            Spot::Spoke => 1 + 2 * k,
+            Spot::Diagonal => 2 + 2 * k,
+        }
+    }
 }
 
 /// The rule (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)) on v's 1-ring, `point(w, spot)`

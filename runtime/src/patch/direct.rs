@@ -102,9 +102,8 @@ impl Step {
             }
         }
         let faces = base.topo.face_count();
-        let mut gather = vec![u32::MAX; faces * m.side * m.side];
-        for (f, t) in gather.chunks_exact_mut(m.side * m.side).enumerate() {
-            old.gather(base, f as u32, |x, y, i| t[m.at(x, y) / 3] = i as u32);
+        let mut gather = old.gather_table(base);
+        for t in gather.chunks_exact_mut(m.side * m.side) {
             // An EV's missing diagonal reaches no point the face writes (its product weight
             // is an exact zero there): it reads the face's corner 0 instead, so that the
             // gather needs no test.
@@ -134,9 +133,13 @@ impl Step {
                 gather[w.face as usize * m.side * m.side + m.at(x, y) / 3]
             };
             let rot = base.topo.rotation(v);
-            rings.push(at(rot[0], Spot::Centre));
-            for &w in rot {
-                rings.extend([at(w, Spot::Spoke), at(w, Spot::Diagonal)]);
+            let from = rings.len();
+            rings.resize(from + 1 + 2 * rot.len(), 0);
+            for (k, &w) in rot.iter().enumerate() {
+                let centre = (k == 0).then_some(Spot::Centre);
+                for spot in centre.into_iter().chain([Spot::Spoke, Spot::Diagonal]) {
+                    rings[from + spot.in_ring(k)] = at(w, spot);
+                }
             }
             ring_at.push(rings.len() as u32);
         }
@@ -216,12 +219,7 @@ impl Step {
                 let child = if rule == VertexRule::Smooth && base.topo.valence(v) != 4 {
                     let ring = &self.rings[self.ring_at[i] as usize..self.ring_at[i + 1] as usize];
                     ev_child(base.topo, v, (alphas[i], self.ring), |k, _, spot| {
-                        let at = match spot {
-                            Spot::Centre => 0,
-                            Spot::Spoke => 1 + 2 * k,
-                            Spot::Diagonal => 2 + 2 * k,
-                        };
-                        old[ring[at] as usize]
+                        old[ring[spot.in_ring(k)] as usize]
                     })
                 } else {
                     let (plan, ring) = (&self.plan, self.ring);

@@ -187,18 +187,13 @@ impl Handoff {
             let rot = topo.rotation(v);
             for (k, w) in rot.iter().enumerate() {
                 let s = slot_of(w.face)? as usize;
-                // The box's order, [`OneRing::point`]: the vertex, then per wedge its spoke and
-                // diagonal.
-                let centre = (k == 0).then_some((Spot::Centre, len));
-                let ring = [
-                    (Spot::Spoke, len + 1 + 2 * k),
-                    (Spot::Diagonal, len + 2 + 2 * k),
-                ];
-                for (spot, to) in centre.into_iter().chain(ring) {
+                // In the 1-ring's order ([`Spot::in_ring`]), as [`OneRing::point`] reads it.
+                let centre = (k == 0).then_some(Spot::Centre);
+                for spot in centre.into_iter().chain([Spot::Spoke, Spot::Diagonal]) {
                     gives[s].push(Give {
                         from: CornerPoint::of_ring(*w, spot),
                         old: true,
-                        to: to as u32,
+                        to: (len + spot.in_ring(k)) as u32,
                     });
                 }
             }
@@ -287,10 +282,6 @@ pub(super) struct OneRing<'b, T>(&'b [[T; 3]]);
 impl<T: Copy> OneRing<'_, T> {
     /// The point `spot` of wedge k ([`super::one_ring`]).
     pub(super) fn point(&self, k: usize, spot: Spot) -> [T; 3] {
-        match spot {
-            Spot::Centre => self.0[0],
-            Spot::Spoke => self.0[1 + 2 * k],
-            Spot::Diagonal => self.0[2 + 2 * k],
-        }
+        self.0[spot.in_ring(k)]
     }
 }
