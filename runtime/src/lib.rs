@@ -65,6 +65,7 @@ pub mod mesh;
 pub mod patch;
 pub mod polygon;
 pub mod real;
+pub mod stencil;
 pub mod surface;
 pub mod topology;
 

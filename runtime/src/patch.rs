@@ -52,9 +52,7 @@ use crate::features::{CornerKind, Features, Resolved, VertexRule};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::real::{axpy_slab, Real};
-use crate::surface::{
-    refine_ghosted, refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme, SurfaceVisitor,
-};
+use crate::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
@@ -64,11 +62,13 @@ mod direct;
 mod handoff;
 mod limit;
 mod near;
+mod reference;
 mod stream;
 use composed::{Composed, Faces, Rows};
 use handoff::{CornerPoint, Handoff, Offsets};
 pub use limit::{limit_available, SurfaceLimit};
 use near::Near;
+use reference::Reference;
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the
@@ -1216,6 +1216,8 @@ pub struct Refiner<'s, S, T> {
     /// Where the last reference step runs on a mesh without features, when some faces are far
     /// from its EVs.
     near: Option<Near>,
+    /// The reference steps' maps (none without reference steps).
+    reference: Option<Reference>,
 
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
@@ -1353,6 +1355,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let near = (first > 0 && plain)
             .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
+        let reference = (first > 0)
+            .then(|| Reference::new(scheme, &base, first, near.as_ref(), cut.as_ref()))
+            .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.
         let nf = topo.face_count();
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
@@ -1405,6 +1410,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             start_gather,
             cut,
             near,
+            reference,
             ordinary,
             stacks,
             handoff,
@@ -1526,6 +1532,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .sum::<usize>()
             + self.handed.capacity();
         (fans + scratch + 3 * points) * size_of::<T>()
+            + self.reference.as_ref().map_or(0, Reference::bytes)
     }
 
     /// Wall time of the phases of the last `refine`.
@@ -1582,49 +1589,42 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 &mut self.start,
             );
         } else {
-            let mut before = None;
-            let coarse = match &self.cut {
-                None => {
-                    let mesh = QuadMesh {
-                        positions: positions.to_vec(),
-                        faces: self.base.topo.faces().to_vec(),
-                    };
-                    let lm = LabelledMesh::with_axiom(&t, mesh)?;
-                    match &self.near {
-                        None => {
-                            refine_surface_with(self.scheme, &lm, self.base.topo, self.first)?.0
-                        }
-                        Some(near) => {
-                            let (coarse, level) =
-                                near.refine(self.scheme, lm, self.base.topo, self.first)?;
-                            before = Some(level);
-                            coarse
-                        }
-                    }
-                }
-                // One step (checked in `with_features`) on the cut mesh with its ghost layers;
-                // the copies of a vertex come together again in the start numbering.
+            // Level 0: the base mesh, or the cut mesh with its ghost layers.
+            let extended;
+            let level0 = match &self.cut {
+                None => positions,
                 Some(cut) => {
                     let at: Vec<[f64; 3]> =
                         cut.source.iter().map(|&v| positions[v as usize]).collect();
-                    let (extended, outer) = ghosted(&cut.topo, &at);
-                    let lm = LabelledMesh::with_axiom(&t, extended)?;
-                    refine_ghosted(self.scheme, &lm, &outer)?
+                    extended = ghosted(&cut.topo, &at).0.positions;
+                    &extended
                 }
             };
-            let corner =
-                |v: u32| self.base.features.vertex_rule(self.base.topo, v, 0) == VertexRule::Corner;
+            let reference = self.reference.as_mut().expect("reference steps have maps");
+            reference.run(level0);
+            let reference = &*reference;
+            let [before, coarse] = reference.levels(level0);
             lift(
                 &t,
-                &coarse.mesh.faces,
-                &coarse.mesh.positions,
+                reference.quads(),
+                coarse,
                 self.first,
                 lifted,
                 &mut self.start,
             );
-            if let (Some(near), Some(before)) = (&self.near, &before) {
-                near.far_faces(&t, &self.base, before, self.first, lifted, &mut self.start);
+            if let Some(near) = &self.near {
+                let quads = reference.before_quads(&self.base);
+                near.far_faces(
+                    &t,
+                    &self.base,
+                    (quads, before),
+                    self.first,
+                    lifted,
+                    &mut self.start,
+                );
             }
+            let corner =
+                |v: u32| self.base.features.vertex_rule(self.base.topo, v, 0) == VertexRule::Corner;
             if let Some(cut) = &self.cut {
                 let ring = self.scheme.surface().rings[0];
                 let alpha = |v: u32| {
@@ -2367,7 +2367,7 @@ pub fn footprint(
     // A reference step on a mesh with features runs on it cut along its sharp edges, with its
     // ghost layers ([`Cut`], [`ghosted`]): at most two ghost vertices and faces per side of
     // each sharp edge, six and four more per corner sector.
-    let ghosts = match &base {
+    let cut = match &base {
         Some(b) if first > 0 && !b.features.is_plain() => {
             let sharp = (0..topo.edge_count() as u32)
                 .filter(|&e| b.features.edge_sharp(e, 0))
@@ -2377,10 +2377,25 @@ pub fn footprint(
                 .count() as u128;
             // A corner has a quadrant of ghosts per sector: at most one per face.
             let per_corner = corners.saturating_mul(4);
-            let (gv, gf) = (4 * sharp + 6 * per_corner, 4 * sharp + 4 * per_corner);
-            output_counts(gv, 4 * gf, gf, n(first)).0
+            Some((
+                sharp,
+                4 * sharp + 6 * per_corner,
+                4 * sharp + 4 * per_corner,
+            ))
         }
-        _ => 0,
+        _ => None,
+    };
+    let ghosts = cut.map_or(0, |(_, gv, gf)| output_counts(gv, 4 * gf, gf, n(first)).0);
+    // The reference steps' maps and levels (`patch/reference.rs`): on the base mesh, or on the
+    // mesh cut along its sharp edges (a vertex gets a copy per sector past its first, at most
+    // two per sharp edge; each sharp edge one) with its ghosts.
+    let level0 = cut.map_or((v0, e0, f0), |(sharp, gv, gf)| {
+        (v0 + 2 * sharp + gv, e0 + sharp + 4 * gf, f0 + gf)
+    });
+    let reference = if first > 0 {
+        reference::bound(t, level0, first)
+    } else {
+        0
     };
     // Each face's and special vertex's rules per step until they settle (`Base::rules`).
     let rules = base.as_ref().map_or(0, |b| {
@@ -2445,7 +2460,7 @@ pub fn footprint(
         vertices,
         quads,
         input,
-        refining: [start, direct, fans, handoff, workers, output]
+        refining: [start, reference, direct, fans, handoff, workers, output]
             .iter()
             .fold(0u128, |a, &b| a.saturating_add(b)),
         output,

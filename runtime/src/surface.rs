@@ -15,6 +15,7 @@ use crate::curve::{CurveScheme, CurveTables};
 use crate::ev::{EvCoefficients, EvError, EvLimit};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
+use crate::stencil::{Entry, Stencil};
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::fmt;
@@ -172,40 +173,51 @@ pub fn refine_surface_with<S: SurfaceScheme>(
     refine_from(scheme, mesh, Some(topo), steps)
 }
 
-/// One step of a mesh extended past its boundary by two layers of ghost faces (the patch
-/// driver's start level on a mesh with features, `patch::ghosted`): the vertices `outer`
-/// marks (the outer ghosts) are not scattered, the extended mesh's boundary vertices are
-/// scattered over the faces they have, and only the new points of the real faces are kept.
-pub(crate) fn refine_ghosted<S: SurfaceScheme>(
+/// One step of a mesh of topology `topo` and face labels `labels` as a map (\[G\] §2.2): the
+/// new level's quads and labels, and its points' weights on the old ones ([`Stencil`]). The
+/// vertices `skip` marks are not scattered: the new points their masks reach are wrong, and
+/// the caller keeps only the others (the ghosts of [`refine_ghosted`], or the points the
+/// patch driver makes by the step's 1D plan away from the EVs, `patch::near`).
+pub(crate) fn step_map<S: SurfaceScheme>(
     scheme: &S,
-    mesh: &LabelledMesh,
-    outer: &[bool],
-) -> Result<LabelledMesh, SurfaceError> {
-    let topo = Topology::build(&mesh.mesh)?;
-    refine_skipping(scheme, mesh, &topo, outer)
-}
-
-/// One step of `mesh` (topology `topo`) in which the vertices `skip` marks are not scattered:
-/// the new points their masks reach are wrong, and the caller keeps only the others (the
-/// ghosts of [`refine_ghosted`], or the points the patch driver makes by the step's 1D plan
-/// away from the EVs, `patch::near`).
-pub(crate) fn refine_skipping<S: SurfaceScheme>(
-    scheme: &S,
-    mesh: &LabelledMesh,
+    labels: &[[u8; 2]],
     topo: &Topology,
-    skip: &[bool],
-) -> Result<LabelledMesh, SurfaceError> {
+    skip: Option<&[bool]>,
+) -> Result<StepMap, SurfaceError> {
     let t = scheme.tables();
     let lookup = t.word_index();
     let cx = Step {
         t,
         s: scheme.surface(),
         lookup: &lookup,
-        lm: mesh,
+        labels,
         topo,
-        skip: Some(skip),
+        skip,
     };
-    Ok(cx.run()?.0)
+    Ok(cx.map()?.0)
+}
+
+/// One step of the reference driver as a map: the new points' weights on the old ones, the new
+/// quads and their labels.
+pub(crate) struct StepMap {
+    pub stencil: Stencil,
+    pub faces: Vec<[u32; 4]>,
+    pub labels: Vec<[u8; 2]>,
+}
+
+impl StepMap {
+    /// The new level from `old`, the positions of the level the map was built on.
+    fn apply(self, old: &[[f64; 3]]) -> LabelledMesh {
+        let mut positions = Vec::new();
+        self.stencil.apply(old, &mut positions);
+        LabelledMesh {
+            mesh: QuadMesh {
+                positions,
+                faces: self.faces,
+            },
+            labels: self.labels,
+        }
+    }
 }
 
 fn refine_from<S: SurfaceScheme>(
@@ -232,23 +244,23 @@ fn refine_from<S: SurfaceScheme>(
             t,
             s: scheme.surface(),
             lookup: &lookup,
-            lm: &cur,
+            labels: &cur.labels,
             topo,
             skip: None,
         };
-        let (next, st) = cx.run()?;
-        cur = next;
+        let (map, st) = cx.map()?;
+        cur = map.apply(&cur.mesh.positions);
         stats.push(st);
     }
     Ok((cur, stats))
 }
 
-/// One step's context: the old labelled mesh and its topology.
+/// One step's context: the old level's face labels and topology.
 struct Step<'a> {
     t: CurveTables<'a>,
     s: SurfaceTables<'a>,
     lookup: &'a HashMap<&'a [u8], u32>,
-    lm: &'a LabelledMesh,
+    labels: &'a [[u8; 2]],
     topo: &'a Topology,
     /// The vertices marked are not scattered ([`refine_skipping`]).
     skip: Option<&'a [bool]>,
@@ -261,7 +273,7 @@ impl Step<'_> {
 
     /// Label of local edge `local` of face f read from corner `local` to corner `local + 1`.
     fn label(&self, f: u32, local: u8) -> u8 {
-        let [a, b] = self.lm.labels[f as usize];
+        let [a, b] = self.labels[f as usize];
         match local {
             0 => a,
             1 => b,
@@ -426,7 +438,7 @@ impl Step<'_> {
         }
     }
 
-    fn run(&self) -> Result<(LabelledMesh, StepStats), SurfaceError> {
+    fn map(&self) -> Result<(StepMap, StepStats), SurfaceError> {
         let topo = self.topo;
         let nv = topo.vertex_count();
         let nf = topo.face_count();
@@ -467,7 +479,7 @@ impl Step<'_> {
         let total = next as usize;
         let index = |f: u32, gx: i64, gy: i64| grids[f as usize].index(gx, gy);
 
-        let mut pos = vec![[0.0f64; 3]; total];
+        let mut entries: Vec<Entry> = Vec::new();
         let mut sum = vec![0.0f64; total];
         let mut stats = StepStats::default();
         let mut ev_norm: Vec<(u32, f64)> = Vec::new();
@@ -476,7 +488,10 @@ impl Step<'_> {
                 continue;
             }
             let n = topo.valence(v);
-            let p = self.lm.mesh.positions[v as usize];
+            let mut add = |i: u32, w: f64| {
+                entries.push((i, v, w));
+                sum[i as usize] += w;
+            };
             // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
             let words = (0..self.spokes(v).len())
                 .map(|k| self.word(v, k))
@@ -491,50 +506,43 @@ impl Step<'_> {
                 ev_norm.push((v, alpha + n as f64 * ring));
                 alpha
             };
-            add(&mut pos[v as usize], &mut sum[v as usize], centre, &p);
+            add(v, centre);
             for (k, w) in topo.rotation(v).iter().enumerate() {
                 let mx = self.half_mask(words[k]);
                 let my = self.half_mask(words[(k + 1) % words.len()]);
                 for (x, wx) in mx.iter().enumerate().skip(1) {
                     for (y, wy) in my.iter().enumerate() {
                         match self.locate(w.face, w.corner, !w.next_is_plus, x as i64, y as i64) {
-                            Some((g, gx, gy)) => {
-                                let i = index(g, gx, gy) as usize;
-                                add(&mut pos[i], &mut sum[i], wx * wy, &p);
-                            }
+                            Some((g, gx, gy)) => add(index(g, gx, gy), wx * wy),
                             None => stats.dropped += 1,
                         }
                     }
                 }
             }
         }
-        let is_ev_child: Vec<bool> = {
-            let mut b = vec![false; total];
-            for &(v, _) in &ev_norm {
-                b[v as usize] = true;
-            }
-            b
-        };
-        for &(v, norm) in &ev_norm {
-            for c in &mut pos[v as usize] {
-                *c /= norm;
-            }
-            stats.ev_children += 1;
+        // Divisors: an EV child's α + n·(ring weight), any other point's weight sum where
+        // it is not 1, else 1 (which leaves the sum exactly).
+        let mut is_ev_child = vec![false; total];
+        for &(v, _) in &ev_norm {
+            is_ev_child[v as usize] = true;
         }
-        for i in 0..total {
-            if !is_ev_child[i] && (sum[i] - 1.0).abs() > 1e-9 && sum[i] != 0.0 {
-                for c in &mut pos[i] {
-                    *c /= sum[i];
-                }
+        let mut norms = vec![1.0f64; total];
+        for i in (0..total).filter(|&i| !is_ev_child[i]) {
+            if (sum[i] - 1.0).abs() > 1e-9 && sum[i] != 0.0 {
+                norms[i] = sum[i];
                 stats.normalised += 1;
             }
+        }
+        for &(v, norm) in &ev_norm {
+            norms[v as usize] = norm;
+            stats.ev_children += 1;
         }
 
         // The split: each face becomes a grid of faces labelled by π(a) × π(b).
         let mut faces = Vec::new();
         let mut labels = Vec::new();
         for f in 0..nf as u32 {
-            let [a, b] = self.lm.labels[f as usize];
+            let [a, b] = self.labels[f as usize];
             let (ra, rb) = (self.t.rule(a), self.t.rule(b));
             for (y, &lb) in rb.iter().enumerate() {
                 for (x, &la) in ra.iter().enumerate() {
@@ -549,12 +557,11 @@ impl Step<'_> {
                 }
             }
         }
+        let stencil = Stencil::from_scatter(&entries, norms);
         Ok((
-            LabelledMesh {
-                mesh: QuadMesh {
-                    positions: pos,
-                    faces,
-                },
+            StepMap {
+                stencil,
+                faces,
                 labels,
             },
             stats,
@@ -597,11 +604,4 @@ impl FaceGrid {
             Site::Inside(i) => self.inside + i as u32,
         }
     }
-}
-
-fn add(pos: &mut [f64; 3], sum: &mut f64, w: f64, p: &[f64; 3]) {
-    for (o, x) in pos.iter_mut().zip(p) {
-        *o += w * x;
-    }
-    *sum += w;
 }

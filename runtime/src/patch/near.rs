@@ -17,9 +17,6 @@
 use super::{lift, Base, Numbering, Passes, Plan, STRIP_BYTES};
 use crate::curve::{CurveTables, NO_CHILD};
 use crate::real::Real;
-use crate::surface::{
-    refine_skipping, refine_surface_with, LabelledMesh, SurfaceError, SurfaceScheme,
-};
 use crate::topology::Topology;
 use std::collections::{HashMap, VecDeque};
 
@@ -85,35 +82,14 @@ impl Near {
         self.far.len()
     }
 
-    /// The level after the reference steps `0..first` of `coarse` (its topology `topo`), the
-    /// last one scattered only near the special vertices (the points of the faces far from
-    /// them are wrong: [`Near::far_faces`] sets them), and the level before it.
-    pub(super) fn refine<S: SurfaceScheme>(
-        &self,
-        scheme: &S,
-        coarse: LabelledMesh,
-        topo: &Topology,
-        first: usize,
-    ) -> Result<(LabelledMesh, LabelledMesh), SurfaceError> {
-        let before = if first > 1 {
-            refine_surface_with(scheme, &coarse, topo, first - 1)?.0
-        } else {
-            coarse
-        };
-        let built;
-        let topo = if first > 1 {
-            built = Topology::build(&before.mesh)?;
-            &built
-        } else {
-            topo
-        };
-        topo.require_closed()?;
-        // The faces of the level before come base face by base face, as many each.
-        let per_face = before.mesh.faces.len() / self.scatter.len();
-        let mut skip = vec![true; before.mesh.positions.len()];
+    /// The vertices of the level before the last reference step (its quads `before`, base
+    /// face by base face, as many each) that the step does not scatter: those of faces no
+    /// special vertex is within reach of (their points are wrong: [`Near::far_faces`] sets
+    /// them).
+    pub(super) fn skip(&self, before: &[[u32; 4]], vertices: usize) -> Vec<bool> {
+        let per_face = before.len() / self.scatter.len();
+        let mut skip = vec![true; vertices];
         for (quad, _) in before
-            .mesh
-            .faces
             .iter()
             .zip(
                 self.scatter
@@ -126,31 +102,24 @@ impl Near {
                 skip[v as usize] = false;
             }
         }
-        Ok((refine_skipping(scheme, &before, topo, &skip)?, before))
+        skip
     }
 
     /// Sets the points of the far faces in `start` (numbering `num`): each face's patch with
-    /// its ring at the level before (`before`, `first` − 1 steps) refined by the plan along x
-    /// and y.
+    /// its ring at the level before (`before`: its quads and points, `first` − 1 steps)
+    /// refined by the plan along x and y.
     pub(super) fn far_faces<T: Real>(
         &self,
         t: &CurveTables<'_>,
         base: &Base<'_>,
-        before: &LabelledMesh,
+        (quads, points_before): (&[[u32; 4]], &[[f64; 3]]),
         first: usize,
         num: &Numbering,
         start: &mut [[T; 3]],
     ) {
         let old = num.with_n(self.plan.old_side as i64 - 3);
         let mut points = Vec::new();
-        lift(
-            t,
-            &before.mesh.faces,
-            &before.mesh.positions,
-            first - 1,
-            &old,
-            &mut points,
-        );
+        lift(t, quads, points_before, first - 1, &old, &mut points);
         let layout = super::ring_layout(old.n, true);
         let mut patch = vec![0.0f64; layout.side * layout.side * 3];
         let side = self.plan.new_side();

@@ -1,0 +1,184 @@
+//! The reference driver's steps of a refiner, their maps built once.
+//!
+//! Steps whose masks are not yet contained at the EVs (\[G\] Prop. 4.8: Binary-Ternary's
+//! first) run by the reference driver (`surface`). Its scatter's weights depend on the labels
+//! and the connectivity only, so each step is built once, with the refiner, as a map of the
+//! level before ([`Stencil`], OpenSubdiv's stencil table), and a `refine` only sums it: on
+//! the icosphere every face is near an EV, and the scatter took 47 of Binary-Ternary's 77 ms
+//! there (docs/benchmarks.md). The sums keep the scatter's order and divisors: the same bits.
+//!
+//! The last step scatters only the vertices near the EVs when some faces are far from them
+//! (`patch/near.rs`: those faces take the step by its 1D plan); on a mesh with features it
+//! runs on the mesh cut open along its sharp edges and extended by two layers of ghost faces
+//! (`Cut`, `ghosted`): the outer ghosts are not scattered, the extended mesh's boundary
+//! vertices are scattered over the faces they have, and only the real faces' new points are
+//! kept.
+
+use super::{ghosted, output_counts, Base, Cut, Near};
+use crate::curve::CurveTables;
+use crate::mesh::QuadMesh;
+use crate::stencil::Stencil;
+use crate::surface::{step_map, SurfaceError, SurfaceScheme};
+use crate::topology::Topology;
+
+/// The maps of the reference steps `0..first` and the levels they make.
+pub(super) struct Reference {
+    /// Per step, its map of the level before.
+    maps: Vec<Stencil>,
+    /// The quads of the last level (`lift` reads them).
+    quads: Vec<[u32; 4]>,
+    /// The quads of the level before the last when it is not the base mesh and the faces
+    /// far from the EVs take the last step by its plan (`Near::far_faces` reads them).
+    before_quads: Vec<[u32; 4]>,
+    /// The levels of the last `refine`, one per step.
+    levels: Vec<Vec<[f64; 3]>>,
+}
+
+impl Reference {
+    /// The maps of the steps `0..first` of `base` (`first` ≥ 1): the last one near the EVs
+    /// only with `near`, on the cut mesh with its ghosts with `cut`.
+    pub(super) fn new<S: SurfaceScheme>(
+        scheme: &S,
+        base: &Base<'_>,
+        first: usize,
+        near: Option<&Near>,
+        cut: Option<&Cut>,
+    ) -> Result<Reference, SurfaceError> {
+        let t = scheme.tables();
+        let [axiom] = t.axiom else {
+            return Err(SurfaceError::Axiom);
+        };
+        // Level 0: the base mesh, or the cut mesh with its ghost layers (their positions do
+        // not matter here: the maps are the same for all).
+        let (mut mesh, outer, built) = match cut {
+            None => (
+                shape(base.topo.faces().to_vec(), base.topo.vertex_count()),
+                None,
+                None,
+            ),
+            Some(cut) => {
+                let (extended, outer) =
+                    ghosted(&cut.topo, &vec![[0.0; 3]; cut.topo.vertex_count()]);
+                let topo = Topology::build(&extended)?;
+                (
+                    shape(extended.faces, topo.vertex_count()),
+                    Some(outer),
+                    Some(topo),
+                )
+            }
+        };
+        let mut labels = vec![[*axiom; 2]; mesh.faces.len()];
+        let (mut maps, mut before_quads) = (Vec::with_capacity(first), Vec::new());
+        for k in 0..first {
+            let level;
+            let topo = match (k, &built) {
+                (0, Some(topo)) => topo,
+                (0, None) => base.topo,
+                _ => {
+                    level = Topology::build(&mesh)?;
+                    &level
+                }
+            };
+            if cut.is_none() {
+                topo.require_closed()?;
+            }
+            let last = k + 1 == first;
+            let skip = match (last, near, &outer) {
+                (true, Some(near), _) => Some(near.skip(&mesh.faces, topo.vertex_count())),
+                (_, _, Some(outer)) => Some(outer.clone()),
+                _ => None,
+            };
+            let map = step_map(scheme, &labels, topo, skip.as_deref())?;
+            if last && near.is_some() && k > 0 {
+                before_quads = std::mem::take(&mut mesh.faces);
+            }
+            mesh = shape(map.faces, map.stencil.len());
+            labels = map.labels;
+            maps.push(map.stencil);
+        }
+        Ok(Reference {
+            maps,
+            quads: mesh.faces,
+            before_quads,
+            levels: vec![Vec::new(); first],
+        })
+    }
+
+    /// Runs the steps on the positions of level 0 (the base mesh's, or the cut mesh's with its
+    /// ghosts).
+    pub(super) fn run(&mut self, level0: &[[f64; 3]]) {
+        for k in 0..self.maps.len() {
+            let (done, next) = self.levels.split_at_mut(k);
+            let old = done.last().map_or(level0, Vec::as_slice);
+            self.maps[k].apply(old, &mut next[0]);
+        }
+    }
+
+    /// The levels of the last [`Reference::run`] on `level0`: before the last step, and after.
+    pub(super) fn levels<'a>(&'a self, level0: &'a [[f64; 3]]) -> [&'a [[f64; 3]]; 2] {
+        let (before, last) = self.levels.split_at(self.levels.len() - 1);
+        [before.last().map_or(level0, Vec::as_slice), &last[0]]
+    }
+
+    /// The quads of the last level.
+    pub(super) fn quads(&self) -> &[[u32; 4]] {
+        &self.quads
+    }
+
+    /// The quads of the level before the last (`base`'s when that is the base mesh).
+    pub(super) fn before_quads<'a>(&'a self, base: &'a Base<'_>) -> &'a [[u32; 4]] {
+        if self.maps.len() == 1 {
+            base.topo.faces()
+        } else {
+            &self.before_quads
+        }
+    }
+
+    /// Bytes held: the maps, the quads and the levels.
+    pub(super) fn bytes(&self) -> usize {
+        let maps: usize = self.maps.iter().map(Stencil::bytes).sum();
+        let levels: usize = self.levels.iter().map(Vec::capacity).sum();
+        maps + (self.quads.capacity() + self.before_quads.capacity()) * size_of::<[u32; 4]>()
+            + levels * size_of::<[f64; 3]>()
+    }
+}
+
+/// A level's connectivity: its quads over `vertices` vertices (positions of no size).
+fn shape(faces: Vec<[u32; 4]>, vertices: usize) -> QuadMesh<()> {
+    QuadMesh {
+        positions: vec![[(); 3]; vertices],
+        faces,
+    }
+}
+
+/// A bound on [`Reference::bytes`], and on what building it holds at once (each step's
+/// scatter, 16 bytes per weight, beside its map), for the steps `0..first` on a level 0 of
+/// `vertices`, `edges` and `faces` whose edges all carry the axiom.
+pub(super) fn bound(
+    t: &CurveTables<'_>,
+    (vertices, edges, faces): (u128, u128, u128),
+    first: usize,
+) -> u128 {
+    // A vertex scatters its centre and, per face corner at it, at most L · L weights (L its
+    // longest mask from the child on).
+    let longest = (0..t.word_count())
+        .map(|w| {
+            let child = t.mask_children[w] as usize;
+            t.mask_range(w)
+                .len()
+                .saturating_sub(child.min(t.mask_range(w).len())) as u128
+        })
+        .max()
+        .unwrap_or(0);
+    let n = |k: usize| t.image_len(t.axiom, k);
+    (0..first).fold(0u128, |a, k| {
+        let (v, f) = output_counts(vertices, edges, faces, n(k));
+        let (new_v, new_f) = output_counts(vertices, edges, faces, n(k + 1));
+        let weights = v.saturating_add(f.saturating_mul(4).saturating_mul(longest * longest));
+        // Each weight: its point and weight in the map (12 bytes), and in the scatter (16).
+        // Per new point: its row, its divisor, its weight sum and its position; per quad.
+        a.saturating_add(weights.saturating_mul(28))
+            .saturating_add(new_v.saturating_mul(8 + 8 + 8 + 24))
+            .saturating_add(new_f.saturating_mul(2 * 16))
+    })
+}

@@ -1,0 +1,105 @@
+//! A step's points as a linear map of the points before (OpenSubdiv's stencil table).
+//!
+//! The reference driver's step (`surface`, \[G\] §2.2) scatters each old vertex's mask over
+//! the new points: the weights depend on the labels and the connectivity only, never on the
+//! positions. Recorded once as a table — per new point its old points and weights, in the
+//! order the scatter adds them, and the divisor its sum takes afterwards — the step on new
+//! positions is only that table's sums (`Refiner` keeps it across `refine` calls). Summed in
+//! the scatter's order and divided the same way, the table gives the scatter's bits.
+
+/// Per new point, its weights on old points and the divisor of their sum.
+#[derive(Clone, Debug, Default)]
+pub struct Stencil {
+    /// Per new point, its first entry (one more at the end).
+    rows: Vec<usize>,
+    /// Per entry, the old point.
+    sources: Vec<u32>,
+    /// Per entry, its weight.
+    weights: Vec<f64>,
+    /// Per new point, what its weighted sum is divided by (1 leaves it exactly).
+    norms: Vec<f64>,
+}
+
+/// One weight of a scatter: (new point, old point, weight).
+pub(crate) type Entry = (u32, u32, f64);
+
+impl Stencil {
+    /// The table of `norms.len()` new points from a scatter's `entries`, in the order it made
+    /// them (each new point keeps its entries' order).
+    pub(crate) fn from_scatter(entries: &[Entry], norms: Vec<f64>) -> Stencil {
+        let mut rows = vec![0usize; norms.len() + 1];
+        for &(i, _, _) in entries {
+            rows[i as usize + 1] += 1;
+        }
+        for i in 1..rows.len() {
+            rows[i] += rows[i - 1];
+        }
+        let mut next = rows.clone();
+        let (mut sources, mut weights) = (vec![0u32; entries.len()], vec![0.0; entries.len()]);
+        for &(i, v, w) in entries {
+            let at = &mut next[i as usize];
+            (sources[*at], weights[*at]) = (v, w);
+            *at += 1;
+        }
+        Stencil {
+            rows,
+            sources,
+            weights,
+            norms,
+        }
+    }
+
+    /// New points.
+    pub fn len(&self) -> usize {
+        self.norms.len()
+    }
+
+    /// Whether it makes no point.
+    pub fn is_empty(&self) -> bool {
+        self.norms.is_empty()
+    }
+
+    /// The new points from the old ones (`new` is cleared first). Old points a table reads
+    /// must be in `old` (the level it was built for).
+    pub fn apply(&self, old: &[[f64; 3]], new: &mut Vec<[f64; 3]>) {
+        new.clear();
+        new.extend(self.rows.windows(2).zip(&self.norms).map(|(r, &norm)| {
+            let mut p = [0.0f64; 3];
+            for (&v, &w) in self.sources[r[0]..r[1]]
+                .iter()
+                .zip(&self.weights[r[0]..r[1]])
+            {
+                let q = old[v as usize];
+                for (o, x) in p.iter_mut().zip(q) {
+                    *o += w * x;
+                }
+            }
+            p.map(|x| x / norm)
+        }));
+    }
+
+    /// Bytes the table holds.
+    pub fn bytes(&self) -> usize {
+        self.rows.capacity() * size_of::<usize>()
+            + self.sources.capacity() * size_of::<u32>()
+            + (self.weights.capacity() + self.norms.capacity()) * size_of::<f64>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_keep_the_scatters_order_and_divisor() {
+        // Point 1 gets 0.5·p0 then 0.25·p2 then 0.5·p1, divided by 1.25; point 0 gets p2.
+        let entries = [(1, 0, 0.5), (0, 2, 1.0), (1, 2, 0.25), (1, 1, 0.5)];
+        let s = Stencil::from_scatter(&entries, vec![1.0, 1.25, 1.0]);
+        let old = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 4.0]];
+        let mut new = Vec::new();
+        s.apply(&old, &mut new);
+        let by_hand = [(0.5 * 1.0) / 1.25, (0.5 * 2.0) / 1.25, (0.25 * 4.0) / 1.25];
+        assert_eq!(new, vec![[0.0, 0.0, 4.0], by_hand, [0.0; 3]]);
+        assert_eq!(s.len(), 3);
+    }
+}
