@@ -1356,7 +1356,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
         let reference = (first > 0)
-            .then(|| Reference::new(scheme, &base, first, near.as_ref(), cut.as_ref()))
+            .then(|| {
+                let num = Numbering::new(base.topo, words[first].len() as i64);
+                Reference::new(scheme, &base, (first, &num), near.as_ref(), cut.as_ref())
+            })
             .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.
         let nf = topo.face_count();
@@ -1505,7 +1508,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     pub fn reference_faces(&self) -> usize {
         match (&self.near, self.first) {
             (_, 0) => 0,
-            (Some(near), _) => self.base.topo.face_count() - near.far_count(),
+            (Some(near), _) => self.base.topo.face_count() - near.far().len(),
             (None, _) => self.base.topo.face_count(),
         }
     }
@@ -1601,27 +1604,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
             };
             let reference = self.reference.as_mut().expect("reference steps have maps");
-            reference.run(level0);
-            let reference = &*reference;
-            let [before, coarse] = reference.levels(level0);
-            lift(
-                &t,
-                reference.quads(),
-                coarse,
-                self.first,
-                lifted,
-                &mut self.start,
-            );
+            reference.run(level0, &mut self.start);
             if let Some(near) = &self.near {
-                let quads = reference.before_quads(&self.base);
-                near.far_faces(
-                    &t,
-                    &self.base,
-                    (quads, before),
-                    self.first,
-                    lifted,
-                    &mut self.start,
-                );
+                let before = (reference.before_quads(&self.base), reference.before(level0));
+                near.far_faces(&t, &self.base, before, self.first, lifted, &mut self.start);
             }
             let corner =
                 |v: u32| self.base.features.vertex_rule(self.base.topo, v, 0) == VertexRule::Corner;
@@ -2622,10 +2608,8 @@ impl SurfaceVisitor for Subdivide<'_> {
     }
 }
 
-/// The level of a mesh refined `k` times by the reference driver, in the numbering `num`. Its
-/// faces come old face by old face, each base face's as a block of W_k × W_k cells in the same
-/// order ([`cells`]); each point is taken from the one cell whose corner 0 it is, or, on the
-/// face's last row and column, from the cell beside it.
+/// The level of a mesh refined `k` times by the reference driver (`quads`, `positions`), in the
+/// numbering `num` ([`lifted`]).
 fn lift<T: Real>(
     t: &CurveTables<'_>,
     quads: &[[u32; 4]],
@@ -2634,16 +2618,27 @@ fn lift<T: Real>(
     num: &Numbering,
     data: &mut Vec<[T; 3]>,
 ) {
+    data.clear();
     if k == 0 {
         // The base mesh itself: its vertices in their order (N = 1: nothing but corners).
-        data.clear();
         data.extend(positions.iter().map(|p| p.map(T::from_f64)));
         return;
     }
+    data.extend(lifted(t, quads, k, num).iter().map(|&i| {
+        let p = positions.get(i as usize).copied().unwrap_or_default();
+        p.map(T::from_f64)
+    }));
+}
+
+/// Per point of the numbering `num`, its index in a mesh refined `k` ≥ 1 times by the
+/// reference driver (its quads `quads`; `u32::MAX` for none). Its faces come old face by old
+/// face, each base face's as a block of W_k × W_k cells in the same order ([`cells`]); each
+/// point is taken from the one cell whose corner 0 it is, or, on the face's last row and
+/// column, from the cell beside it.
+fn lifted(t: &CurveTables<'_>, quads: &[[u32; 4]], k: usize, num: &Numbering) -> Vec<u32> {
     let cells = cells(t, k);
     let n = num.n;
-    data.clear();
-    data.resize(num.len(), [T::default(); 3]);
+    let mut from = vec![u32::MAX; num.len()];
     // (A mesh with ghost faces has them after the base faces: they are left out.)
     let faces = quads.chunks_exact(cells.len()).take(num.faces.len());
     for (f, quads) in faces.enumerate() {
@@ -2658,12 +2653,12 @@ fn lift<T: Real>(
                 };
                 if wanted {
                     let (dx, dy) = corner_at(c, 1, 1);
-                    let i = num.index(f, x + dx, y + dy).0;
-                    data[i] = positions[quad[c as usize] as usize].map(T::from_f64);
+                    from[num.index(f, x + dx, y + dy).0] = quad[c as usize];
                 }
             }
         }
     }
+    from
 }
 
 /// The cells of a base face refined `k` times by the reference driver, in the order it makes

@@ -7,6 +7,8 @@
 //! positions is only that table's sums (`Refiner` keeps it across `refine` calls). Summed in
 //! the scatter's order and divided the same way, the table gives the scatter's bits.
 
+use crate::real::Real;
+
 /// Per new point, its weights on old points and the divisor of their sum.
 #[derive(Clone, Debug, Default)]
 pub struct Stencil {
@@ -59,9 +61,32 @@ impl Stencil {
         self.norms.is_empty()
     }
 
-    /// The new points from the old ones (`new` is cleared first). Old points a table reads
-    /// must be in `old` (the level it was built for).
-    pub fn apply(&self, old: &[[f64; 3]], new: &mut Vec<[f64; 3]>) {
+    /// The table of the rows `rows`, in that order (a level renumbered); `u32::MAX` gives a
+    /// row of no weights (its point is zero, for the caller to set).
+    pub(crate) fn pick(&self, rows: &[u32]) -> Stencil {
+        let mut out = Stencil {
+            rows: Vec::with_capacity(rows.len() + 1),
+            ..Stencil::default()
+        };
+        out.rows.push(0);
+        for &r in rows {
+            let norm = match self.rows.get(r as usize..r as usize + 2) {
+                Some(&[lo, hi]) => {
+                    out.sources.extend_from_slice(&self.sources[lo..hi]);
+                    out.weights.extend_from_slice(&self.weights[lo..hi]);
+                    self.norms[r as usize]
+                }
+                _ => 1.0,
+            };
+            out.rows.push(out.sources.len());
+            out.norms.push(norm);
+        }
+        out
+    }
+
+    /// The new points from the old ones (`new` is cleared first), rounded to `T` at the end.
+    /// Old points a table reads must be in `old` (the level it was built for).
+    pub fn apply<T: Real>(&self, old: &[[f64; 3]], new: &mut Vec<[T; 3]>) {
         new.clear();
         new.extend(self.rows.windows(2).zip(&self.norms).map(|(r, &norm)| {
             let mut p = [0.0f64; 3];
@@ -74,7 +99,7 @@ impl Stencil {
                     *o += w * x;
                 }
             }
-            p.map(|x| x / norm)
+            p.map(|x| T::from_f64(x / norm))
         }));
     }
 
@@ -101,5 +126,9 @@ mod tests {
         let by_hand = [(0.5 * 1.0) / 1.25, (0.5 * 2.0) / 1.25, (0.25 * 4.0) / 1.25];
         assert_eq!(new, vec![[0.0, 0.0, 4.0], by_hand, [0.0; 3]]);
         assert_eq!(s.len(), 3);
+        // Renumbered: point 1 first, then a point left to the caller, then point 0.
+        let mut picked = Vec::new();
+        s.pick(&[1, u32::MAX, 0]).apply(&old, &mut picked);
+        assert_eq!(picked, vec![by_hand, [0.0; 3], [0.0, 0.0, 4.0]]);
     }
 }

@@ -209,7 +209,7 @@ impl StepMap {
     /// The new level from `old`, the positions of the level the map was built on.
     fn apply(self, old: &[[f64; 3]]) -> LabelledMesh {
         let mut positions = Vec::new();
-        self.stencil.apply(old, &mut positions);
+        self.stencil.apply::<f64>(old, &mut positions);
         LabelledMesh {
             mesh: QuadMesh {
                 positions,

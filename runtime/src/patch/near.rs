@@ -77,9 +77,9 @@ impl Near {
         Some(Near { far, scatter, plan })
     }
 
-    /// Faces whose points come by the plan.
-    pub(super) fn far_count(&self) -> usize {
-        self.far.len()
+    /// The faces whose points come by the plan ([`Near::far_faces`] sets them).
+    pub(super) fn far(&self) -> &[u32] {
+        &self.far
     }
 
     /// The vertices of the level before the last reference step (its quads `before`, base

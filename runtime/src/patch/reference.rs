@@ -14,33 +14,34 @@
 //! vertices are scattered over the faces they have, and only the real faces' new points are
 //! kept.
 
-use super::{ghosted, output_counts, Base, Cut, Near};
+use super::{ghosted, lifted, output_counts, Base, Cut, Near, Numbering};
 use crate::curve::CurveTables;
 use crate::mesh::QuadMesh;
+use crate::real::Real;
 use crate::stencil::Stencil;
 use crate::surface::{step_map, SurfaceError, SurfaceScheme};
 use crate::topology::Topology;
 
-/// The maps of the reference steps `0..first` and the levels they make.
+/// The maps of the reference steps `0..first` and the levels between them.
 pub(super) struct Reference {
-    /// Per step, its map of the level before.
+    /// Per step, its map of the level before; the last one's points in the start numbering
+    /// (as `lift` would place them), those of the faces far from the EVs left to
+    /// `Near::far_faces` (no weights).
     maps: Vec<Stencil>,
-    /// The quads of the last level (`lift` reads them).
-    quads: Vec<[u32; 4]>,
     /// The quads of the level before the last when it is not the base mesh and the faces
     /// far from the EVs take the last step by its plan (`Near::far_faces` reads them).
     before_quads: Vec<[u32; 4]>,
-    /// The levels of the last `refine`, one per step.
+    /// The levels of the last `refine` between the steps.
     levels: Vec<Vec<[f64; 3]>>,
 }
 
 impl Reference {
-    /// The maps of the steps `0..first` of `base` (`first` ≥ 1): the last one near the EVs
-    /// only with `near`, on the cut mesh with its ghosts with `cut`.
+    /// The maps of the steps `0..first` of `base` (`first` ≥ 1) to the level numbered `num`:
+    /// the last one near the EVs only with `near`, on the cut mesh with its ghosts with `cut`.
     pub(super) fn new<S: SurfaceScheme>(
         scheme: &S,
         base: &Base<'_>,
-        first: usize,
+        (first, num): (usize, &Numbering),
         near: Option<&Near>,
         cut: Option<&Cut>,
     ) -> Result<Reference, SurfaceError> {
@@ -57,8 +58,8 @@ impl Reference {
                 None,
             ),
             Some(cut) => {
-                let (extended, outer) =
-                    ghosted(&cut.topo, &vec![[0.0; 3]; cut.topo.vertex_count()]);
+                let zeros = vec![[0.0; 3]; cut.topo.vertex_count()];
+                let (extended, outer) = ghosted(&cut.topo, &zeros);
                 let topo = Topology::build(&extended)?;
                 (
                     shape(extended.faces, topo.vertex_count()),
@@ -83,12 +84,11 @@ impl Reference {
                 topo.require_closed()?;
             }
             let last = k + 1 == first;
-            let skip = match (last, near, &outer) {
-                (true, Some(near), _) => Some(near.skip(&mesh.faces, topo.vertex_count())),
-                (_, _, Some(outer)) => Some(outer.clone()),
-                _ => None,
-            };
-            let map = step_map(scheme, &labels, topo, skip.as_deref())?;
+            let near_skip = near
+                .filter(|_| last)
+                .map(|near| near.skip(&mesh.faces, topo.vertex_count()));
+            let skip = near_skip.as_deref().or(outer.as_deref());
+            let map = step_map(scheme, &labels, topo, skip)?;
             if last && near.is_some() && k > 0 {
                 before_quads = std::mem::take(&mut mesh.faces);
             }
@@ -96,33 +96,38 @@ impl Reference {
             labels = map.labels;
             maps.push(map.stencil);
         }
+        // The last map's points in the start numbering.
+        let mut order = lifted(&t, &mesh.faces, first, num);
+        for &f in near.map_or(&[][..], Near::far) {
+            for y in 0..=num.n {
+                for x in 0..=num.n {
+                    order[num.index(f as usize, x, y).0] = u32::MAX;
+                }
+            }
+        }
+        let last = maps.pop().expect("first ≥ 1");
+        maps.push(last.pick(&order));
         Ok(Reference {
             maps,
-            quads: mesh.faces,
             before_quads,
-            levels: vec![Vec::new(); first],
+            levels: vec![Vec::new(); first - 1],
         })
     }
 
     /// Runs the steps on the positions of level 0 (the base mesh's, or the cut mesh's with its
-    /// ghosts).
-    pub(super) fn run(&mut self, level0: &[[f64; 3]]) {
-        for k in 0..self.maps.len() {
+    /// ghosts); the last level goes to `start`.
+    pub(super) fn run<T: Real>(&mut self, level0: &[[f64; 3]], start: &mut Vec<[T; 3]>) {
+        let (last, maps) = self.maps.split_last().expect("first ≥ 1");
+        for (k, map) in maps.iter().enumerate() {
             let (done, next) = self.levels.split_at_mut(k);
-            let old = done.last().map_or(level0, Vec::as_slice);
-            self.maps[k].apply(old, &mut next[0]);
+            map.apply(done.last().map_or(level0, Vec::as_slice), &mut next[0]);
         }
+        last.apply(self.before(level0), start);
     }
 
-    /// The levels of the last [`Reference::run`] on `level0`: before the last step, and after.
-    pub(super) fn levels<'a>(&'a self, level0: &'a [[f64; 3]]) -> [&'a [[f64; 3]]; 2] {
-        let (before, last) = self.levels.split_at(self.levels.len() - 1);
-        [before.last().map_or(level0, Vec::as_slice), &last[0]]
-    }
-
-    /// The quads of the last level.
-    pub(super) fn quads(&self) -> &[[u32; 4]] {
-        &self.quads
+    /// The level before the last step in the last [`Reference::run`] on `level0`.
+    pub(super) fn before<'a>(&'a self, level0: &'a [[f64; 3]]) -> &'a [[f64; 3]] {
+        self.levels.last().map_or(level0, Vec::as_slice)
     }
 
     /// The quads of the level before the last (`base`'s when that is the base mesh).
@@ -138,8 +143,7 @@ impl Reference {
     pub(super) fn bytes(&self) -> usize {
         let maps: usize = self.maps.iter().map(Stencil::bytes).sum();
         let levels: usize = self.levels.iter().map(Vec::capacity).sum();
-        maps + (self.quads.capacity() + self.before_quads.capacity()) * size_of::<[u32; 4]>()
-            + levels * size_of::<[f64; 3]>()
+        maps + self.before_quads.capacity() * size_of::<[u32; 4]>() + levels * size_of::<[f64; 3]>()
     }
 }
 
