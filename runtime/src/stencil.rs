@@ -121,13 +121,13 @@ mod tests {
         let entries = [(1, 0, 0.5), (0, 2, 1.0), (1, 2, 0.25), (1, 1, 0.5)];
         let s = Stencil::from_scatter(&entries, vec![1.0, 1.25, 1.0]);
         let old = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 4.0]];
-        let mut new = Vec::new();
+        let mut new: Vec<[f64; 3]> = Vec::new();
         s.apply(&old, &mut new);
         let by_hand = [(0.5 * 1.0) / 1.25, (0.5 * 2.0) / 1.25, (0.25 * 4.0) / 1.25];
         assert_eq!(new, vec![[0.0, 0.0, 4.0], by_hand, [0.0; 3]]);
         assert_eq!(s.len(), 3);
         // Renumbered: point 1 first, then a point left to the caller, then point 0.
-        let mut picked = Vec::new();
+        let mut picked: Vec<[f64; 3]> = Vec::new();
         s.pick(&[1, u32::MAX, 0]).apply(&old, &mut picked);
         assert_eq!(picked, vec![by_hand, [0.0; 3], [0.0, 0.0, 4.0]]);
     }
