@@ -419,6 +419,45 @@ fn reference_step_near_the_evs_only() {
     }
 }
 
+/// The reference steps are maps built with the refiner (`patch/reference.rs`): a `refine` on
+/// new positions gives the reference driver's points for those positions, whether the map
+/// was first summed on others or not, and the same bits on one and two threads (the start
+/// level of the split icosphere(4), 138,242 points, goes to two workers).
+#[test]
+fn reference_steps_are_maps_of_any_positions() {
+    use lsubdiv::runtime::patch::Refiner;
+    let s = surface("binary-ternary");
+    let mesh = split_icosphere(4);
+    let topo = Topology::build(&mesh).unwrap();
+    // Every vertex moved apart (not an affine map of the first).
+    let moved: Vec<[f64; 3]> = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| p.map(|x| x * (1.0 + 0.01 * (i % 7) as f64)))
+        .collect();
+    let (reference, _) = refine(
+        &s,
+        QuadMesh {
+            positions: moved.clone(),
+            ..mesh.clone()
+        },
+        1,
+    );
+    let outputs: Vec<Vec<[f64; 3]>> = [1, 2]
+        .map(|threads| {
+            let mut r = Refiner::<_, f64>::new(&s, &topo, 1, threads).unwrap();
+            assert_eq!(r.reference_steps(), 1);
+            r.refine(&mesh.positions).unwrap();
+            let out = r.refine(&moved).unwrap().to_vec();
+            let d = same_points(&out, &reference.positions);
+            assert!(d < 1e-12, "{threads} threads: {d:e}");
+            out
+        })
+        .into();
+    assert_eq!(outputs[0], outputs[1], "one and two threads differ");
+}
+
 /// Faces around EVs too large for their interior to be staged whole (63² points after six
 /// steps of the cube) go out row by row, one writer per row: the reference driver's points,
 /// streamed or not, on one or two threads.

@@ -1604,7 +1604,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 }
             };
             let reference = self.reference.as_mut().expect("reference steps have maps");
-            reference.run(level0, &mut self.start);
+            reference.run(level0, &mut self.start, self.threads);
             if let Some(near) = &self.near {
                 let before = (reference.before_quads(&self.base), reference.before(level0));
                 near.far_faces(&t, &self.base, before, self.first, lifted, &mut self.start);

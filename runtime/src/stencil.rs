@@ -84,11 +84,23 @@ impl Stencil {
         out
     }
 
-    /// The new points from the old ones (`new` is cleared first), rounded to `T` at the end.
+    /// The new points from the old ones, rounded to `T` at the end (`new` takes one per row).
     /// Old points a table reads must be in `old` (the level it was built for).
     pub fn apply<T: Real>(&self, old: &[[f64; 3]], new: &mut Vec<[T; 3]>) {
         new.clear();
-        new.extend(self.rows.windows(2).zip(&self.norms).map(|(r, &norm)| {
+        new.resize(self.len(), [T::default(); 3]);
+        self.apply_rows(0, old, new);
+    }
+
+    /// [`Stencil::apply`] of the rows `first..first + new.len()` only, into `new` (rows apart
+    /// go to threads apart, each point the same bits).
+    pub fn apply_rows<T: Real>(&self, first: usize, old: &[[f64; 3]], new: &mut [[T; 3]]) {
+        let rows = &self.rows[first..=first + new.len()];
+        for ((out, r), &norm) in new
+            .iter_mut()
+            .zip(rows.windows(2))
+            .zip(&self.norms[first..])
+        {
             let mut p = [0.0f64; 3];
             for (&v, &w) in self.sources[r[0]..r[1]]
                 .iter()
@@ -99,8 +111,8 @@ impl Stencil {
                     *o += w * x;
                 }
             }
-            p.map(|x| T::from_f64(x / norm))
-        }));
+            *out = p.map(|x| T::from_f64(x / norm));
+        }
     }
 
     /// Bytes the table holds.
