@@ -176,8 +176,9 @@ pub fn refine_surface_with<S: SurfaceScheme>(
 /// One step of a mesh of topology `topo` and face labels `labels` as a map (\[G\] §2.2): the
 /// new level's quads and labels, and its points' weights on the old ones ([`Stencil`]). The
 /// vertices `skip` marks are not scattered: the new points their masks reach are wrong, and
-/// the caller keeps only the others (the ghosts of [`refine_ghosted`], or the points the
-/// patch driver makes by the step's 1D plan away from the EVs, `patch::near`).
+/// the caller keeps only the others (the real faces' points of a mesh with ghost layers,
+/// `patch::reference`, or the points the patch driver makes by the step's 1D plan away from
+/// the EVs, `patch::near`).
 pub(crate) fn step_map<S: SurfaceScheme>(
     scheme: &S,
     labels: &[[u8; 2]],
@@ -262,7 +263,7 @@ struct Step<'a> {
     lookup: &'a HashMap<&'a [u8], u32>,
     labels: &'a [[u8; 2]],
     topo: &'a Topology,
-    /// The vertices marked are not scattered ([`refine_skipping`]).
+    /// The vertices marked are not scattered ([`step_map`]).
     skip: Option<&'a [bool]>,
 }
 

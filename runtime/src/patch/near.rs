@@ -5,9 +5,10 @@
 //! mesh. Away from the EVs that step is the tensor product of its 1D plan, as every
 //! depth-first step is (\[G\] §2.2: the bivariate scheme is the tensor product of the
 //! univariate one on regular regions). So the last such step scatters only the vertices whose
-//! masks reach a face near an EV ([`refine_skipping`]), and each face farther away takes its
-//! points from its own patch with ring, one level before, by the step's plan. Both give every
-//! point the same masks; they differ in the order of the sums (rounding).
+//! masks reach a face near an EV ([`Near::skip`], its map built once, `patch/reference.rs`),
+//! and each face farther away takes its points from its own patch with ring, one level
+//! before, by the step's plan. Both give every point the same masks; they differ in the order
+//! of the sums (rounding).
 //!
 //! Near, in rings of base faces around an EV: r + ⌈d/2⌉, where a mask reaches (r old edges: its
 //! longest half in new knots over the shortest rule), the vertices its words' rays pass
