@@ -22,26 +22,53 @@ pub struct Stencil {
     norms: Vec<f64>,
 }
 
-/// One weight of a scatter: (new point, old point, weight).
-pub(crate) type Entry = (u32, u32, f64);
+/// A step's weights in the order its scatter makes them: old point after old point (0, 1, …),
+/// each its run of (new point, weight).
+#[derive(Debug, Default)]
+pub(crate) struct Scatter {
+    /// Per old point, the end of its run.
+    ends: Vec<usize>,
+    targets: Vec<u32>,
+    weights: Vec<f64>,
+}
+
+impl Scatter {
+    /// Weight `w` of the current old point on new point `i`.
+    pub(crate) fn add(&mut self, i: u32, w: f64) {
+        self.targets.push(i);
+        self.weights.push(w);
+    }
+
+    /// Ends the current old point's run (the next old point's starts).
+    pub(crate) fn close(&mut self) {
+        self.ends.push(self.targets.len());
+    }
+}
 
 impl Stencil {
-    /// The table of `norms.len()` new points from a scatter's `entries`, in the order it made
-    /// them (each new point keeps its entries' order).
-    pub(crate) fn from_scatter(entries: &[Entry], norms: Vec<f64>) -> Stencil {
+    /// The table of `norms.len()` new points from a scatter (each new point keeps its weights'
+    /// order).
+    pub(crate) fn from_scatter(scatter: Scatter, norms: Vec<f64>) -> Stencil {
         let mut rows = vec![0usize; norms.len() + 1];
-        for &(i, _, _) in entries {
+        for &i in &scatter.targets {
             rows[i as usize + 1] += 1;
         }
         for i in 1..rows.len() {
             rows[i] += rows[i - 1];
         }
         let mut next = rows.clone();
-        let (mut sources, mut weights) = (vec![0u32; entries.len()], vec![0.0; entries.len()]);
-        for &(i, v, w) in entries {
-            let at = &mut next[i as usize];
-            (sources[*at], weights[*at]) = (v, w);
-            *at += 1;
+        let entries = scatter.targets.len();
+        let (mut sources, mut weights) = (vec![0u32; entries], vec![0.0; entries]);
+        let starts = std::iter::once(0).chain(scatter.ends.iter().copied());
+        for (v, (lo, hi)) in starts.zip(&scatter.ends).enumerate() {
+            for (&i, &w) in scatter.targets[lo..*hi]
+                .iter()
+                .zip(&scatter.weights[lo..*hi])
+            {
+                let at = &mut next[i as usize];
+                (sources[*at], weights[*at]) = (v as u32, w);
+                *at += 1;
+            }
         }
         Stencil {
             rows,
@@ -129,9 +156,16 @@ mod tests {
 
     #[test]
     fn rows_keep_the_scatters_order_and_divisor() {
-        // Point 1 gets 0.5·p0 then 0.25·p2 then 0.5·p1, divided by 1.25; point 0 gets p2.
-        let entries = [(1, 0, 0.5), (0, 2, 1.0), (1, 2, 0.25), (1, 1, 0.5)];
-        let s = Stencil::from_scatter(&entries, vec![1.0, 1.25, 1.0]);
+        // Point 1 gets 0.5·p0, 0.5·p1 and 0.25·p2, divided by 1.25; point 0 gets p2.
+        let mut scatter = Scatter::default();
+        for run in [&[(1, 0.5)][..], &[(1, 0.5)], &[(0, 1.0), (1, 0.25)]] {
+            for &(i, w) in run {
+                scatter.add(i, w);
+            }
+            scatter.close();
+        }
+        // In the scatter's order: p0's weight, then p1's, then p2's.
+        let s = Stencil::from_scatter(scatter, vec![1.0, 1.25, 1.0]);
         let old = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 4.0]];
         let mut new: Vec<[f64; 3]> = Vec::new();
         s.apply(&old, &mut new);

@@ -15,7 +15,7 @@ use crate::curve::{CurveScheme, CurveTables};
 use crate::ev::{EvCoefficients, EvError, EvLimit};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
-use crate::stencil::{Entry, Stencil};
+use crate::stencil::{Scatter, Stencil};
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::fmt;
@@ -480,17 +480,18 @@ impl Step<'_> {
         let total = next as usize;
         let index = |f: u32, gx: i64, gy: i64| grids[f as usize].index(gx, gy);
 
-        let mut entries: Vec<Entry> = Vec::new();
+        let mut scatter = Scatter::default();
         let mut sum = vec![0.0f64; total];
         let mut stats = StepStats::default();
         let mut ev_norm: Vec<(u32, f64)> = Vec::new();
         for v in 0..nv as u32 {
             if self.skip.is_some_and(|skip| skip[v as usize]) {
+                scatter.close();
                 continue;
             }
             let n = topo.valence(v);
             let mut add = |i: u32, w: f64| {
-                entries.push((i, v, w));
+                scatter.add(i, w);
                 sum[i as usize] += w;
             };
             // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
@@ -520,6 +521,7 @@ impl Step<'_> {
                     }
                 }
             }
+            scatter.close();
         }
         // Divisors: an EV child's α + n·(ring weight), any other point's weight sum where
         // it is not 1, else 1 (which leaves the sum exactly).
@@ -558,7 +560,7 @@ impl Step<'_> {
                 }
             }
         }
-        let stencil = Stencil::from_scatter(&entries, norms);
+        let stencil = Stencil::from_scatter(scatter, norms);
         Ok((
             StepMap {
                 stencil,

@@ -182,33 +182,35 @@ fn shape(faces: Vec<[u32; 4]>, vertices: usize) -> QuadMesh<()> {
 }
 
 /// A bound on [`Reference::bytes`], and on what building it holds at once (each step's
-/// scatter, 16 bytes per weight, beside its map), for the steps `0..first` on a level 0 of
-/// `vertices`, `edges` and `faces` whose edges all carry the axiom.
+/// scatter beside its map, then the map beside the last one's rows picked), for the steps
+/// `0..first` on a level 0 of `vertices`, `edges` and `faces` whose edges all carry the axiom.
 pub(super) fn bound(
     t: &CurveTables<'_>,
     (vertices, edges, faces): (u128, u128, u128),
     first: usize,
 ) -> u128 {
-    // A vertex scatters its centre and, per face corner at it, at most L · L weights (L its
-    // longest mask from the child on).
+    // A vertex scatters its centre and, per face corner at it, at most (L − 1) · L weights (L
+    // its longest mask from the child on: the entries past the child along one edge times
+    // those from the child along the other).
     let longest = (0..t.word_count())
         .map(|w| {
-            let child = t.mask_children[w] as usize;
-            t.mask_range(w)
-                .len()
-                .saturating_sub(child.min(t.mask_range(w).len())) as u128
+            let len = t.mask_range(w).len();
+            len.saturating_sub((t.mask_children[w] as usize).min(len)) as u128
         })
         .max()
         .unwrap_or(0);
+    let per_corner = longest.saturating_sub(1) * longest;
     let n = |k: usize| t.image_len(t.axiom, k);
     (0..first).fold(0u128, |a, k| {
         let (v, f) = output_counts(vertices, edges, faces, n(k));
         let (new_v, new_f) = output_counts(vertices, edges, faces, n(k + 1));
-        let weights = v.saturating_add(f.saturating_mul(4).saturating_mul(longest * longest));
-        // Each weight: its point and weight in the map (12 bytes), and in the scatter (16).
-        // Per new point: its row, its divisor, its weight sum and its position; per quad.
-        a.saturating_add(weights.saturating_mul(28))
-            .saturating_add(new_v.saturating_mul(8 + 8 + 8 + 24))
-            .saturating_add(new_f.saturating_mul(2 * 16))
+        let weights = v.saturating_add(f.saturating_mul(4).saturating_mul(per_corner));
+        // Each weight: its point and weight in the map (12 bytes), and in the scatter or the
+        // picked rows (12). Per new point: its row twice, its divisor twice, its weight sum
+        // and its position; per old vertex its run's end; per new quad its corners and labels.
+        a.saturating_add(weights.saturating_mul(24))
+            .saturating_add(new_v.saturating_mul(8 * 4 + 8 + 24))
+            .saturating_add(v.saturating_mul(8))
+            .saturating_add(new_f.saturating_mul(16 + 2))
     })
 }
