@@ -33,6 +33,15 @@ pub(crate) struct Scatter {
 }
 
 impl Scatter {
+    /// Room for `points` old points' runs of `weights` weights in all.
+    pub(crate) fn with_capacity(points: usize, weights: usize) -> Scatter {
+        Scatter {
+            ends: Vec::with_capacity(points),
+            targets: Vec::with_capacity(weights),
+            weights: Vec::with_capacity(weights),
+        }
+    }
+
     /// Weight `w` of the current old point on new point `i`.
     pub(crate) fn add(&mut self, i: u32, w: f64) {
         self.targets.push(i);
@@ -46,10 +55,15 @@ impl Scatter {
 }
 
 impl Stencil {
-    /// The table of `norms.len()` new points from a scatter (each new point keeps its weights'
-    /// order).
-    pub(crate) fn from_scatter(scatter: Scatter, norms: Vec<f64>) -> Stencil {
-        let mut rows = vec![0usize; norms.len() + 1];
+    /// The table of `points` new points from a scatter (each new point keeps its weights'
+    /// order), each point's divisor `divisor(point, sum of its weights)`, the sum taken in
+    /// that order.
+    pub(crate) fn from_scatter(
+        scatter: Scatter,
+        points: usize,
+        mut divisor: impl FnMut(usize, f64) -> f64,
+    ) -> Stencil {
+        let mut rows = vec![0usize; points + 1];
         for &i in &scatter.targets {
             rows[i as usize + 1] += 1;
         }
@@ -70,6 +84,11 @@ impl Stencil {
                 *at += 1;
             }
         }
+        let norms = rows
+            .windows(2)
+            .enumerate()
+            .map(|(i, r)| divisor(i, weights[r[0]..r[1]].iter().fold(0.0, |s, &w| s + w)))
+            .collect();
         Stencil {
             rows,
             sources,
@@ -165,7 +184,7 @@ mod tests {
             scatter.close();
         }
         // In the scatter's order: p0's weight, then p1's, then p2's.
-        let s = Stencil::from_scatter(scatter, vec![1.0, 1.25, 1.0]);
+        let s = Stencil::from_scatter(scatter, 3, |_, sum| if sum == 0.0 { 1.0 } else { sum });
         let old = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 4.0]];
         let mut new: Vec<[f64; 3]> = Vec::new();
         s.apply(&old, &mut new);

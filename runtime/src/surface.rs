@@ -198,6 +198,20 @@ pub(crate) fn step_map<S: SurfaceScheme>(
     Ok(cx.map()?.0)
 }
 
+/// Weights one vertex scatters per face corner at it at most: (L − 1) · L, L the longest mask
+/// from its child on (the entries past the child along one edge times those from the child
+/// along the other; an even degree's mask has no child: the whole of it).
+pub(crate) fn weights_per_corner(t: &CurveTables<'_>) -> usize {
+    let longest = (0..t.word_count())
+        .map(|w| {
+            let len = t.mask_range(w).len();
+            len.saturating_sub((t.mask_children[w] as usize).min(len))
+        })
+        .max()
+        .unwrap_or(0);
+    longest.saturating_sub(1) * longest
+}
+
 /// One step of the reference driver as a map: the new points' weights on the old ones, the new
 /// quads and their labels.
 pub(crate) struct StepMap {
@@ -480,8 +494,10 @@ impl Step<'_> {
         let total = next as usize;
         let index = |f: u32, gx: i64, gy: i64| grids[f as usize].index(gx, gy);
 
-        let mut scatter = Scatter::default();
-        let mut sum = vec![0.0f64; total];
+        // Each vertex its centre and at most `weights_per_corner` per face corner at it: room
+        // for them all at once (no regrowth and copy).
+        let most = nv + 4 * nf * weights_per_corner(&self.t);
+        let mut scatter = Scatter::with_capacity(nv, most);
         let mut stats = StepStats::default();
         let mut ev_norm: Vec<(u32, f64)> = Vec::new();
         for v in 0..nv as u32 {
@@ -490,10 +506,7 @@ impl Step<'_> {
                 continue;
             }
             let n = topo.valence(v);
-            let mut add = |i: u32, w: f64| {
-                scatter.add(i, w);
-                sum[i as usize] += w;
-            };
+            let mut add = |i: u32, w: f64| scatter.add(i, w);
             // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
             let words = (0..self.spokes(v).len())
                 .map(|k| self.word(v, k))
@@ -525,21 +538,20 @@ impl Step<'_> {
         }
         // Divisors: an EV child's α + n·(ring weight), any other point's weight sum where
         // it is not 1, else 1 (which leaves the sum exactly).
-        let mut is_ev_child = vec![false; total];
-        for &(v, _) in &ev_norm {
-            is_ev_child[v as usize] = true;
-        }
-        let mut norms = vec![1.0f64; total];
-        for i in (0..total).filter(|&i| !is_ev_child[i]) {
-            if (sum[i] - 1.0).abs() > 1e-9 && sum[i] != 0.0 {
-                norms[i] = sum[i];
+        stats.ev_children = ev_norm.len();
+        // (In increasing order of their vertex.)
+        let ev_child = |i: usize| {
+            let at = ev_norm.binary_search_by_key(&i, |&(v, _)| v as usize);
+            at.ok().map(|at| ev_norm[at].1)
+        };
+        let stencil = Stencil::from_scatter(scatter, total, |i, sum| match ev_child(i) {
+            Some(norm) => norm,
+            None if (sum - 1.0).abs() > 1e-9 && sum != 0.0 => {
                 stats.normalised += 1;
+                sum
             }
-        }
-        for &(v, norm) in &ev_norm {
-            norms[v as usize] = norm;
-            stats.ev_children += 1;
-        }
+            None => 1.0,
+        });
 
         // The split: each face becomes a grid of faces labelled by π(a) × π(b).
         let mut faces = Vec::new();
@@ -560,7 +572,6 @@ impl Step<'_> {
                 }
             }
         }
-        let stencil = Stencil::from_scatter(scatter, norms);
         Ok((
             StepMap {
                 stencil,

@@ -19,7 +19,7 @@ use crate::curve::CurveTables;
 use crate::mesh::QuadMesh;
 use crate::real::Real;
 use crate::stencil::Stencil;
-use crate::surface::{step_map, SurfaceError, SurfaceScheme};
+use crate::surface::{step_map, weights_per_corner, SurfaceError, SurfaceScheme};
 use crate::topology::Topology;
 
 /// The maps of the reference steps `0..first` and the levels between them.
@@ -189,17 +189,8 @@ pub(super) fn bound(
     (vertices, edges, faces): (u128, u128, u128),
     first: usize,
 ) -> u128 {
-    // A vertex scatters its centre and, per face corner at it, at most (L − 1) · L weights (L
-    // its longest mask from the child on: the entries past the child along one edge times
-    // those from the child along the other).
-    let longest = (0..t.word_count())
-        .map(|w| {
-            let len = t.mask_range(w).len();
-            len.saturating_sub((t.mask_children[w] as usize).min(len)) as u128
-        })
-        .max()
-        .unwrap_or(0);
-    let per_corner = longest.saturating_sub(1) * longest;
+    // A vertex scatters its centre and at most `weights_per_corner` per face corner at it.
+    let per_corner = weights_per_corner(t) as u128;
     let n = |k: usize| t.image_len(t.axiom, k);
     (0..first).fold(0u128, |a, k| {
         let (v, f) = output_counts(vertices, edges, faces, n(k));
