@@ -110,22 +110,24 @@ impl Stencil {
     /// The table of the rows `rows`, in that order (a level renumbered); `u32::MAX` gives a
     /// row of no weights (its point is zero, for the caller to set).
     pub(crate) fn pick(&self, rows: &[u32]) -> Stencil {
+        let span = |r: u32| match self.rows.get(r as usize..r as usize + 2) {
+            Some(&[lo, hi]) => lo..hi,
+            _ => 0..0,
+        };
+        let weights = rows.iter().map(|&r| span(r).len()).sum();
         let mut out = Stencil {
             rows: Vec::with_capacity(rows.len() + 1),
-            ..Stencil::default()
+            sources: Vec::with_capacity(weights),
+            weights: Vec::with_capacity(weights),
+            norms: Vec::with_capacity(rows.len()),
         };
         out.rows.push(0);
         for &r in rows {
-            let norm = match self.rows.get(r as usize..r as usize + 2) {
-                Some(&[lo, hi]) => {
-                    out.sources.extend_from_slice(&self.sources[lo..hi]);
-                    out.weights.extend_from_slice(&self.weights[lo..hi]);
-                    self.norms[r as usize]
-                }
-                _ => 1.0,
-            };
+            out.sources.extend_from_slice(&self.sources[span(r)]);
+            out.weights.extend_from_slice(&self.weights[span(r)]);
             out.rows.push(out.sources.len());
-            out.norms.push(norm);
+            out.norms
+                .push(self.norms.get(r as usize).copied().unwrap_or(1.0));
         }
         out
     }
