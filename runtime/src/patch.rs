@@ -1609,8 +1609,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 let before = (reference.before_quads(&self.base), reference.before(level0));
                 near.far_faces(&t, &self.base, before, self.first, lifted, &mut self.start);
             }
-            let corner =
-                |v: u32| self.base.features.vertex_rule(self.base.topo, v, 0) == VertexRule::Corner;
             if let Some(cut) = &self.cut {
                 let ring = self.scheme.surface().rings[0];
                 let alpha = |v: u32| {
@@ -1625,8 +1623,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     &mut self.start,
                 );
             }
-            // Corners stay exactly (the ghosts' double reflection gives them up to rounding).
-            for v in (0..self.base.topo.vertex_count() as u32).filter(|&v| corner(v)) {
+            // Corners stay exactly (the ghosts' double reflection gives them up to rounding);
+            // every corner is a special vertex, its rule set at every step.
+            let rules = self.base.special.iter().zip(self.base.vertex_rules(0));
+            for (&v, _) in rules.filter(|(_, r)| **r == Some(VertexRule::Corner)) {
                 self.start[v as usize] = positions[v as usize].map(T::from_f64);
             }
         }
