@@ -2701,6 +2701,11 @@ struct Cut {
     /// The 1D plan of the step (no ring): new points 0..=N' of an old interval from the
     /// points −1..=2 around it.
     line: Plan,
+    /// Per edge sharp at step 0: the edge, its ends a and b, and the vertex beyond each end
+    /// along the sharp line through it (none: the reflection 2a − b).
+    sharp: Vec<(u32, [u32; 2], [Option<u32>; 2])>,
+    /// The darts: smooth vertices with a sharp edge.
+    darts: Vec<u32>,
 }
 
 impl Cut {
@@ -2738,10 +2743,49 @@ impl Cut {
             faces,
         };
         let cut = Topology::build(&mesh).ok()?;
+        // The vertex beyond a, away from b, along the sharp line through a (edge e).
+        let beyond = |a: u32, e: u32| {
+            let next = match features.vertex_rule(topo, a, 0) {
+                VertexRule::Crease => topo
+                    .spokes(a)
+                    .find(|&s| s != e && features.edge_sharp(s, 0)),
+                VertexRule::Smooth if topo.valence(a) == 4 && !topo.is_boundary(a) => {
+                    let spokes: Vec<u32> = topo.spokes(a).collect();
+                    spokes
+                        .iter()
+                        .position(|&s| s == e)
+                        .map(|i| spokes[(i + 2) % 4])
+                }
+                _ => None,
+            };
+            next.map(|s| {
+                let [x, y] = topo.edge_vertices(s);
+                if x == a {
+                    y
+                } else {
+                    x
+                }
+            })
+        };
+        let sharp = (0..topo.edge_count() as u32)
+            .filter(|&e| features.edge_sharp(e, 0))
+            .map(|e| {
+                let [a, b] = topo.edge_vertices(e);
+                (e, [a, b], [beyond(a, e), beyond(b, e)])
+            })
+            .collect();
+        let darts = (0..topo.vertex_count() as u32)
+            .filter(|&v| {
+                features.vertex_rule(topo, v, 0) == VertexRule::Smooth
+                    && features.sharp_spokes(topo, v, 0).contains(&true)
+            })
+            .collect();
         Some(Cut {
             topo: cut,
             source,
             line,
+            sharp,
+            darts,
         })
     }
 
@@ -2760,41 +2804,15 @@ impl Cut {
         num: &Numbering,
         start: &mut [[T; 3]],
     ) {
-        let (topo, features) = (base.topo, &base.features);
         let at = |v: u32| positions[v as usize];
-        let far = |s: u32, a: u32| {
-            let [x, y] = topo.edge_vertices(s);
-            if x == a {
-                y
-            } else {
-                x
-            }
-        };
-        // The point beyond a, away from b, along the sharp line through a.
-        let beyond = |a: u32, e: u32, b: u32| -> [f64; 3] {
-            let next = match features.vertex_rule(topo, a, 0) {
-                VertexRule::Crease => topo
-                    .spokes(a)
-                    .find(|&s| s != e && features.edge_sharp(s, 0)),
-                VertexRule::Smooth if topo.valence(a) == 4 && !topo.is_boundary(a) => {
-                    let spokes: Vec<u32> = topo.spokes(a).collect();
-                    spokes
-                        .iter()
-                        .position(|&s| s == e)
-                        .map(|i| spokes[(i + 2) % 4])
-                }
-                _ => None,
-            };
-            match next {
-                Some(s) => at(far(s, a)),
-                None => std::array::from_fn(|i| 2.0 * at(a)[i] - at(b)[i]),
-            }
-        };
         let n = self.line.n_new;
         let k = (n - 1) as usize;
-        for e in (0..topo.edge_count() as u32).filter(|&e| features.edge_sharp(e, 0)) {
-            let [a, b] = topo.edge_vertices(e);
-            let old = [beyond(a, e, b), at(a), at(b), beyond(b, e, a)];
+        for &(e, [a, b], [beyond_a, beyond_b]) in &self.sharp {
+            let beyond = |v: Option<u32>, a: u32, b: u32| match v {
+                Some(v) => at(v),
+                None => std::array::from_fn(|i| 2.0 * at(a)[i] - at(b)[i]),
+            };
+            let old = [beyond(beyond_a, a, b), at(a), at(b), beyond(beyond_b, b, a)];
             for (xn, row) in self.line.rows.iter().enumerate() {
                 let mut p = [0.0f64; 3];
                 for &(x, w) in &self.line.parents[row.clone()] {
@@ -2810,14 +2828,10 @@ impl Cut {
                 start[i] = p.map(T::from_f64);
             }
         }
-        for v in 0..topo.vertex_count() as u32 {
-            if features.vertex_rule(topo, v, 0) == VertexRule::Smooth
-                && features.sharp_spokes(topo, v, 0).contains(&true)
-            {
-                let rule = (alpha(v), ring);
-                start[v as usize] =
-                    dart_child(topo, &self.line, rule, positions, v).map(T::from_f64);
-            }
+        for &v in &self.darts {
+            let rule = (alpha(v), ring);
+            start[v as usize] =
+                dart_child(base.topo, &self.line, rule, positions, v).map(T::from_f64);
         }
     }
 }
