@@ -419,43 +419,77 @@ fn reference_step_near_the_evs_only() {
     }
 }
 
+/// The mesh without its faces above z = 0.6, its vertices renumbered: open, its boundary
+/// through EVs.
+fn capless(mesh: QuadMesh) -> QuadMesh {
+    let mut open = QuadMesh {
+        positions: Vec::new(),
+        faces: Vec::new(),
+    };
+    let mut index = vec![u32::MAX; mesh.positions.len()];
+    for f in &mesh.faces {
+        if f.iter().all(|&v| mesh.positions[v as usize][2] > 0.6) {
+            continue;
+        }
+        open.faces.push(f.map(|v| {
+            if index[v as usize] == u32::MAX {
+                index[v as usize] = open.positions.len() as u32;
+                open.positions.push(mesh.positions[v as usize]);
+            }
+            index[v as usize]
+        }));
+    }
+    open
+}
+
 /// The reference steps are maps built with the refiner (`patch/reference.rs`): a `refine` on
 /// new positions gives the reference driver's points for those positions, whether the map
 /// was first summed on others or not, and the same bits on one and two threads (the start
-/// level of the split icosphere(4), 138,242 points, goes to two workers).
+/// level of the split icosphere(4), 138,242 points, goes to two workers). On the open
+/// icosphere (its step on the mesh cut along its boundary, with ghost layers) a refine after
+/// one on other positions gives a fresh refiner's bits.
 #[test]
 fn reference_steps_are_maps_of_any_positions() {
     use lsubdiv::runtime::patch::Refiner;
     let s = surface("binary-ternary");
-    let mesh = split_icosphere(4);
-    let topo = Topology::build(&mesh).unwrap();
     // Every vertex moved apart (not an affine map of the first).
-    let moved: Vec<[f64; 3]> = mesh
-        .positions
-        .iter()
-        .enumerate()
-        .map(|(i, p)| p.map(|x| x * (1.0 + 0.01 * (i % 7) as f64)))
-        .collect();
+    let moved = |mesh: &QuadMesh| -> Vec<[f64; 3]> {
+        let scale = |i: usize| 1.0 + 0.01 * (i % 7) as f64;
+        let at = mesh.positions.iter().enumerate();
+        at.map(|(i, p)| p.map(|x| x * scale(i))).collect()
+    };
+    let refined = |mesh: &QuadMesh, threads: usize, first: Option<&[[f64; 3]]>| {
+        let topo = Topology::build(mesh).unwrap();
+        let mut r = Refiner::<_, f64>::new(&s, &topo, 1, threads).unwrap();
+        assert_eq!(r.reference_steps(), 1);
+        if let Some(first) = first {
+            r.refine(first).unwrap();
+        }
+        r.refine(&moved(mesh)).unwrap().to_vec()
+    };
+    let mesh = split_icosphere(4);
+    let positions = moved(&mesh);
     let (reference, _) = refine(
         &s,
         QuadMesh {
-            positions: moved.clone(),
+            positions,
             ..mesh.clone()
         },
         1,
     );
-    let outputs: Vec<Vec<[f64; 3]>> = [1, 2]
-        .map(|threads| {
-            let mut r = Refiner::<_, f64>::new(&s, &topo, 1, threads).unwrap();
-            assert_eq!(r.reference_steps(), 1);
-            r.refine(&mesh.positions).unwrap();
-            let out = r.refine(&moved).unwrap().to_vec();
-            let d = same_points(&out, &reference.positions);
-            assert!(d < 1e-12, "{threads} threads: {d:e}");
-            out
-        })
-        .into();
+    let outputs = [1, 2].map(|threads| {
+        let out = refined(&mesh, threads, Some(&mesh.positions));
+        let d = same_points(&out, &reference.positions);
+        assert!(d < 1e-12, "{threads} threads: {d:e}");
+        out
+    });
     assert_eq!(outputs[0], outputs[1], "one and two threads differ");
+    let open = capless(split_icosphere(2));
+    assert_eq!(
+        refined(&open, 1, Some(&open.positions)),
+        refined(&open, 1, None),
+        "the open icosphere"
+    );
 }
 
 /// Faces around EVs too large for their interior to be staged whole (63² points after six
@@ -635,15 +669,20 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
     use lsubdiv::runtime::features::Features;
     use lsubdiv::runtime::patch::{footprint, Refiner};
     use lsubdiv::runtime::surface::SurfaceScheme;
-    for (name, mesh, steps) in [
-        ("fibonacci", star(), 7),
-        ("fibonacci", cube(), 6),
-        ("binary-ternary", star(), 3),
-        ("uniform-binary", torus(8, 8), 3),
-        ("uniform-binary", split_icosphere(1), 1),
-        ("uniform-binary", split_icosphere(1), 2),
-        ("uniform-binary", split_icosphere(1), 4),
-        ("fibonacci", split_icosphere(1), 4),
+    let plain = |mesh: QuadMesh| (mesh, Features::default());
+    for (name, (mesh, features), steps) in [
+        ("fibonacci", plain(star()), 7),
+        ("fibonacci", plain(cube()), 6),
+        ("binary-ternary", plain(star()), 3),
+        ("uniform-binary", plain(torus(8, 8)), 3),
+        ("uniform-binary", plain(split_icosphere(1)), 1),
+        ("uniform-binary", plain(split_icosphere(1)), 2),
+        ("uniform-binary", plain(split_icosphere(1)), 4),
+        ("fibonacci", plain(split_icosphere(1)), 4),
+        // A reference step on the icosphere's every face, and on it open, cut along its
+        // boundary with ghost layers (`patch/reference.rs`).
+        ("binary-ternary", plain(split_icosphere(3)), 2),
+        ("binary-ternary", plain(capless(split_icosphere(3))), 2),
     ] {
         let s = surface(name);
         let topo = Topology::build(&mesh).unwrap();
@@ -651,12 +690,16 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
             &CurveScheme::tables(&s),
             s.surface().contained_from,
             &topo,
-            &Features::default(),
+            &features,
             steps,
             8,
             1,
         );
-        let mut r = Refiner::<_, f64>::new(&s, &topo, steps, 1).unwrap();
+        let mut r = Refiner::<_, f64>::with_features(&s, &topo, &features, steps, 1).unwrap();
+        assert!(
+            name != "binary-ternary" || r.reference_steps() == 1,
+            "{name}, {steps} steps: a reference step"
+        );
         r.refine(&mesh.positions).unwrap();
         let once = r.buffer_bytes();
         r.refine(&mesh.positions).unwrap();
