@@ -682,9 +682,7 @@ impl<'t> Base<'t> {
             }
         }
         for c in 0..4u8 {
-            let (cx, cy) = corner_at(c, n, n);
-            let (a, b) = (TOWARD_NEXT[c as usize], TOWARD_PREV[c as usize]);
-            let at = |i: i64, j: i64| (cx + i * a.0 + j * b.0, cy + i * a.1 + j * b.1);
+            let at = |i: i8, j: i8| CornerPoint::new(c, i, j).xy(n);
             let terms: &[((i64, i64), f64)] = match rules.corners[c as usize] {
                 CornerKind::Real => continue,
                 CornerKind::Ev => &[],
@@ -764,14 +762,9 @@ impl Base<'_> {
             else {
                 continue;
             };
-            let (gx, gy) = corner_at(gc, n, n);
-            let (hx, hy) = TOWARD_NEXT[gc as usize];
-            let (kx, ky) = TOWARD_PREV[gc as usize];
-            let (cx, cy) = corner_at(c, n, n);
-            let (ax, ay) = TOWARD_NEXT[c as usize];
-            let (bx, by) = TOWARD_PREV[c as usize];
-            let from = at((gx + hx + kx, gy + hy + ky));
-            let to = at((cx - ax - bx, cy - ay - by));
+            // g's point diagonal to its corner gc, to f's ring point diagonal to corner c.
+            let from = at(CornerPoint::new(gc, 1, 1).xy(n));
+            let to = at(CornerPoint::new(c, -1, -1).xy(n));
             copy_points(patches, slot, (g, from, 0), (to, 0), 1, put);
         }
     }

@@ -24,6 +24,11 @@ pub(super) struct CornerPoint {
 }
 
 impl CornerPoint {
+    /// The point i steps from corner c toward corner c + 1 and j toward corner c − 1.
+    pub(super) fn new(corner: u8, i: i8, j: i8) -> CornerPoint {
+        CornerPoint { corner, i, j }
+    }
+
     /// The point `spot` of a vertex's 1-ring in the face of wedge `w` ([`super::one_ring`]):
     /// the vertex at the wedge's corner, the spoke it shares with the wedge before (the edge
     /// not toward `next`), the diagonal.
@@ -34,11 +39,7 @@ impl CornerPoint {
             Spot::Spoke => (1, 0),
             Spot::Diagonal => (1, 1),
         };
-        CornerPoint {
-            corner: w.corner,
-            i,
-            j,
-        }
+        CornerPoint::new(w.corner, i, j)
     }
 
     /// Where it lies in a face of side N.
@@ -63,11 +64,7 @@ pub(super) struct Offsets([usize; 36]);
 impl Offsets {
     pub(super) fn new(n: i64, layout: Layout) -> Offsets {
         Offsets(std::array::from_fn(|k| {
-            let p = CornerPoint {
-                corner: (k / 9) as u8,
-                i: (k / 3 % 3) as i8 - 1,
-                j: (k % 3) as i8 - 1,
-            };
+            let p = CornerPoint::new((k / 9) as u8, (k / 3 % 3) as i8 - 1, (k % 3) as i8 - 1);
             let (x, y) = p.xy(n);
             layout.at(x, y)
         }))
@@ -166,15 +163,11 @@ impl Handoff {
                         ((gl + 1) % 4, 1, 0)
                     };
                     gives[gs as usize].push(Give {
-                        from: CornerPoint {
-                            corner: gc,
-                            i: gi,
-                            j: gj,
-                        },
+                        from: CornerPoint::new(gc, gi, gj),
                         old: false,
                         to: takes.len() as u32,
                     });
-                    takes.push(CornerPoint { corner: c, i, j });
+                    takes.push(CornerPoint::new(c, i, j));
                 }
             }
             take_at.push(takes.len() as u32);
@@ -261,11 +254,7 @@ impl Handoff {
             patch[at..at + 3].copy_from_slice(p);
         }
         for corner in (0..4).filter(|c| self.ev_corners[s] & (1 << c) != 0) {
-            let at = offsets.at(CornerPoint {
-                corner,
-                i: -1,
-                j: -1,
-            });
+            let at = offsets.at(CornerPoint::new(corner, -1, -1));
             patch[at..at + 3].fill(T::default());
         }
     }
