@@ -172,6 +172,9 @@ pub struct Measurement {
     pub output_vertices: usize,
     /// Median wall time of one refinement.
     pub median_seconds: f64,
+    /// Wall time of building the refiner once (its tables, plans and the reference steps'
+    /// maps: what OpenSubdiv's topology refiner and stencil tables do before refining).
+    pub setup_seconds: f64,
     /// Median wall time of each phase (start level, ordinary faces, fans of the EVs).
     pub phase_seconds: [f64; 3],
     /// Median time of each depth-first step, summed over the workers
@@ -210,6 +213,7 @@ struct Timed<'m, T> {
 impl<T: Real> SurfaceVisitor for Timed<'_, T> {
     type Output = Result<Measurement, String>;
     fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
+        let setup = Instant::now();
         let mut r = Refiner::<S, T>::with_features(
             scheme,
             self.topology,
@@ -218,6 +222,7 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
             self.threads,
         )
         .map_err(|e| e.to_string())?;
+        let setup_seconds = setup.elapsed().as_secs_f64();
         let simd = r.set_simd(self.simd);
         r.refine(&self.mesh.positions).map_err(|e| e.to_string())?;
         let mut times = Vec::with_capacity(self.runs);
@@ -244,6 +249,7 @@ impl<T: Real> SurfaceVisitor for Timed<'_, T> {
         Ok(Measurement {
             output_vertices: r.output_vertices(),
             median_seconds: times[times.len() / 2],
+            setup_seconds,
             phase_seconds,
             level_seconds,
             essential_bytes: 0,

@@ -363,6 +363,7 @@ fn bench_json_has_the_documented_fields() {
         "threads",
         "steps",
         "median_seconds",
+        "setup_seconds",
         "mvps",
     ] {
         assert!(!v[key].is_null(), "{key} missing");

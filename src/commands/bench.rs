@@ -138,6 +138,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
             "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
             "simd": r.simd.name(),
             "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
+            "setup_seconds": r.setup_seconds,
             "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
             "file_rss_bytes": r.file_rss_bytes, "guard_bytes": guard_bytes as u64,
             "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]},
