@@ -67,6 +67,7 @@ pub mod polygon;
 pub mod real;
 pub mod stencil;
 pub mod surface;
+mod threads;
 pub mod topology;
 
 pub use curve::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};

@@ -53,6 +53,7 @@ use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::real::{axpy_slab, Real};
 use crate::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
+use crate::threads::in_threads;
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::time::Instant;
@@ -1351,7 +1352,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let reference = (first > 0)
             .then(|| {
                 let num = Numbering::new(base.topo, words[first].len() as i64);
-                Reference::new(scheme, &base, (first, &num), near.as_ref(), cut.as_ref())
+                let (near, cut) = (near.as_ref(), cut.as_ref());
+                Reference::new(scheme, &base, (first, &num), near, cut, threads.max(1))
             })
             .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.
@@ -2202,32 +2204,6 @@ fn owned_border(
             put(cx, cy, num.faces[f].vertex[l] as usize);
         }
     }
-}
-
-/// Runs `work` on every item and returns the results in order: the first on this thread, each
-/// other in its own scoped thread (a worker's panic is raised again here). One share stays
-/// where the caller's data is: a single worker spawned for it ran the 256 × 256 torus 17 %
-/// (f64) and 41 % (f32) slower on this host, as fast when pinned to one CPU
-/// (docs/benchmarks.md).
-fn in_threads<I: Send, R: Send>(
-    items: impl Iterator<Item = I>,
-    work: impl Fn(I) -> R + Sync,
-) -> Vec<R> {
-    let work = &work;
-    let mut items = items;
-    let Some(first) = items.next() else {
-        return Vec::new();
-    };
-    std::thread::scope(|sc| {
-        let others: Vec<_> = items.map(|item| sc.spawn(move || work(item))).collect();
-        let mut results = vec![work(first)];
-        results.extend(
-            others
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
-        );
-        results
-    })
 }
 
 /// Seconds since `clock`, which is reset to now.

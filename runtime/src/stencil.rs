@@ -55,33 +55,34 @@ impl Scatter {
 }
 
 impl Stencil {
-    /// The table of `points` new points from a scatter (each new point keeps its weights'
-    /// order), each point's divisor `divisor(point, sum of its weights)`, the sum taken in
-    /// that order.
+    /// The table of `points` new points from a scatter in runs of old points (in order: the
+    /// first run's old points first), each new point keeping its weights' order; each
+    /// point's divisor `divisor(point, sum of its weights)`, the sum taken in that order.
     pub(crate) fn from_scatter(
-        scatter: Scatter,
+        runs: Vec<Scatter>,
         points: usize,
         mut divisor: impl FnMut(usize, f64) -> f64,
     ) -> Stencil {
         let mut rows = vec![0usize; points + 1];
-        for &i in &scatter.targets {
+        for &i in runs.iter().flat_map(|r| &r.targets) {
             rows[i as usize + 1] += 1;
         }
         for i in 1..rows.len() {
             rows[i] += rows[i - 1];
         }
         let mut next = rows.clone();
-        let entries = scatter.targets.len();
+        let entries = rows[points];
         let (mut sources, mut weights) = (vec![0u32; entries], vec![0.0; entries]);
-        let starts = std::iter::once(0).chain(scatter.ends.iter().copied());
-        for (v, (lo, hi)) in starts.zip(&scatter.ends).enumerate() {
-            for (&i, &w) in scatter.targets[lo..*hi]
-                .iter()
-                .zip(&scatter.weights[lo..*hi])
-            {
-                let at = &mut next[i as usize];
-                (sources[*at], weights[*at]) = (v as u32, w);
-                *at += 1;
+        let mut v = 0u32;
+        for run in runs {
+            let starts = std::iter::once(0).chain(run.ends.iter().copied());
+            for (lo, &hi) in starts.zip(&run.ends) {
+                for (&i, &w) in run.targets[lo..hi].iter().zip(&run.weights[lo..hi]) {
+                    let at = &mut next[i as usize];
+                    (sources[*at], weights[*at]) = (v, w);
+                    *at += 1;
+                }
+                v += 1;
             }
         }
         let norms = rows
@@ -186,7 +187,11 @@ mod tests {
             scatter.close();
         }
         // In the scatter's order: p0's weight, then p1's, then p2's.
-        let s = Stencil::from_scatter(scatter, 3, |_, sum| if sum == 0.0 { 1.0 } else { sum });
+        let s = Stencil::from_scatter(
+            vec![scatter],
+            3,
+            |_, sum| if sum == 0.0 { 1.0 } else { sum },
+        );
         let old = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 4.0]];
         let mut new: Vec<[f64; 3]> = Vec::new();
         s.apply(&old, &mut new);

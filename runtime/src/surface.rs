@@ -16,6 +16,7 @@ use crate::ev::{EvCoefficients, EvError, EvLimit};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::mesh::QuadMesh;
 use crate::stencil::{Scatter, Stencil};
+use crate::threads::in_threads;
 use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::fmt;
@@ -178,12 +179,14 @@ pub fn refine_surface_with<S: SurfaceScheme>(
 /// vertices `skip` marks are not scattered: the new points their masks reach are wrong, and
 /// the caller keeps only the others (the real faces' points of a mesh with ghost layers,
 /// `patch::reference`, or the points the patch driver makes by the step's 1D plan away from
-/// the EVs, `patch::near`).
+/// the EVs, `patch::near`). Up to `threads` workers scatter runs of the old vertices (the
+/// same map).
 pub(crate) fn step_map<S: SurfaceScheme>(
     scheme: &S,
     labels: &[[u8; 2]],
     topo: &Topology,
     skip: Option<&[bool]>,
+    threads: usize,
 ) -> Result<StepMap, SurfaceError> {
     let t = scheme.tables();
     let lookup = t.word_index();
@@ -194,6 +197,7 @@ pub(crate) fn step_map<S: SurfaceScheme>(
         labels,
         topo,
         skip,
+        threads,
     };
     Ok(cx.map()?.0)
 }
@@ -262,6 +266,7 @@ fn refine_from<S: SurfaceScheme>(
             labels: &cur.labels,
             topo,
             skip: None,
+            threads: 1,
         };
         let (map, st) = cx.map()?;
         cur = map.apply(&cur.mesh.positions);
@@ -279,7 +284,13 @@ struct Step<'a> {
     topo: &'a Topology,
     /// The vertices marked are not scattered ([`step_map`]).
     skip: Option<&'a [bool]>,
+    /// Workers that scatter.
+    threads: usize,
 }
+
+/// Old vertices a worker scatters at least: a vertex takes about a microsecond, a scoped
+/// thread ~47 µs to start and join on the 2-vCPU VM (`patch/direct.rs`).
+const PER_WORKER: usize = 4096;
 
 impl Step<'_> {
     fn sigma(&self, a: u8) -> u8 {
@@ -494,47 +505,20 @@ impl Step<'_> {
         let total = next as usize;
         let index = |f: u32, gx: i64, gy: i64| grids[f as usize].index(gx, gy);
 
-        // Each vertex its centre and at most `weights_per_corner` per face corner at it: room
-        // for them all at once (no regrowth and copy).
-        let most = nv + 4 * nf * weights_per_corner(&self.t);
-        let mut scatter = Scatter::with_capacity(nv, most);
+        // The old vertices in runs, one per worker, each scattered in order: together the
+        // scatter of them all in order.
+        let share = nv.div_ceil(self.threads.clamp(1, nv.div_ceil(PER_WORKER).max(1)));
+        let runs = (0..nv as u32).step_by(share.max(1));
+        let scattered = in_threads(runs, |from| {
+            self.scatter(from..(from + share as u32).min(nv as u32), &index)
+        });
         let mut stats = StepStats::default();
-        let mut ev_norm: Vec<(u32, f64)> = Vec::new();
-        for v in 0..nv as u32 {
-            if self.skip.is_some_and(|skip| skip[v as usize]) {
-                scatter.close();
-                continue;
-            }
-            let n = topo.valence(v);
-            let mut add = |i: u32, w: f64| scatter.add(i, w);
-            // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
-            let words = (0..self.spokes(v).len())
-                .map(|k| self.word(v, k))
-                .collect::<Result<Vec<u32>, _>>()?;
-            let centre = if n == 4 || topo.is_boundary(v) {
-                // A boundary vertex of a ghosted mesh: its child is not kept (a ghost), or set
-                // by its rule afterwards (a boundary vertex of the input).
-                self.half_mask(words[0])[0] * self.half_mask(words[1])[0]
-            } else {
-                let alpha = self.alpha(n)?;
-                let ring = self.s.ring_weights[words[0] as usize];
-                ev_norm.push((v, alpha + n as f64 * ring));
-                alpha
-            };
-            add(v, centre);
-            for (k, w) in topo.rotation(v).iter().enumerate() {
-                let mx = self.half_mask(words[k]);
-                let my = self.half_mask(words[(k + 1) % words.len()]);
-                for (x, wx) in mx.iter().enumerate().skip(1) {
-                    for (y, wy) in my.iter().enumerate() {
-                        match self.locate(w.face, w.corner, !w.next_is_plus, x as i64, y as i64) {
-                            Some((g, gx, gy)) => add(index(g, gx, gy), wx * wy),
-                            None => stats.dropped += 1,
-                        }
-                    }
-                }
-            }
-            scatter.close();
+        let (mut scatters, mut ev_norm) = (Vec::new(), Vec::new());
+        for run in scattered {
+            let (scatter, evs, dropped) = run?;
+            scatters.push(scatter);
+            ev_norm.extend(evs);
+            stats.dropped += dropped;
         }
         // Divisors: an EV child's α + n·(ring weight), any other point's weight sum where
         // it is not 1, else 1 (which leaves the sum exactly).
@@ -544,7 +528,7 @@ impl Step<'_> {
             let at = ev_norm.binary_search_by_key(&i, |&(v, _)| v as usize);
             at.ok().map(|at| ev_norm[at].1)
         };
-        let stencil = Stencil::from_scatter(scatter, total, |i, sum| match ev_child(i) {
+        let stencil = Stencil::from_scatter(scatters, total, |i, sum| match ev_child(i) {
             Some(norm) => norm,
             None if (sum - 1.0).abs() > 1e-9 && sum != 0.0 => {
                 stats.normalised += 1;
@@ -580,6 +564,61 @@ impl Step<'_> {
             },
             stats,
         ))
+    }
+
+    /// The masks of the old vertices `vs` in order (\[G\] §2.2.2), the new point of grid point
+    /// (x, y) of face f at `index(f, x, y)`: their weights, each EV's divisor α + n·(ring
+    /// weight), and the mask entries dropped (they would pass through an EV).
+    #[allow(clippy::type_complexity)]
+    fn scatter(
+        &self,
+        vs: std::ops::Range<u32>,
+        index: &(impl Fn(u32, i64, i64) -> u32 + Sync),
+    ) -> Result<(Scatter, Vec<(u32, f64)>, usize), SurfaceError> {
+        let topo = self.topo;
+        // Each vertex its centre and at most `weights_per_corner` per face corner at it: room
+        // for them all at once (no regrowth and copy).
+        let corners: usize = vs.clone().map(|v| topo.valence(v)).sum();
+        let most = vs.len() + corners * weights_per_corner(&self.t);
+        let mut scatter = Scatter::with_capacity(vs.len(), most);
+        let (mut ev_norm, mut dropped) = (Vec::new(), 0);
+        for v in vs {
+            if self.skip.is_some_and(|skip| skip[v as usize]) {
+                scatter.close();
+                continue;
+            }
+            let n = topo.valence(v);
+            let mut add = |i: u32, w: f64| scatter.add(i, w);
+            // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
+            let words = (0..self.spokes(v).len())
+                .map(|k| self.word(v, k))
+                .collect::<Result<Vec<u32>, _>>()?;
+            let centre = if n == 4 || topo.is_boundary(v) {
+                // A boundary vertex of a ghosted mesh: its child is not kept (a ghost), or set
+                // by its rule afterwards (a boundary vertex of the input).
+                self.half_mask(words[0])[0] * self.half_mask(words[1])[0]
+            } else {
+                let alpha = self.alpha(n)?;
+                let ring = self.s.ring_weights[words[0] as usize];
+                ev_norm.push((v, alpha + n as f64 * ring));
+                alpha
+            };
+            add(v, centre);
+            for (k, w) in topo.rotation(v).iter().enumerate() {
+                let mx = self.half_mask(words[k]);
+                let my = self.half_mask(words[(k + 1) % words.len()]);
+                for (x, wx) in mx.iter().enumerate().skip(1) {
+                    for (y, wy) in my.iter().enumerate() {
+                        match self.locate(w.face, w.corner, !w.next_is_plus, x as i64, y as i64) {
+                            Some((g, gx, gy)) => add(index(g, gx, gy), wx * wy),
+                            None => dropped += 1,
+                        }
+                    }
+                }
+            }
+            scatter.close();
+        }
+        Ok((scatter, ev_norm, dropped))
     }
 
     /// α at valence n: the table, or the same solver beyond it.

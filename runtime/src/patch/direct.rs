@@ -20,11 +20,12 @@
 //! such level is the patches' start level, or the output.
 
 use super::{
-    ev_child, in_threads, owned_border, ring_layout, vertex_child, Base, CornerPoint, Numbering,
-    Plan, SharedOut, Simd, Spot,
+    ev_child, owned_border, ring_layout, vertex_child, Base, CornerPoint, Numbering, Plan,
+    SharedOut, Simd, Spot,
 };
 use crate::features::VertexRule;
 use crate::real::{axpy_slab, Real};
+use crate::threads::in_threads;
 use crate::topology::Wedge;
 
 /// The largest side N' a level-by-level step refines to ([`leading`]).

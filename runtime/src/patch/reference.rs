@@ -14,12 +14,13 @@
 //! vertices are scattered over the faces they have, and only the real faces' new points are
 //! kept.
 
-use super::{ghosted, in_threads, lifted, output_counts, Base, Cut, Near, Numbering};
+use super::{ghosted, lifted, output_counts, Base, Cut, Near, Numbering};
 use crate::curve::CurveTables;
 use crate::mesh::QuadMesh;
 use crate::real::Real;
 use crate::stencil::Stencil;
 use crate::surface::{step_map, weights_per_corner, SurfaceError, SurfaceScheme};
+use crate::threads::in_threads;
 use crate::topology::Topology;
 
 /// The maps of the reference steps `0..first` and the levels between them.
@@ -37,13 +38,15 @@ pub(super) struct Reference {
 
 impl Reference {
     /// The maps of the steps `0..first` of `base` (`first` ≥ 1) to the level numbered `num`:
-    /// the last one near the EVs only with `near`, on the cut mesh with its ghosts with `cut`.
+    /// the last one near the EVs only with `near`, on the cut mesh with its ghosts with `cut`;
+    /// each scattered by up to `threads` workers.
     pub(super) fn new<S: SurfaceScheme>(
         scheme: &S,
         base: &Base<'_>,
         (first, num): (usize, &Numbering),
         near: Option<&Near>,
         cut: Option<&Cut>,
+        threads: usize,
     ) -> Result<Reference, SurfaceError> {
         let t = scheme.tables();
         let [axiom] = t.axiom else {
@@ -88,7 +91,7 @@ impl Reference {
                 .filter(|_| last)
                 .map(|near| near.skip(&mesh.faces, topo.vertex_count()));
             let skip = near_skip.as_deref().or(outer.as_deref());
-            let map = step_map(scheme, &labels, topo, skip)?;
+            let map = step_map(scheme, &labels, topo, skip, threads)?;
             if last && near.is_some() && k > 0 {
                 before_quads = std::mem::take(&mut mesh.faces);
             }
