@@ -1346,14 +1346,24 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 t.name
             )));
         }
-        let near = (first > 0 && plain)
+        let mut near = (first > 0 && plain)
             .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
         let reference = (first > 0)
             .then(|| {
                 let num = Numbering::new(base.topo, words[first].len() as i64);
-                let (near, cut) = (near.as_ref(), cut.as_ref());
-                Reference::new(scheme, &base, (first, &num), near, cut, threads.max(1))
+                let r = Reference::new(
+                    scheme,
+                    &base,
+                    (first, &num),
+                    near.as_ref(),
+                    cut.as_ref(),
+                    threads.max(1),
+                )?;
+                if let Some(near) = &mut near {
+                    near.index(&t, &base, (r.before_quads(&base), first), &num);
+                }
+                Ok::<_, SurfaceError>(r)
             })
             .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.
@@ -1531,6 +1541,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             + self.handed.capacity();
         (fans + scratch + 3 * points) * size_of::<T>()
             + self.reference.as_ref().map_or(0, Reference::bytes)
+            + self.near.as_ref().map_or(0, Near::bytes)
     }
 
     /// Wall time of the phases of the last `refine`.
@@ -1601,8 +1612,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let reference = self.reference.as_mut().expect("reference steps have maps");
             reference.run(level0, &mut self.start, self.threads);
             if let Some(near) = &self.near {
-                let before = (reference.before_quads(&self.base), reference.before(level0));
-                near.far_faces(&t, &self.base, before, self.first, lifted, &mut self.start);
+                near.far_faces(reference.before(level0), &mut self.start);
             }
             if let Some(cut) = &self.cut {
                 let ring = self.scheme.surface().rings[0];
@@ -2347,8 +2357,14 @@ pub fn footprint(
     let level0 = cut.map_or((v0, e0, f0), |(sharp, gv, gf)| {
         (v0 + 2 * sharp + gv, e0 + sharp + 4 * gf, f0 + gf)
     });
+    // And, where the last one runs near the EVs only (`patch/near.rs`), per base face at
+    // most: its flag, its place in the far list, its patch at the level before and its new
+    // points as indices.
     let reference = if first > 0 {
-        reference::bound(t, level0, first)
+        let new = n(first).saturating_add(1);
+        let near = new.saturating_mul(new).saturating_add(side(first - 1));
+        let near = near.saturating_mul(4).saturating_add(5);
+        reference::bound(t, level0, first).saturating_add(f0.saturating_mul(near))
     } else {
         0
     };

@@ -15,7 +15,7 @@
 //! (⌈d/2⌉ − 1, \[G\] §2.2.2), and the walk across a corner (one more), each counted in base
 //! edges (every base edge is at least one old edge).
 
-use super::{lift, Base, Numbering, Passes, Plan, STRIP_BYTES};
+use super::{lifted, Base, Numbering, Passes, Plan, STRIP_BYTES};
 use crate::curve::{CurveTables, NO_CHILD};
 use crate::real::Real;
 use crate::topology::Topology;
@@ -30,6 +30,11 @@ pub(super) struct Near {
     scatter: Vec<bool>,
     /// The step's 1D plan, without a ring: new points 0..=N' from the old −1..=N+1.
     pub(super) plan: Plan,
+    /// Per far face ([`Near::index`]): its patch with ring at the level before, as indices
+    /// into that level's points in the reference driver's numbering (x-major, `u32::MAX`
+    /// reads zero), and its new points' indices in the start level, [y'][x'].
+    gather: Vec<u32>,
+    put: Vec<u32>,
 }
 
 impl Near {
@@ -75,7 +80,13 @@ impl Near {
             return None;
         }
         let scatter = faces.map(|f| closest(f) <= scattered).collect();
-        Some(Near { far, scatter, plan })
+        Some(Near {
+            far,
+            scatter,
+            plan,
+            gather: Vec::new(),
+            put: Vec::new(),
+        })
     }
 
     /// The faces whose points come by the plan ([`Near::far_faces`] sets them).
@@ -106,40 +117,62 @@ impl Near {
         skip
     }
 
-    /// Sets the points of the far faces in `start` (numbering `num`): each face's patch with
-    /// its ring at the level before (`before`: its quads and points, `first` − 1 steps)
-    /// refined by the plan along x and y.
-    pub(super) fn far_faces<T: Real>(
-        &self,
+    /// Finds, once, where each far face reads its patch in the level before the last
+    /// reference step (its quads `before`, `first` − 1 steps) and where its new points go in
+    /// the start level (numbering `num`).
+    pub(super) fn index(
+        &mut self,
         t: &CurveTables<'_>,
         base: &Base<'_>,
-        (quads, points_before): (&[[u32; 4]], &[[f64; 3]]),
-        first: usize,
+        (before, first): (&[[u32; 4]], usize),
         num: &Numbering,
-        start: &mut [[T; 3]],
     ) {
         let old = num.with_n(self.plan.old_side as i64 - 3);
-        let mut points = Vec::new();
-        lift(t, quads, points_before, first - 1, &old, &mut points);
+        // Level 0 is the base mesh in its own order; a refined level is lifted.
+        let from = (first > 1).then(|| lifted(t, before, first - 1, &old));
         let layout = super::ring_layout(old.n, true);
-        let mut patch = vec![0.0f64; layout.side * layout.side * 3];
+        let m = layout.side * layout.side;
+        self.gather = vec![u32::MAX; self.far.len() * m];
+        for (&f, table) in self.far.iter().zip(self.gather.chunks_exact_mut(m)) {
+            old.gather(base, f, |x, y, i| {
+                table[layout.at(x, y) / 3] = from.as_ref().map_or(i as u32, |l| l[i]);
+            });
+        }
+        let side = self.plan.new_side() as i64;
+        self.put = (self.far.iter())
+            .flat_map(|&f| {
+                let at = move |(y, x)| num.index(f as usize, x, y).0 as u32;
+                (0..side).flat_map(move |y| (0..side).map(move |x| at((y, x))))
+            })
+            .collect();
+    }
+
+    /// Sets the points of the far faces in `start`: each face's patch with its ring at the
+    /// level before (`before`, the reference driver's numbering) refined by the plan along x
+    /// and y ([`Near::index`] found where they are).
+    pub(super) fn far_faces<T: Real>(&self, before: &[[f64; 3]], start: &mut [[T; 3]]) {
+        let m = self.gather.len() / self.far.len().max(1);
+        let mut patch = vec![0.0f64; m * 3];
         let side = self.plan.new_side();
         let (mut passes, mut new) = (Passes::default(), vec![0.0f64; side * side * 3]);
-        for &f in &self.far {
-            old.gather(base, f, |x, y, i| {
-                let at = layout.at(x, y);
-                patch[at..at + 3].copy_from_slice(&points[i]);
-            });
+        let tables = self.gather.chunks_exact(m.max(1));
+        for (table, put) in tables.zip(self.put.chunks_exact(side * side)) {
+            for (p, &i) in patch.chunks_exact_mut(3).zip(table) {
+                p.copy_from_slice(&before.get(i as usize).copied().unwrap_or_default());
+            }
             // [y'][x'] of side N' + 1.
             self.plan
                 .step_transposing(&patch, &mut passes, STRIP_BYTES, &mut new);
-            for (y, row) in new.chunks_exact(side * 3).enumerate() {
-                for (x, p) in row.chunks_exact(3).enumerate() {
-                    let i = num.index(f as usize, x as i64, y as i64).0;
-                    start[i] = [p[0], p[1], p[2]].map(T::from_f64);
-                }
+            for (p, &i) in new.chunks_exact(3).zip(put) {
+                start[i as usize] = [p[0], p[1], p[2]].map(T::from_f64);
             }
         }
+    }
+
+    /// Bytes of its tables.
+    pub(super) fn bytes(&self) -> usize {
+        (self.far.capacity() + self.gather.capacity() + self.put.capacity()) * size_of::<u32>()
+            + self.scatter.capacity()
     }
 }
 
