@@ -65,7 +65,7 @@ pub mod mesh;
 pub mod patch;
 pub mod polygon;
 pub mod real;
-pub mod stencil;
+mod stencil;
 pub mod surface;
 mod threads;
 pub mod topology;

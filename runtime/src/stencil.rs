@@ -11,7 +11,7 @@ use crate::real::Real;
 
 /// Per new point, its weights on old points and the divisor of their sum.
 #[derive(Clone, Debug, Default)]
-pub struct Stencil {
+pub(crate) struct Stencil {
     /// Per new point, its first entry (one more at the end).
     rows: Vec<usize>,
     /// Per entry, the old point.
@@ -99,13 +99,8 @@ impl Stencil {
     }
 
     /// New points.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.norms.len()
-    }
-
-    /// Whether it makes no point.
-    pub fn is_empty(&self) -> bool {
-        self.norms.is_empty()
     }
 
     /// The table of the rows `rows`, in that order (a level renumbered); `u32::MAX` gives a
@@ -135,7 +130,7 @@ impl Stencil {
 
     /// The new points from the old ones, rounded to `T` at the end (`new` takes one per row).
     /// Old points a table reads must be in `old` (the level it was built for).
-    pub fn apply<T: Real>(&self, old: &[[f64; 3]], new: &mut Vec<[T; 3]>) {
+    pub(crate) fn apply<T: Real>(&self, old: &[[f64; 3]], new: &mut Vec<[T; 3]>) {
         new.clear();
         new.resize(self.len(), [T::default(); 3]);
         self.apply_rows(0, old, new);
@@ -143,7 +138,7 @@ impl Stencil {
 
     /// [`Stencil::apply`] of the rows `first..first + new.len()` only, into `new` (rows apart
     /// go to threads apart, each point the same bits).
-    pub fn apply_rows<T: Real>(&self, first: usize, old: &[[f64; 3]], new: &mut [[T; 3]]) {
+    pub(crate) fn apply_rows<T: Real>(&self, first: usize, old: &[[f64; 3]], new: &mut [[T; 3]]) {
         let rows = &self.rows[first..=first + new.len()];
         for ((out, r), &norm) in new
             .iter_mut()
@@ -165,7 +160,7 @@ impl Stencil {
     }
 
     /// Bytes the table holds.
-    pub fn bytes(&self) -> usize {
+    pub(crate) fn bytes(&self) -> usize {
         self.rows.capacity() * size_of::<usize>()
             + self.sources.capacity() * size_of::<u32>()
             + (self.weights.capacity() + self.norms.capacity()) * size_of::<f64>()
