@@ -419,6 +419,74 @@ fn reference_step_near_the_evs_only() {
     }
 }
 
+/// A scheme whose masks are contained near EVs only from its third step: the first label out
+/// of an EV splits into three at steps 0 and 1 (C → X C Z, X → Y C W), into two from step 2
+/// on (Y → Y C), \[G\] Prop. 4.8. No shipped scheme has more than one reference step, and
+/// none of 3,000 drawn by `common::surface_systems` had.
+const CONTAINED_FROM_TWO: &str = r#"
+name = "contained-from-two"
+degree = 3
+axiom = "C"
+
+[rules]
+C = "XCZ"
+X = "YCW"
+Z = "YCW"
+Y = "YC"
+W = "CW"
+
+[symmetry]
+X = "Z"
+Y = "W"
+"#;
+
+/// Two reference steps (`patch/reference.rs`: the maps chained, the last one's level before
+/// read by the faces far from the EVs, `patch/near.rs`): the reference driver's points on
+/// the grid cube (faces far from its corners) and on the split icosphere (every face near an
+/// EV), alone and before a depth-first step, on one and two threads, and again on moved
+/// positions after a first refine.
+#[test]
+fn two_reference_steps_chain_their_maps() {
+    use lsubdiv::compiler::exact::scheme;
+    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::runtime::surface::SurfaceScheme;
+    let ls = scheme::parse("contained-from-two.toml", CONTAINED_FROM_TWO).unwrap();
+    let s = GenericSurface::new(Scheme::build(ls).unwrap()).unwrap();
+    assert_eq!(s.surface().contained_from, 2);
+    for (label, mesh, far) in [
+        ("grid cube", grid_cube(12), true),
+        ("icosphere", split_icosphere(1), false),
+    ] {
+        let topo = Topology::build(&mesh).unwrap();
+        let moved: Vec<[f64; 3]> = (mesh.positions.iter().enumerate())
+            .map(|(i, p)| p.map(|x| x * (1.0 + 0.01 * (i % 5) as f64)))
+            .collect();
+        for steps in 2..=3 {
+            let moved_mesh = QuadMesh {
+                positions: moved.clone(),
+                ..mesh.clone()
+            };
+            let (reference, _) = refine(&s, moved_mesh, steps);
+            let mut outputs = Vec::new();
+            for threads in [1, 2] {
+                let mut r = Refiner::<_, f64>::new(&s, &topo, steps, threads).unwrap();
+                assert_eq!(r.reference_steps(), 2, "{label}");
+                let all = r.reference_faces() == mesh.faces.len();
+                assert_eq!(all, !far, "{label}: faces far from the EVs");
+                r.refine(&mesh.positions).unwrap();
+                let out = r.refine(&moved).unwrap().to_vec();
+                let d = same_points(&out, &reference.positions);
+                assert!(
+                    d < 1e-12,
+                    "{label}, {steps} steps, {threads} threads: {d:e}"
+                );
+                outputs.push(out);
+            }
+            assert_eq!(outputs[0], outputs[1], "{label}, {steps} steps: threads");
+        }
+    }
+}
+
 /// The mesh without its faces above z = 0.6, its vertices renumbered: open, its boundary
 /// through EVs.
 fn capless(mesh: QuadMesh) -> QuadMesh {
