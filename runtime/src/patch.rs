@@ -457,6 +457,13 @@ impl FaceRules {
     fn is_plain(&self) -> bool {
         self.sharp == [false; 4] && self.corners == [CornerKind::Real; 4]
     }
+
+    /// A phantom other than an EV corner's missing diagonal: an edge sharp, or a corner set
+    /// by its kind.
+    fn has_phantoms_beside_evs(&self) -> bool {
+        let set = |c: &CornerKind| !matches!(c, CornerKind::Real | CornerKind::Ev);
+        self.sharp.contains(&true) || self.corners.iter().any(set)
+    }
 }
 
 impl<'t> Base<'t> {

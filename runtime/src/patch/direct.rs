@@ -78,8 +78,9 @@ pub(super) struct Step {
     ring_at: Vec<u32>,
     /// The 1-ring weights of this step (\[G\] §3).
     ring: [f64; 2],
-    /// Whether the mesh has no features (no phantoms to set).
-    plain: bool,
+    /// Per face, whether its patch has phantoms to set at this step beside its EV corners'
+    /// missing diagonals (which, as in the gather above, reach no point it writes).
+    phantoms: Vec<bool>,
 }
 
 impl Step {
@@ -158,7 +159,9 @@ impl Step {
             rings,
             ring_at,
             ring,
-            plain: base.features.is_plain(),
+            phantoms: (0..faces as u32)
+                .map(|f| base.rules(f, k).has_phantoms_beside_evs())
+                .collect(),
         }
     }
 
@@ -281,7 +284,7 @@ impl Step {
                 p.copy_from_slice(&old[i as usize]);
             }
             // Across sharp edges and at corners without a diagonal: the phantoms of step k.
-            if !self.plain {
+            if self.phantoms[f] {
                 base.load_phantoms((f as u32, n, self.k), layout, &mut patch);
             }
             // Along x: new row X' (old points y) from the rows of its band.
