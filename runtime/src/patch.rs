@@ -1585,25 +1585,20 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
     /// Refines new positions of the base vertices; returns the output positions.
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
-        let t = self.scheme.tables();
         let clock = Instant::now();
         // The level after the reference steps: the patches' start level, or the first of the
         // level-by-level steps.
-        let lifted = self.direct.first().map_or(&self.start_num, |d| d.old());
+        let num = self.direct.first().map_or(&self.start_num, |d| d.old());
         // Each level-by-level step swaps the two levels: after an odd count, swap back, so that
         // every `refine` puts the same levels in the same buffer (none grows a second time).
         if self.direct.len() % 2 == 1 {
             std::mem::swap(&mut self.start, &mut self.level);
         }
         if self.first == 0 {
-            lift(
-                &t,
-                self.base.topo.faces(),
-                positions,
-                0,
-                lifted,
-                &mut self.start,
-            );
+            // The base mesh itself: its vertices in their order (N = 1: nothing but corners).
+            self.start.clear();
+            self.start
+                .extend(positions.iter().map(|p| p.map(T::from_f64)));
         } else {
             // Level 0: the base mesh, or the cut mesh with its ghost layers.
             let extended;
@@ -1627,13 +1622,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     let i = self.base.special.binary_search(&v);
                     i.map_or(0.0, |i| self.alphas[i])
                 };
-                cut.curves(
-                    &self.base,
-                    (&alpha, ring),
-                    positions,
-                    lifted,
-                    &mut self.start,
-                );
+                cut.curves(&self.base, (&alpha, ring), positions, num, &mut self.start);
             }
             // Corners stay exactly (the ghosts' double reflection gives them up to rounding);
             // every corner is a special vertex, its rule set at every step.
@@ -2598,28 +2587,6 @@ impl SurfaceVisitor for Subdivide<'_> {
             approximate: Vec::new(),
         })
     }
-}
-
-/// The level of a mesh refined `k` times by the reference driver (`quads`, `positions`), in the
-/// numbering `num` ([`lifted`]).
-fn lift<T: Real>(
-    t: &CurveTables<'_>,
-    quads: &[[u32; 4]],
-    positions: &[[f64; 3]],
-    k: usize,
-    num: &Numbering,
-    data: &mut Vec<[T; 3]>,
-) {
-    data.clear();
-    if k == 0 {
-        // The base mesh itself: its vertices in their order (N = 1: nothing but corners).
-        data.extend(positions.iter().map(|p| p.map(T::from_f64)));
-        return;
-    }
-    data.extend(lifted(t, quads, k, num).iter().map(|&i| {
-        let p = positions.get(i as usize).copied().unwrap_or_default();
-        p.map(T::from_f64)
-    }));
 }
 
 /// Per point of the numbering `num`, its index in a mesh refined `k` ≥ 1 times by the

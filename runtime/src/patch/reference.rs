@@ -26,7 +26,7 @@ use crate::topology::Topology;
 /// The maps of the reference steps `0..first` and the levels between them.
 pub(super) struct Reference {
     /// Per step, its map of the level before; the last one's points in the start numbering
-    /// (as `lift` would place them), those of the faces far from the EVs left to
+    /// ([`lifted`](super::lifted)), those of the faces far from the EVs left to
     /// `Near::far_faces` (no weights).
     maps: Vec<Stencil>,
     /// The quads of the level before the last when it is not the base mesh and the faces
