@@ -44,7 +44,7 @@
 //! children are set by their rule and the rings refreshed from the neighbours' new patches and
 //! from the next step's phantoms. A step the reference driver must take (masks not contained
 //! where a corner has no diagonal) runs, on a mesh with features, on the mesh cut open along
-//! its sharp edges and extended by ghost faces (`Cut`, `ghosted`); a scheme that needs
+//! its sharp edges and extended by ghost faces (`Cut`, `Ghosts`); a scheme that needs
 //! more than one such step is refused there with that reason.
 
 use crate::curve::{rewrite, CurveTables};
@@ -1336,7 +1336,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         // Those steps run by the reference driver, which refines closed meshes, and one step
         // of a mesh with features cut open along its sharp edges and extended by ghost faces
-        // ([`Cut`], [`ghosted`]).
+        // ([`Cut`], [`Ghosts`]).
         let cut = if first == 1 && !plain {
             Cut::new(topo, &base.features, Plan::new(&t, &lookup, &[*omega], 0)?)
         } else {
@@ -1601,17 +1601,18 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .extend(positions.iter().map(|p| p.map(T::from_f64)));
         } else {
             // Level 0: the base mesh, or the cut mesh with its ghost layers.
+            let reference = self.reference.as_mut().expect("reference steps have maps");
             let extended;
             let level0 = match &self.cut {
                 None => positions,
                 Some(cut) => {
-                    let at: Vec<[f64; 3]> =
+                    let mut at: Vec<[f64; 3]> =
                         cut.source.iter().map(|&v| positions[v as usize]).collect();
-                    extended = ghosted(&cut.topo, &at).0.positions;
+                    reference.ghosts().extend(&mut at);
+                    extended = at;
                     &extended
                 }
             };
-            let reference = self.reference.as_mut().expect("reference steps have maps");
             reference.run(level0, &mut self.start, self.threads);
             if let Some(near) = &self.near {
                 near.far_faces(reference.before(level0), &mut self.start);
@@ -2323,10 +2324,10 @@ pub fn footprint(
     };
     let input = v0 * 24 + f0 * 16 + f0 * 160;
     // The start level, every face's start patch as u32 indices, and the faces' rules.
-    // An open mesh's reference step runs on it with its ghost layers ([`ghosted`]): two
+    // An open mesh's reference step runs on it with its ghost layers ([`Ghosts`]): two
     // vertices and two faces per boundary vertex and edge, six and four more per corner.
     // A reference step on a mesh with features runs on it cut along its sharp edges, with its
-    // ghost layers ([`Cut`], [`ghosted`]): at most two ghost vertices and faces per side of
+    // ghost layers ([`Cut`], [`Ghosts`]): at most two ghost vertices and faces per side of
     // each sharp edge, six and four more per corner sector.
     let cut = match &base {
         Some(b) if first > 0 && !b.features.is_plain() => {
@@ -2357,10 +2358,14 @@ pub fn footprint(
     // most: its flag, its place in the far list, its patch at the level before and its new
     // points as indices.
     let reference = if first > 0 {
+        // How the ghosts are made: each way makes two points or more.
+        let made = cut.map_or(0, |(_, gv, _)| gv * size_of::<Ghost>() as u128);
         let new = n(first).saturating_add(1);
         let near = new.saturating_mul(new).saturating_add(side(first - 1));
         let near = near.saturating_mul(4).saturating_add(5);
-        reference::bound(t, level0, first).saturating_add(f0.saturating_mul(near))
+        reference::bound(t, level0, first)
+            .saturating_add(f0.saturating_mul(near))
+            .saturating_add(made)
     } else {
         0
     };
@@ -2651,7 +2656,7 @@ fn cells(t: &CurveTables<'_>, k: usize) -> Vec<(i64, i64)> {
 }
 
 /// A mesh cut open along the edges sharp at its first step, for the reference driver's step
-/// with ghost faces ([`ghosted`]): each vertex gets one copy per sector (faces between sharp
+/// with ghost faces ([`Ghosts`]): each vertex gets one copy per sector (faces between sharp
 /// edges), so a crease is a boundary for both sides. `source[i]` is the vertex copy i came
 /// from; the faces are the mesh's, in order.
 struct Cut {
@@ -2830,97 +2835,125 @@ fn dart_child(
 /// 4a − 2b − 2d + c. The outer layer only makes the first one's vertices interior and
 /// ordinary: in a complete step (every patch's new ring has its parents in the old ring) its
 /// points reach no real new point, and the driver does not scatter them. Real vertices and
-/// faces keep their indices; the ghosts follow.
-fn ghosted(topo: &Topology, positions: &[[f64; 3]]) -> (QuadMesh, Vec<bool>) {
-    let mut out = positions.to_vec();
-    let mut faces = topo.faces().to_vec();
-    let mut shared: HashMap<u32, u32> = HashMap::new();
-    // The ghost pairs made once per edge (not shared), and each corner's first diagonal ghost.
-    let mut pairs: Vec<u32> = Vec::new();
-    let mut diagonals: Vec<u32> = Vec::new();
-    // Per corner: its ghost across its outgoing boundary edge and across its incoming one.
-    let mut corners: HashMap<u32, [u32; 2]> = HashMap::new();
-    for f in 0..topo.face_count() as u32 {
-        for l in (0..4u8).filter(|&l| topo.is_boundary_edge(f, l)) {
-            let v = |k: u8| topo.vertex(f, (l + k) % 4);
-            let (a, b, c, d) = (v(0), v(1), v(2), v(3));
-            let a1 = ghost_pair(&mut out, &mut shared, topo, a, d);
-            let b1 = ghost_pair(&mut out, &mut shared, topo, b, c);
-            for (v, g) in [(a, a1), (b, b1)] {
-                if topo.valence(v) != 2 {
-                    pairs.push(g);
+/// faces keep their indices; the ghosts follow. Found once ([`Ghosts::new`]); each refine
+/// only makes the ghosts' points ([`Ghosts::extend`]).
+#[derive(Default)]
+struct Ghosts {
+    /// The ghosts in the order they are made, each from points made before it.
+    made: Vec<Ghost>,
+}
+
+/// How ghosts are made ([`Ghosts`]).
+enum Ghost {
+    /// a₁ = 2a − p and a₂ = 3a − 2p, from [a, p].
+    Pair([u32; 2]),
+    /// A corner's diagonal quadrant from its face [a, b, c, d] and its ghosts [g_out, g_in]
+    /// across its outgoing and incoming boundary edges.
+    Corner([u32; 4], [u32; 2]),
+}
+
+impl Ghosts {
+    /// The ghost layers of `topo`: how the ghosts are made, the extended mesh's quads, and
+    /// its outer ghosts (per point of the extended mesh).
+    fn new(topo: &Topology) -> (Ghosts, Vec<[u32; 4]>, Vec<bool>) {
+        let mut ghosts = Ghosts::default();
+        let mut next = topo.vertex_count() as u32;
+        let mut faces = topo.faces().to_vec();
+        let mut shared: HashMap<u32, u32> = HashMap::new();
+        // The ghost pairs made once per edge (not shared), and each corner's first diagonal
+        // ghost.
+        let mut pairs: Vec<u32> = Vec::new();
+        let mut diagonals: Vec<u32> = Vec::new();
+        // Per corner: its ghost across its outgoing boundary edge and across its incoming one.
+        let mut corners: HashMap<u32, [u32; 2]> = HashMap::new();
+        for f in 0..topo.face_count() as u32 {
+            for l in (0..4u8).filter(|&l| topo.is_boundary_edge(f, l)) {
+                let v = |k: u8| topo.vertex(f, (l + k) % 4);
+                let (a, b, c, d) = (v(0), v(1), v(2), v(3));
+                let mut pair = |a, p| {
+                    if let Some(&g) = shared.get(&a) {
+                        return g;
+                    }
+                    // Once per vertex with two faces (both its boundary edges reflect across
+                    // the same line), once per edge otherwise.
+                    let g = next;
+                    ghosts.made.push(Ghost::Pair([a, p]));
+                    next += 2;
+                    if topo.valence(a) == 2 {
+                        shared.insert(a, g);
+                    }
+                    g
+                };
+                let (a1, b1) = (pair(a, d), pair(b, c));
+                for (v, g) in [(a, a1), (b, b1)] {
+                    if topo.valence(v) != 2 {
+                        pairs.push(g);
+                    }
+                }
+                faces.push([b, a, a1, b1]);
+                faces.push([b1, a1, a1 + 1, b1 + 1]);
+                if topo.valence(a) == 1 {
+                    corners.entry(a).or_insert([u32::MAX; 2])[0] = a1;
+                }
+                if topo.valence(b) == 1 {
+                    corners.entry(b).or_insert([u32::MAX; 2])[1] = b1;
                 }
             }
-            faces.push([b, a, a1, b1]);
-            faces.push([b1, a1, a1 + 1, b1 + 1]);
-            if topo.valence(a) == 1 {
-                corners.entry(a).or_insert([u32::MAX; 2])[0] = a1;
-            }
-            if topo.valence(b) == 1 {
-                corners.entry(b).or_insert([u32::MAX; 2])[1] = b1;
+        }
+        let mut corners: Vec<(u32, [u32; 2])> = corners.into_iter().collect();
+        corners.sort_unstable();
+        for (a, [g_out, g_in]) in corners {
+            // The corner's face (a, b, c, d): g_out = 2a − d (across a → b), g_in = 2a − b.
+            let w = topo.rotation(a)[0];
+            let face = [0, 1, 2, 3].map(|i| topo.vertex(w.face, (w.corner + i) % 4));
+            ghosts.made.push(Ghost::Corner(face, [g_out, g_in]));
+            let (d11, d21, d12, d22) = (next, next + 1, next + 2, next + 3);
+            next += 4;
+            diagonals.push(d11);
+            faces.push([g_out, a, g_in, d11]);
+            faces.push([g_out + 1, g_out, d11, d21]);
+            faces.push([d11, g_in, g_in + 1, d12]);
+            faces.push([d21, d11, d12, d22]);
+        }
+        // The outer layer: every a₂ (a ghost pair's second) and each corner's outer three.
+        let mut outer = vec![false; next as usize];
+        for &g in shared.values().chain(&pairs) {
+            outer[g as usize + 1] = true;
+        }
+        for &d11 in &diagonals {
+            outer[d11 as usize + 1..d11 as usize + 4].fill(true);
+        }
+        (ghosts, faces, outer)
+    }
+
+    /// Bytes it holds.
+    fn bytes(&self) -> usize {
+        self.made.capacity() * size_of::<Ghost>()
+    }
+
+    /// Appends the ghosts' points to the mesh's `points`, in the order [`Ghosts::new`] made
+    /// them.
+    fn extend(&self, points: &mut Vec<[f64; 3]>) {
+        for ghost in &self.made {
+            match *ghost {
+                Ghost::Pair([a, p]) => {
+                    let (pa, pp) = (points[a as usize], points[p as usize]);
+                    points.push(std::array::from_fn(|i| 2.0 * pa[i] - pp[i]));
+                    points.push(std::array::from_fn(|i| 3.0 * pa[i] - 2.0 * pp[i]));
+                }
+                Ghost::Corner(face, [g_out, g_in]) => {
+                    let [pa, pb, pc, pd] = face.map(|v| points[v as usize]);
+                    let g = |i: u32| points[i as usize];
+                    let d11: [f64; 3] =
+                        std::array::from_fn(|i| 4.0 * pa[i] - 2.0 * pb[i] - 2.0 * pd[i] + pc[i]);
+                    let along_out = sub3(g(g_out + 1), g(g_out));
+                    let along_in = sub3(g(g_in + 1), g(g_in));
+                    let d21 = add3(d11, along_out);
+                    points.extend([d11, d21, add3(d11, along_in), add3(d21, along_in)]);
+                }
             }
         }
     }
-    let mut corners: Vec<(u32, [u32; 2])> = corners.into_iter().collect();
-    corners.sort_unstable();
-    for (a, [g_out, g_in]) in corners {
-        // The corner's face (a, b, c, d): g_out = 2a − d (across a → b), g_in = 2a − b.
-        let w = topo.rotation(a)[0];
-        let k = |i: u8| out[topo.vertex(w.face, (w.corner + i) % 4) as usize];
-        let (pa, pb, pc, pd) = (k(0), k(1), k(2), k(3));
-        let g = |i: u32| out[i as usize];
-        let d11: [f64; 3] =
-            std::array::from_fn(|i| 4.0 * pa[i] - 2.0 * pb[i] - 2.0 * pd[i] + pc[i]);
-        let (along_out, along_in) = (sub3(g(g_out + 1), g(g_out)), sub3(g(g_in + 1), g(g_in)));
-        let first = out.len() as u32;
-        let d21 = add3(d11, along_out);
-        out.extend([d11, d21, add3(d11, along_in), add3(d21, along_in)]);
-        let (d11, d21, d12, d22) = (first, first + 1, first + 2, first + 3);
-        diagonals.push(d11);
-        faces.push([g_out, a, g_in, d11]);
-        faces.push([g_out + 1, g_out, d11, d21]);
-        faces.push([d11, g_in, g_in + 1, d12]);
-        faces.push([d21, d11, d12, d22]);
-    }
-    // The outer layer: every a₂ (a ghost pair's second) and each corner's outer three.
-    let mut outer = vec![false; out.len()];
-    for &g in shared.values().chain(&pairs) {
-        outer[g as usize + 1] = true;
-    }
-    for &d11 in &diagonals {
-        outer[d11 as usize + 1..d11 as usize + 4].fill(true);
-    }
-    (
-        QuadMesh {
-            positions: out,
-            faces,
-        },
-        outer,
-    )
-}
-
-/// The ghosts (a₁ = 2a − p, a₂ = 3a − 2p) of boundary vertex a across one of its boundary
-/// edges, p the other end of the face's other edge at a: appended to `out`, once per vertex
-/// with two faces (both its boundary edges reflect across the same line), once per edge
-/// otherwise. Returns a₁'s index (a₂ follows).
-fn ghost_pair(
-    out: &mut Vec<[f64; 3]>,
-    shared: &mut HashMap<u32, u32>,
-    topo: &Topology,
-    a: u32,
-    p: u32,
-) -> u32 {
-    if let Some(&g) = shared.get(&a) {
-        return g;
-    }
-    let (pa, pp) = (out[a as usize], out[p as usize]);
-    let g = out.len() as u32;
-    out.push(std::array::from_fn(|i| 2.0 * pa[i] - pp[i]));
-    out.push(std::array::from_fn(|i| 3.0 * pa[i] - 2.0 * pp[i]));
-    if topo.valence(a) == 2 {
-        shared.insert(a, g);
-    }
-    g
 }
 
 fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

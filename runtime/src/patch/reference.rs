@@ -10,11 +10,11 @@
 //! The last step scatters only the vertices near the EVs when some faces are far from them
 //! (`patch/near.rs`: those faces take the step by its 1D plan); on a mesh with features it
 //! runs on the mesh cut open along its sharp edges and extended by two layers of ghost faces
-//! (`Cut`, `ghosted`): the outer ghosts are not scattered, the extended mesh's boundary
+//! (`Cut`, `Ghosts`): the outer ghosts are not scattered, the extended mesh's boundary
 //! vertices are scattered over the faces they have, and only the real faces' new points are
 //! kept.
 
-use super::{ghosted, lifted, output_counts, Base, Cut, Near, Numbering};
+use super::{lifted, output_counts, Base, Cut, Ghosts, Near, Numbering};
 use crate::curve::CurveTables;
 use crate::mesh::QuadMesh;
 use crate::real::Real;
@@ -29,6 +29,8 @@ pub(super) struct Reference {
     /// ([`lifted`](super::lifted)), those of the faces far from the EVs left to
     /// `Near::far_faces` (no weights).
     maps: Vec<Stencil>,
+    /// How level 0's ghosts are made on a mesh cut along its sharp edges (none else).
+    ghosts: Ghosts,
     /// The quads of the level before the last when it is not the base mesh and the faces
     /// far from the EVs take the last step by its plan (`Near::far_faces` reads them).
     before_quads: Vec<[u32; 4]>,
@@ -52,23 +54,19 @@ impl Reference {
         let [axiom] = t.axiom else {
             return Err(SurfaceError::Axiom);
         };
-        // Level 0: the base mesh, or the cut mesh with its ghost layers (their positions do
-        // not matter here: the maps are the same for all).
-        let (mut mesh, outer, built) = match cut {
+        // Level 0: the base mesh, or the cut mesh with its ghost layers.
+        let (mut mesh, outer, built, ghosts) = match cut {
             None => (
                 shape(base.topo.faces().to_vec(), base.topo.vertex_count()),
                 None,
                 None,
+                Ghosts::default(),
             ),
             Some(cut) => {
-                let zeros = vec![[0.0; 3]; cut.topo.vertex_count()];
-                let (extended, outer) = ghosted(&cut.topo, &zeros);
-                let topo = Topology::build(&extended)?;
-                (
-                    shape(extended.faces, topo.vertex_count()),
-                    Some(outer),
-                    Some(topo),
-                )
+                let (ghosts, faces, outer) = Ghosts::new(&cut.topo);
+                let mesh = shape(faces, outer.len());
+                let topo = Topology::build(&mesh)?;
+                (mesh, Some(outer), Some(topo), ghosts)
             }
         };
         let mut labels = vec![[*axiom; 2]; mesh.faces.len()];
@@ -112,6 +110,7 @@ impl Reference {
         maps.push(last.pick(&order));
         Ok(Reference {
             maps,
+            ghosts,
             before_quads,
             levels: vec![Vec::new(); first - 1],
         })
@@ -138,6 +137,11 @@ impl Reference {
         apply(last, self.before(level0), start, threads);
     }
 
+    /// How level 0's ghosts are made from the cut mesh's points (none without a cut).
+    pub(super) fn ghosts(&self) -> &Ghosts {
+        &self.ghosts
+    }
+
     /// The level before the last step in the last [`Reference::run`] on `level0`.
     pub(super) fn before<'a>(&'a self, level0: &'a [[f64; 3]]) -> &'a [[f64; 3]] {
         self.levels.last().map_or(level0, Vec::as_slice)
@@ -152,11 +156,13 @@ impl Reference {
         }
     }
 
-    /// Bytes held: the maps, the quads and the levels.
+    /// Bytes held: the maps, the ghosts' making, the quads and the levels.
     pub(super) fn bytes(&self) -> usize {
         let maps: usize = self.maps.iter().map(Stencil::bytes).sum();
         let levels: usize = self.levels.iter().map(Vec::capacity).sum();
-        maps + self.before_quads.capacity() * size_of::<[u32; 4]>() + levels * size_of::<[f64; 3]>()
+        maps + self.ghosts.bytes()
+            + self.before_quads.capacity() * size_of::<[u32; 4]>()
+            + levels * size_of::<[f64; 3]>()
     }
 }
 
