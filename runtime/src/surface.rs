@@ -187,7 +187,7 @@ pub(crate) fn step_map<S: SurfaceScheme>(
     topo: &Topology,
     skip: Option<&[bool]>,
     threads: usize,
-) -> Result<StepMap, SurfaceError> {
+) -> Result<(StepMap, StepStats), SurfaceError> {
     let t = scheme.tables();
     let lookup = t.word_index();
     let cx = Step {
@@ -199,7 +199,7 @@ pub(crate) fn step_map<S: SurfaceScheme>(
         skip,
         threads,
     };
-    Ok(cx.map()?.0)
+    cx.map()
 }
 
 /// Weights one vertex scatters per face corner at it at most: (L − 1) · L, L the longest mask
@@ -245,8 +245,6 @@ fn refine_from<S: SurfaceScheme>(
     mut topo: Option<&Topology>,
     steps: usize,
 ) -> Result<(LabelledMesh, Vec<StepStats>), SurfaceError> {
-    let t = scheme.tables();
-    let lookup = t.word_index();
     let mut cur = mesh.clone();
     let mut stats = Vec::with_capacity(steps);
     for _ in 0..steps {
@@ -259,16 +257,7 @@ fn refine_from<S: SurfaceScheme>(
             }
         };
         topo.require_closed()?;
-        let cx = Step {
-            t,
-            s: scheme.surface(),
-            lookup: &lookup,
-            labels: &cur.labels,
-            topo,
-            skip: None,
-            threads: 1,
-        };
-        let (map, st) = cx.map()?;
+        let (map, st) = step_map(scheme, &cur.labels, topo, None, 1)?;
         cur = map.apply(&cur.mesh.positions);
         stats.push(st);
     }
@@ -588,7 +577,6 @@ impl Step<'_> {
                 continue;
             }
             let n = topo.valence(v);
-            let mut add = |i: u32, w: f64| scatter.add(i, w);
             // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
             let words = (0..self.spokes(v).len())
                 .map(|k| self.word(v, k))
@@ -603,14 +591,14 @@ impl Step<'_> {
                 ev_norm.push((v, alpha + n as f64 * ring));
                 alpha
             };
-            add(v, centre);
+            scatter.add(v, centre);
             for (k, w) in topo.rotation(v).iter().enumerate() {
                 let mx = self.half_mask(words[k]);
                 let my = self.half_mask(words[(k + 1) % words.len()]);
                 for (x, wx) in mx.iter().enumerate().skip(1) {
                     for (y, wy) in my.iter().enumerate() {
                         match self.locate(w.face, w.corner, !w.next_is_plus, x as i64, y as i64) {
-                            Some((g, gx, gy)) => add(index(g, gx, gy), wx * wy),
+                            Some((g, gx, gy)) => scatter.add(index(g, gx, gy), wx * wy),
                             None => dropped += 1,
                         }
                     }

@@ -89,7 +89,7 @@ impl Reference {
                 .filter(|_| last)
                 .map(|near| near.skip(&mesh.faces, topo.vertex_count()));
             let skip = near_skip.as_deref().or(outer.as_deref());
-            let map = step_map(scheme, &labels, topo, skip, threads)?;
+            let (map, _) = step_map(scheme, &labels, topo, skip, threads)?;
             if last && near.is_some() && k > 0 {
                 before_quads = std::mem::take(&mut mesh.faces);
             }
