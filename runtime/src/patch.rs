@@ -1359,18 +1359,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let reference = (first > 0)
             .then(|| {
                 let num = Numbering::new(base.topo, words[first].len() as i64);
-                let r = Reference::new(
-                    scheme,
-                    &base,
-                    (first, &num),
-                    near.as_ref(),
-                    cut.as_ref(),
-                    threads.max(1),
-                )?;
-                if let Some(near) = &mut near {
-                    near.index(&t, &base, (r.before_quads(&base), first), &num);
-                }
-                Ok::<_, SurfaceError>(r)
+                let (near, cut) = (near.as_mut(), cut.as_ref());
+                Reference::new(scheme, &base, (first, &num), near, cut, threads.max(1))
             })
             .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.

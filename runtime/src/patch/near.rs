@@ -147,6 +147,11 @@ impl Near {
             .collect();
     }
 
+    /// The start level's points the far faces write ([`Near::index`]).
+    pub(super) fn written(&self) -> &[u32] {
+        &self.put
+    }
+
     /// Sets the points of the far faces in `start`: each face's patch with its ring at the
     /// level before (`before`, the reference driver's numbering) refined by the plan along x
     /// and y ([`Near::index`] found where they are).

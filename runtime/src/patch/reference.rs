@@ -31,9 +31,6 @@ pub(super) struct Reference {
     maps: Vec<Stencil>,
     /// How level 0's ghosts are made on a mesh cut along its sharp edges (none else).
     ghosts: Ghosts,
-    /// The quads of the level before the last when it is not the base mesh and the faces
-    /// far from the EVs take the last step by its plan (`Near::far_faces` reads them).
-    before_quads: Vec<[u32; 4]>,
     /// The levels of the last `refine` between the steps.
     levels: Vec<Vec<[f64; 3]>>,
 }
@@ -46,7 +43,7 @@ impl Reference {
         scheme: &S,
         base: &Base<'_>,
         (first, num): (usize, &Numbering),
-        near: Option<&Near>,
+        mut near: Option<&mut Near>,
         cut: Option<&Cut>,
         threads: usize,
     ) -> Result<Reference, SurfaceError> {
@@ -70,7 +67,7 @@ impl Reference {
             }
         };
         let mut labels = vec![[*axiom; 2]; mesh.faces.len()];
-        let (mut maps, mut before_quads) = (Vec::with_capacity(first), Vec::new());
+        let mut maps = Vec::with_capacity(first);
         for k in 0..first {
             let level;
             let topo = match (k, &built) {
@@ -85,33 +82,34 @@ impl Reference {
                 topo.require_closed()?;
             }
             let last = k + 1 == first;
-            let near_skip = near
+            let near_skip = (near.as_deref())
                 .filter(|_| last)
                 .map(|near| near.skip(&mesh.faces, topo.vertex_count()));
             let skip = near_skip.as_deref().or(outer.as_deref());
             let (map, _) = step_map(scheme, &labels, topo, skip, threads)?;
-            if last && near.is_some() && k > 0 {
-                before_quads = std::mem::take(&mut mesh.faces);
+            if let Some(near) = near.as_deref_mut().filter(|_| last) {
+                // Where the faces far from the EVs read the level before and write theirs.
+                let before = if k > 0 {
+                    &mesh.faces
+                } else {
+                    base.topo.faces()
+                };
+                near.index(&t, base, (before, first), num);
             }
             mesh = shape(map.faces, map.stencil.len());
             labels = map.labels;
             maps.push(map.stencil);
         }
-        // The last map's points in the start numbering.
+        // The last map's points in the start numbering, but those the far faces write.
         let mut order = lifted(&t, &mesh.faces, first, num);
-        for &f in near.map_or(&[][..], Near::far) {
-            for y in 0..=num.n {
-                for x in 0..=num.n {
-                    order[num.index(f as usize, x, y).0] = u32::MAX;
-                }
-            }
+        for &i in near.map_or(&[][..], |near| near.written()) {
+            order[i as usize] = u32::MAX;
         }
         let last = maps.pop().expect("first ≥ 1");
         maps.push(last.pick(&order));
         Ok(Reference {
             maps,
             ghosts,
-            before_quads,
             levels: vec![Vec::new(); first - 1],
         })
     }
@@ -147,22 +145,11 @@ impl Reference {
         self.levels.last().map_or(level0, Vec::as_slice)
     }
 
-    /// The quads of the level before the last (`base`'s when that is the base mesh).
-    pub(super) fn before_quads<'a>(&'a self, base: &'a Base<'_>) -> &'a [[u32; 4]] {
-        if self.maps.len() == 1 {
-            base.topo.faces()
-        } else {
-            &self.before_quads
-        }
-    }
-
-    /// Bytes held: the maps, the ghosts' making, the quads and the levels.
+    /// Bytes held: the maps, the ghosts' making and the levels.
     pub(super) fn bytes(&self) -> usize {
         let maps: usize = self.maps.iter().map(Stencil::bytes).sum();
         let levels: usize = self.levels.iter().map(Vec::capacity).sum();
-        maps + self.ghosts.bytes()
-            + self.before_quads.capacity() * size_of::<[u32; 4]>()
-            + levels * size_of::<[f64; 3]>()
+        maps + self.ghosts.bytes() + levels * size_of::<[f64; 3]>()
     }
 }
 
