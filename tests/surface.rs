@@ -419,6 +419,13 @@ fn reference_step_near_the_evs_only() {
     }
 }
 
+/// The mesh's vertices moved apart: a map of its points that is not affine.
+fn moved(mesh: &QuadMesh) -> Vec<[f64; 3]> {
+    let scale = |i: usize| 1.0 + 0.01 * (i % 7) as f64;
+    let at = mesh.positions.iter().enumerate();
+    at.map(|(i, p)| p.map(|x| x * scale(i))).collect()
+}
+
 /// A scheme whose masks are contained near EVs only from its third step: the first label out
 /// of an EV splits into three at steps 0 and 1 (C → X C Z, X → Y C W), into two from step 2
 /// on (Y → Y C), \[G\] Prop. 4.8. No shipped scheme has more than one reference step, and
@@ -458,9 +465,7 @@ fn two_reference_steps_chain_their_maps() {
         ("icosphere", split_icosphere(1), false),
     ] {
         let topo = Topology::build(&mesh).unwrap();
-        let moved: Vec<[f64; 3]> = (mesh.positions.iter().enumerate())
-            .map(|(i, p)| p.map(|x| x * (1.0 + 0.01 * (i % 5) as f64)))
-            .collect();
+        let moved = moved(&mesh);
         for steps in 2..=3 {
             let moved_mesh = QuadMesh {
                 positions: moved.clone(),
@@ -520,12 +525,6 @@ fn capless(mesh: QuadMesh) -> QuadMesh {
 fn reference_steps_are_maps_of_any_positions() {
     use lsubdiv::runtime::patch::Refiner;
     let s = surface("binary-ternary");
-    // Every vertex moved apart (not an affine map of the first).
-    let moved = |mesh: &QuadMesh| -> Vec<[f64; 3]> {
-        let scale = |i: usize| 1.0 + 0.01 * (i % 7) as f64;
-        let at = mesh.positions.iter().enumerate();
-        at.map(|(i, p)| p.map(|x| x * scale(i))).collect()
-    };
     let refined = |mesh: &QuadMesh, threads: usize, first: Option<&[[f64; 3]]>| {
         let topo = Topology::build(mesh).unwrap();
         let mut r = Refiner::<_, f64>::new(&s, &topo, 1, threads).unwrap();
