@@ -1111,28 +1111,10 @@ fn every_simd_path_and_writer_gives_the_same_points() {
 #[test]
 fn an_open_creased_triangle_mesh_starts_level_by_level() {
     use lsubdiv::runtime::generators::{icosphere, torus};
-    use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
+    use lsubdiv::runtime::polygon::catmull_clark;
     use lsubdiv_testkit::points::same_points;
-    // The icosphere without its cap above z = 0.6, its vertices renumbered.
-    let sphere = icosphere(2);
-    let mut open = PolyMesh::new();
-    let mut index = vec![u32::MAX; sphere.positions.len()];
-    for face in sphere.faces() {
-        if face.iter().all(|&v| sphere.positions[v as usize][2] > 0.6) {
-            continue;
-        }
-        let kept: Vec<u32> = face
-            .iter()
-            .map(|&v| {
-                if index[v as usize] == u32::MAX {
-                    index[v as usize] = open.positions.len() as u32;
-                    open.positions.push(sphere.positions[v as usize]);
-                }
-                index[v as usize]
-            })
-            .collect();
-        open.push_face(&kept);
-    }
+    // The icosphere without its cap above z = 0.6.
+    let open = lsubdiv_testkit::meshes::capless(&icosphere(2), 0.6);
     // A crease along two edges of a triangle below the cap, one of them semi-sharp.
     let t = open.faces().nth(7).unwrap().to_vec();
     let mut features = Features::default();

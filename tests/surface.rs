@@ -5,13 +5,14 @@ mod common;
 
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::generators::{cube, grid_cube, klein_bottle, prism, star, torus};
+use lsubdiv::runtime::generators::{cube, grid_cube, icosphere, klein_bottle, prism, star, torus};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, StepStats};
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv::{generated, Curve, CurveScheme};
 use lsubdiv_cli::resolve;
 use lsubdiv_testkit::catmull_clark::catmull_clark_steps;
+use lsubdiv_testkit::meshes::capless;
 use lsubdiv_testkit::points::same_points;
 
 fn surface(name: &str) -> GenericSurface {
@@ -387,12 +388,14 @@ fn a_mesh_of_small_fans_starts_level_by_level() {
 /// A triangle mesh, split into quads (every face at two EVs: the triangle's centre, valence 3,
 /// and its vertex, valence 5 or 6).
 fn split_icosphere(level: usize) -> QuadMesh {
+    split(&icosphere(level))
+}
+
+/// A polygon mesh split into quads by one Catmull–Clark step.
+fn split(mesh: &lsubdiv::runtime::polygon::PolyMesh) -> QuadMesh {
     use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::generators::icosphere;
     use lsubdiv::runtime::polygon::catmull_clark;
-    catmull_clark(&icosphere(level), &Features::default())
-        .unwrap()
-        .mesh
+    catmull_clark(mesh, &Features::default()).unwrap().mesh
 }
 
 /// Where the first steps run by the reference driver (Binary-Ternary's masks are contained at
@@ -492,29 +495,6 @@ fn two_reference_steps_chain_their_maps() {
     }
 }
 
-/// The mesh without its faces above z = 0.6, its vertices renumbered: open, its boundary
-/// through EVs.
-fn capless(mesh: QuadMesh) -> QuadMesh {
-    let mut open = QuadMesh {
-        positions: Vec::new(),
-        faces: Vec::new(),
-    };
-    let mut index = vec![u32::MAX; mesh.positions.len()];
-    for f in &mesh.faces {
-        if f.iter().all(|&v| mesh.positions[v as usize][2] > 0.6) {
-            continue;
-        }
-        open.faces.push(f.map(|v| {
-            if index[v as usize] == u32::MAX {
-                index[v as usize] = open.positions.len() as u32;
-                open.positions.push(mesh.positions[v as usize]);
-            }
-            index[v as usize]
-        }));
-    }
-    open
-}
-
 /// The reference steps are maps built with the refiner (`patch/reference.rs`): a `refine` on
 /// new positions gives the reference driver's points for those positions, whether the map
 /// was first summed on others or not, and the same bits on one and two threads (the start
@@ -551,7 +531,7 @@ fn reference_steps_are_maps_of_any_positions() {
         out
     });
     assert_eq!(outputs[0], outputs[1], "one and two threads differ");
-    let open = capless(split_icosphere(2));
+    let open = split(&capless(&icosphere(2), 0.6));
     assert_eq!(
         refined(&open, 1, Some(&open.positions)),
         refined(&open, 1, None),
@@ -749,7 +729,11 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
         // A reference step on the icosphere's every face, and on it open, cut along its
         // boundary with ghost layers (`patch/reference.rs`).
         ("binary-ternary", plain(split_icosphere(3)), 2),
-        ("binary-ternary", plain(capless(split_icosphere(3))), 2),
+        (
+            "binary-ternary",
+            plain(split(&capless(&icosphere(3), 0.6))),
+            2,
+        ),
     ] {
         let s = surface(name);
         let topo = Topology::build(&mesh).unwrap();

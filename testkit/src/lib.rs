@@ -3,5 +3,6 @@
 
 pub mod catmull_clark;
 pub mod fuzzing;
+pub mod meshes;
 pub mod points;
 pub mod spline;
