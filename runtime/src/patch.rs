@@ -23,8 +23,8 @@
 //! next to the corner. Faces with an EV corner therefore advance in lock-step: after each step
 //! the EV child is set from its old 1-ring, (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)),
 //! and those two ring points are copied from the neighbouring faces of the fan, which own them
-//! (on a mesh without features each face hands them on, with its corners' 1-ring points, right
-//! after its step, `patch/handoff.rs`).
+//! (each face hands its corners' 1-ring points on right after its step, and on a mesh without
+//! features those ring points too, `patch/handoff.rs`).
 //! On a mesh whose faces are mostly at EVs (a triangle mesh split into quads)
 //! the first such steps, while patches are small, run level by level instead, each face
 //! computing only the points it owns (`patch/direct.rs`).
@@ -1228,8 +1228,8 @@ pub struct Refiner<'s, S, T> {
     stacks: Vec<bool>,
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
-    /// What the fan faces hand each other between levels on a mesh without features, and
-    /// its box ([`Handoff`]).
+    /// What the fan faces hand each other between levels (the 1-rings, and on a mesh
+    /// without features the ring points), and its box ([`Handoff`]).
     handoff: Option<Handoff>,
     handed: Vec<[T; 3]>,
     threads: usize,
@@ -1741,9 +1741,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let t = &self.start_gather[f as usize * m * m..][..m * m];
             let layout = ring_layout(self.start_num.n, a_is_x);
             // A point the start level does not have (an EV's diagonal) loads as zero: on a
-            // mesh without features (a handoff) that is every phantom.
+            // mesh without features (whose box hands the rings) that is every phantom.
             load(t, &self.start, layout, patch);
-            if self.handoff.is_none() {
+            if !self.handoff.as_ref().is_some_and(Handoff::hands_rings) {
                 self.base
                     .load_phantoms((f, self.start_num.n, start_level), layout, patch);
             }
@@ -1751,6 +1751,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
         let handoff = self.handoff.as_ref();
+        // Whether the box also hands the ring points next to the EV corners.
+        let hands_rings = handoff.is_some_and(Handoff::hands_rings);
         let handed = &mut self.handed;
         handed.resize(handoff.map_or(0, Handoff::len), [T::default(); 3]);
         for (s, plan) in self.plans.iter().enumerate() {
@@ -1917,7 +1919,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 // on a mesh without features they were handed on during the step.
                 let chunk = faces.len().div_ceil(self.threads).max(BETWEEN);
                 let new_level = &new[..faces.len() * new_len];
-                let rings = if handoff.is_some() {
+                let rings = if hands_rings {
                     Vec::new()
                 } else {
                     in_threads(faces.chunks(chunk), |faces| {
@@ -1950,7 +1952,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         while let Some((_, at, p)) = got.next_if(|g| g.0 == f) {
                             patch[at..at + 3].copy_from_slice(&p);
                         }
-                        match handoff {
+                        match handoff.filter(|_| hands_rings) {
                             Some(h) => h.take(i * chunk + q, &offsets.1, handed, patch),
                             None => base.load_phantoms((f, n_new, k + 1), layout, patch),
                         }

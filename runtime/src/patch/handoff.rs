@@ -1,12 +1,15 @@
-//! What the fan faces of a mesh without features read from each other between two lock-step
-//! levels (`Refiner::fan_faces`): each EV's old 1-ring, for its child (\[G\] §3), and per EV
-//! corner the two new ring points next to it, which the face's own step cannot give (its
-//! diagonal is missing; with contained masks it reaches only those and the EV child, \[G\]
-//! Prop. 4.8). Read from the neighbours' patches after the step, these were cache misses
-//! (a quarter of the time on a triangle mesh, every face at an EV: `perf`, docs/benchmarks.md).
-//! Here each face's worker pushes them into one small box right after the face's step, while
-//! both of its patches are in cache, and the EV children and the rings read the box in order.
-//! The same values are copied and summed in the same order: the same bits.
+//! What the fan faces read from each other between two lock-step levels
+//! (`Refiner::fan_faces`): each EV's old 1-ring, for its child (\[G\] §3), and, on a mesh
+//! without features, per EV corner the two new ring points next to it, which the face's own
+//! step cannot give (its diagonal is missing; with contained masks it reaches only those and
+//! the EV child, \[G\] Prop. 4.8). Read from the neighbours' patches after the step, these were
+//! cache misses (a quarter of the time on a triangle mesh, every face at an EV, and 13 % on
+//! the open one: `perf`, docs/benchmarks.md). Here each face's worker pushes them into one
+//! small box right after the face's step, while both of its patches are in cache, and the EV
+//! children and the rings read the box in order. The same values are copied and summed in
+//! the same order: the same bits. On a mesh with features the rings take whole rows from the
+//! neighbours and the phantoms are made from them (`Base::refresh_ring`): there the box holds
+//! the 1-rings only.
 
 use super::{Base, Layout, SharedOut, Spot};
 use crate::features::CornerKind;
@@ -97,6 +100,8 @@ pub(super) struct Handoff {
     /// Per face slot, its corners at an EV (bit c), whose diagonal ring point does not exist
     /// and is kept zero (the face's only phantoms, `Base::phantoms`).
     ev_corners: Vec<u8>,
+    /// Whether the box holds the ring points too (a mesh without features).
+    rings: bool,
     /// Special vertex i's old 1-ring in the box from `ring_at[i]`: the vertex, then per wedge
     /// of its rotation the spoke shared with the wedge before and the diagonal.
     ring_at: Vec<u32>,
@@ -117,14 +122,11 @@ pub(super) fn bytes_per_fan_face(point: u128) -> u128 {
 }
 
 impl Handoff {
-    /// The handoff of `fans` (fan faces, and each face's slot among them), `None` on a mesh
-    /// with features (whose rings take whole rows from the neighbours, whose phantoms are
-    /// made from the refreshed points and whose special vertices have other rules,
-    /// `Base::refresh_ring`).
+    /// The handoff of `fans` (fan faces, and each face's slot among them): the 1-rings, and
+    /// on a mesh without features the ring points; `None` where a special vertex's face is
+    /// not a fan face, or a mesh without features has a corner of another kind.
     pub(super) fn new(base: &Base<'_>, fans: &[u32], slot: &[u32]) -> Option<Handoff> {
-        if !base.features.is_plain() {
-            return None;
-        }
+        let rings = base.features.is_plain();
         let topo = base.topo;
         let slot_of = |f: u32| slot.get(f as usize).copied().filter(|&s| s != u32::MAX);
         let mut gives: Vec<Vec<Give>> = vec![Vec::new(); fans.len()];
@@ -132,7 +134,7 @@ impl Handoff {
         // point of the face g across one step inside from the shared edge.
         let (mut take_at, mut takes) = (vec![0u32], Vec::new());
         let mut ev_corners = Vec::with_capacity(fans.len());
-        for &f in fans {
+        for &f in fans.iter().filter(|_| rings) {
             let rules = base.rules(f, 0);
             let mut ev = 0u8;
             for (c, kind) in rules.corners.iter().enumerate() {
@@ -172,7 +174,7 @@ impl Handoff {
             }
             take_at.push(takes.len() as u32);
         }
-        // The 1-rings, after the ring points.
+        // The 1-rings, after the ring points (if any).
         let mut len = takes.len();
         let mut ring_at = Vec::with_capacity(base.special.len());
         for &v in &base.special {
@@ -202,9 +204,16 @@ impl Handoff {
             take_at,
             takes,
             ev_corners,
+            rings,
             ring_at,
             len,
         })
+    }
+
+    /// Whether the box holds the ring points next to the EV corners too, which
+    /// [`Handoff::take`] sets (a mesh without features).
+    pub(super) fn hands_rings(&self) -> bool {
+        self.rings
     }
 
     /// Points in the box.
