@@ -769,10 +769,11 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
 }
 
 /// Random symmetric surface schemes (`common::surface_systems`): the patch path (composed
-/// patches on the torus and the Klein bottle, fans around the cube's EVs) gives the reference
-/// driver's points on every SIMD path, the same bits on one and two threads, and f32 gives
-/// f64's to 1e-5, for as many steps as keep the output small. The composed kernel meets N',
-/// band widths and tile layouts no shipped scheme has.
+/// patches on the torus and the Klein bottle, fans around the cube's EVs, the split
+/// icosphere's faces level by level and then in lock-step, their last step composed) gives
+/// the reference driver's points on every SIMD path, the same bits on one and two threads,
+/// and f32 gives f64's to 1e-5, for as many steps as keep the output small. The composed
+/// kernel meets N', band widths and tile layouts no shipped scheme has.
 mod random_surfaces {
     use super::*;
     use lsubdiv::runtime::patch::{Refiner, Simd};
@@ -796,6 +797,8 @@ mod random_surfaces {
                 ("klein", klein_bottle(4, 5)),
                 ("cube", cube()),
                 ("grid cube", grid_cube(3)),
+                // Every face at two EVs: level by level, then the fans' lock-step.
+                ("icosphere", split_icosphere(1)),
             ] {
                 let topo = Topology::build(&mesh).unwrap();
                 for steps in 1..=4 {

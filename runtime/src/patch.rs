@@ -328,6 +328,15 @@ impl Plan {
 /// slower on two threads split finer).
 const BETWEEN: usize = 1024;
 
+/// Old side (ring included) up to which the fan faces' last step runs by the composed kernel
+/// (`patch/composed.rs`, its matrix the last plan's) rather than by strips: the tensor
+/// product of one step is a composed patch of one plan, and a fan face's EV corners change
+/// nothing there (their missing diagonals reach none of its points, \[G\] Prop. 4.8; the
+/// children are set afterwards). On the split icosphere(3) under uniform binary (one thread,
+/// alternated) the last level took 15–20 % less time at sides 7 and 11 (3 and 4 steps) and
+/// the same at side 19 (5 steps), where the kernel's rows outgrow its tiles.
+const FAN_COMPOSED_SIDE: usize = 16;
+
 /// Values of a fan face's interior staged before they are written (64 KiB of f64).
 const STAGE: usize = 8192;
 
@@ -1203,6 +1212,10 @@ pub struct Refiner<'s, S, T> {
     plans: Vec<Plan>,
     /// The plans composed, for the ordinary faces (none without depth-first steps).
     composed: Option<Composed<T>>,
+    /// The fan faces' last step as a composed patch of one plan where their patches are
+    /// small ([`FAN_COMPOSED_SIDE`]; the steps before it run in lock-step, their EV children
+    /// and rings set between them).
+    fan_last: Option<Composed<T>>,
     /// The instruction set the kernels run with.
     simd: Simd,
     alphas: Vec<f64>,
@@ -1396,6 +1409,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .map(|p| p.rows.iter().map(|r| &p.parents[r.clone()]).collect());
             Composed::new(m.side, &composed::compose(m.side, rows))
         });
+        let fan_last = plans
+            .last()
+            .filter(|p| !fan_faces.is_empty() && p.old_side <= FAN_COMPOSED_SIDE);
+        let fan_last = fan_last.map(|p| {
+            let rows = p.rows.iter().map(|r| &p.parents[r.clone()]).collect();
+            Composed::new(p.old_side, &composed::compose(p.old_side, [rows]))
+        });
         let mut fan_slot = vec![u32::MAX; nf];
         for (i, &f) in fan_faces.iter().enumerate() {
             fan_slot[f as usize] = i as u32;
@@ -1408,6 +1428,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             direct,
             plans,
             composed,
+            fan_last,
             simd: Simd::detect(),
             alphas,
             start_num,
@@ -1697,13 +1718,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 stacks,
                 i: 0,
                 most,
-                table,
-                start,
+                source: Source::Start {
+                    table,
+                    start,
+                    first,
+                },
+                give: None,
                 base,
                 num,
                 out,
                 layout: ring_layout(n0, false),
-                first,
                 spare: grown(&mut scratch.spare, 3 * k * 3),
                 interiors,
                 edges,
@@ -1730,8 +1754,9 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let st = self.scheme.surface();
         let start_level = self.start_level();
         // Each step transposes: start so that the last level comes out row-major, which
-        // the scatter reads best.
-        let mut a_is_x = self.plans.len() % 2 == 1;
+        // the scatter reads best, or where the composed kernel takes the last step, so that
+        // the level before it is (the kernel's start rows are the patch's rows).
+        let mut a_is_x = (self.plans.len() % 2 == 1) != self.fan_last.is_some();
         let m = (self.start_num.n + 3) as usize;
         let streaming = self.streams_output();
         let [old, new] = &mut self.fans;
@@ -1751,6 +1776,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let mut n = self.start_num.n;
         let out = SharedOut::new(&mut self.output);
         let handoff = self.handoff.as_ref();
+        let (fan_last, base, simd) = (self.fan_last.as_ref(), &self.base, self.simd);
         // Whether the box also hands the ring points next to the EV corners.
         let hands_rings = handoff.is_some_and(Handoff::hands_rings);
         let handed = &mut self.handed;
@@ -1777,6 +1803,36 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 .enumerate();
             let times = in_threads(work, |(i, (((faces, old), new), scratch))| {
                 let mut clock = Instant::now();
+                if let Some(kernel) = fan_last.filter(|_| last) {
+                    // (Row-major: the kernel's start rows are rows of the patch.)
+                    assert!(!layouts.0.a_is_x, "the fans' last level comes row-major");
+                    let k = (out_num.n - 1) as usize;
+                    let buf = grown(&mut scratch.face, kernel.scratch_len());
+                    // SAFETY: as for the ordinary faces.
+                    let writers = |_| unsafe { out.stream(streaming, simd) };
+                    let mut w = Ordinary {
+                        faces,
+                        stacks: &[],
+                        i: 0,
+                        most: 1,
+                        source: Source::Fans(old),
+                        give: handoff.map(|h| (h, &offsets.0, gives, i * chunk)),
+                        base,
+                        num: out_num,
+                        out,
+                        layout: layouts.0,
+                        spare: grown(&mut scratch.spare, 3 * k * 3),
+                        interiors: Writers::new(WRITERS, writers),
+                        edges: Writers::new(WRITERS, writers),
+                    };
+                    kernel.run(simd, buf, &mut w);
+                    w.interiors.finish();
+                    w.edges.finish();
+                    if streaming {
+                        stream::fence();
+                    }
+                    return lap(&mut clock);
+                }
                 // The last level's interior of a face: staged whole, if it fits the stage, and
                 // written as one run (consecutive faces' runs continue each other); else one
                 // writer per row (a row's strips continue each other, so only a row's two ends
@@ -2004,14 +2060,14 @@ struct Ordinary<'a, 'w, T> {
     i: usize,
     /// Faces in a stack at most ([`Refiner::set_stack`]).
     most: usize,
-    table: &'a [u32],
-    start: &'a [[T; 3]],
+    source: Source<'a, T>,
+    /// Where each face loaded hands its corners' 1-ring points on ([`Handoff::give`]: the
+    /// handoff, the offsets of the loaded patch, the box, the slot of the first face).
+    give: Option<(&'a Handoff, &'a Offsets, &'a SharedOut<T>, usize)>,
     base: &'a Base<'a>,
     num: &'a Numbering,
     out: &'a SharedOut<T>,
     layout: Layout,
-    /// The start step (for the phantoms).
-    first: usize,
     /// Room for three edge runs: columns 1 and 3 gathered, and a row reversed.
     spare: &'w mut [T],
     interiors: Writers<'a, T>,
@@ -2029,6 +2085,24 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     fn load(&mut self, i: usize, most: usize, patch: &mut [T]) -> usize {
         let m = self.layout.side;
         let n0 = m - 3;
+        let (table, start, first) = match self.source {
+            Source::Start {
+                table,
+                start,
+                first,
+            } => (table, start, first),
+            Source::Fans(patches) => {
+                let len = m * m * 3;
+                patch[..len].copy_from_slice(&patches[i * len..][..len]);
+                if let Some((handoff, offsets, to, slot)) = self.give {
+                    // SAFETY: each point of the box has one giver, and nothing reads it
+                    // until the workers are done (`Refiner::fan_faces`).
+                    unsafe { handoff.give(slot + i, (&patch[..len], offsets), None, to) };
+                }
+                self.i = i;
+                return 1;
+            }
+        };
         let mut stack = 1;
         let most = most.min(self.most);
         while stack < most && i + stack < self.faces.len() && self.stacks[i + stack - 1] {
@@ -2036,11 +2110,11 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         }
         for q in 0..stack {
             let f = self.faces[i + q] as usize;
-            let table = &self.table[f * m * m..][..m * m];
+            let table = &table[f * m * m..][..m * m];
             let from = if q == 0 { 0 } else { 3 };
             load_rows(
                 table,
-                self.start,
+                start,
                 self.layout,
                 &mut patch[q * n0 * m * 3..],
                 from,
@@ -2049,7 +2123,7 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
         let f = self.faces[i];
         if stack == 1 {
             self.base
-                .load_phantoms((f, n0 as i64, self.first), self.layout, patch);
+                .load_phantoms((f, n0 as i64, first), self.layout, patch);
         }
         self.i = i;
         stack
@@ -2142,6 +2216,21 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
             unsafe { self.interiors.run(at, rows.inside()) };
         }
     }
+}
+
+/// Where the composed kernel's faces take their patches from.
+#[derive(Clone, Copy)]
+enum Source<'a, T> {
+    /// Gathered from the start level by its table, phantoms set by step `first`'s rules
+    /// (ordinary faces, every depth-first step composed).
+    Start {
+        table: &'a [u32],
+        start: &'a [[T; 3]],
+        first: usize,
+    },
+    /// The fan faces' patches of the level before the last, one after the other, phantoms
+    /// set, row-major (their last step).
+    Fans(&'a [T]),
 }
 
 /// The points of `line` in reverse order, in `spare`.
