@@ -329,12 +329,14 @@ impl Plan {
 const BETWEEN: usize = 1024;
 
 /// Old side (ring included) up to which the fan faces' last step runs by the composed kernel
-/// (`patch/composed.rs`, its matrix the last plan's) rather than by strips: the tensor
-/// product of one step is a composed patch of one plan, and a fan face's EV corners change
-/// nothing there (their missing diagonals reach none of its points, \[G\] Prop. 4.8; the
-/// children are set afterwards). On the split icosphere(3) under uniform binary (one thread,
-/// alternated) the last level took 15–20 % less time at sides 7 and 11 (3 and 4 steps) and
-/// the same at side 19 (5 steps), where the kernel's rows outgrow its tiles.
+/// (`patch/composed.rs`, its matrix the last plan's) rather than by strips, where its rows
+/// fill their tiles ([`Composed::fills_tiles`]): the tensor product of one step is a composed
+/// patch of one plan, and a fan face's EV corners change nothing there (their missing
+/// diagonals reach none of its points, \[G\] Prop. 4.8; the children are set afterwards). On
+/// the split icosphere(3), one thread, alternated, the last level took 15–20 % less time
+/// under uniform binary at sides 7 and 11 (3 and 4 steps: N' = 8 and 16, tiles filled to
+/// 100 and 88 %) and the same at side 19 (5 steps, the x pass's m columns a row outweigh
+/// the strips' band); under Fibonacci 40 % more at N' = 10 (59 %).
 const FAN_COMPOSED_SIDE: usize = 16;
 
 /// Values of a fan face's interior staged before they are written (64 KiB of f64).
@@ -1412,10 +1414,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let fan_last = plans
             .last()
             .filter(|p| !fan_faces.is_empty() && p.old_side <= FAN_COMPOSED_SIDE);
-        let fan_last = fan_last.map(|p| {
-            let rows = p.rows.iter().map(|r| &p.parents[r.clone()]).collect();
-            Composed::new(p.old_side, &composed::compose(p.old_side, [rows]))
-        });
+        let fan_last = fan_last
+            .map(|p| {
+                let rows = p.rows.iter().map(|r| &p.parents[r.clone()]).collect();
+                Composed::new(p.old_side, &composed::compose(p.old_side, [rows]))
+            })
+            .filter(Composed::fills_tiles);
         let mut fan_slot = vec![u32::MAX; nf];
         for (i, &f) in fan_faces.iter().enumerate() {
             fan_slot[f as usize] = i as u32;
@@ -1722,6 +1726,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     table,
                     start,
                     first,
+                    phantoms: true,
                 },
                 give: None,
                 base,
@@ -1761,14 +1766,19 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let streaming = self.streams_output();
         let [old, new] = &mut self.fans;
         let faces = self.fan_faces.len();
-        let start = grown(old, faces * m * m * 3);
+        let hands_rings = self.handoff.as_ref().is_some_and(Handoff::hands_rings);
+        // With one step, taken by the composed kernel, the kernel gathers each fan face's
+        // patch from the start level itself, as it does an ordinary face's; else they are
+        // gathered here, for the lock-step.
+        let gathered = !(self.plans.len() == 1 && self.fan_last.is_some());
+        let start = grown(old, if gathered { faces * m * m * 3 } else { 0 });
         for (patch, &f) in start.chunks_exact_mut(m * m * 3).zip(&self.fan_faces) {
             let t = &self.start_gather[f as usize * m * m..][..m * m];
             let layout = ring_layout(self.start_num.n, a_is_x);
             // A point the start level does not have (an EV's diagonal) loads as zero: on a
             // mesh without features (whose box hands the rings) that is every phantom.
             load(t, &self.start, layout, patch);
-            if !self.handoff.as_ref().is_some_and(Handoff::hands_rings) {
+            if !hands_rings {
                 self.base
                     .load_phantoms((f, self.start_num.n, start_level), layout, patch);
             }
@@ -1777,8 +1787,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let out = SharedOut::new(&mut self.output);
         let handoff = self.handoff.as_ref();
         let (fan_last, base, simd) = (self.fan_last.as_ref(), &self.base, self.simd);
-        // Whether the box also hands the ring points next to the EV corners.
-        let hands_rings = handoff.is_some_and(Handoff::hands_rings);
+        let (table, start) = (&self.start_gather[..], &self.start[..]);
         let handed = &mut self.handed;
         handed.resize(handoff.map_or(0, Handoff::len), [T::default(); 3]);
         for (s, plan) in self.plans.iter().enumerate() {
@@ -1792,12 +1801,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let gives = &SharedOut::new(handed);
             // Each worker's faces' patches, old and new (none kept after the last step).
             let (old_len, new_len) = (patch_len(n), if last { 0 } else { patch_len(n_new) });
-            let olds = &old[..faces * old_len];
+            let olds = &old[..if gathered { faces * old_len } else { 0 }];
             let news = pieces(grown(new, faces * new_len), chunk * new_len, self.threads);
             let work = self
                 .fan_faces
                 .chunks(chunk)
-                .zip(olds.chunks(chunk * old_len))
+                .zip(
+                    olds.chunks(chunk * old_len)
+                        .chain(std::iter::repeat(&[][..])),
+                )
                 .zip(news)
                 .zip(&mut self.scratch)
                 .enumerate();
@@ -1815,7 +1827,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         stacks: &[],
                         i: 0,
                         most: 1,
-                        source: Source::Fans(old),
+                        source: if gathered {
+                            Source::Fans(old)
+                        } else {
+                            Source::Start {
+                                table,
+                                start,
+                                first: start_level,
+                                phantoms: !hands_rings,
+                            }
+                        },
                         give: handoff.map(|h| (h, &offsets.0, gives, i * chunk)),
                         base,
                         num: out_num,
@@ -1949,7 +1970,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                 })
                             }
                             _ => {
-                                let at = |f, x, y| *fans.point(f, x, y);
+                                let at = |f: u32, x: i64, y: i64| match gathered {
+                                    true => *fans.point(f, x, y),
+                                    // The start level's point, by the kernel's table.
+                                    false => {
+                                        let t = f as usize * m * m;
+                                        start[table[t + (x + 1) as usize * m + (y + 1) as usize]
+                                            as usize]
+                                    }
+                                };
                                 vertex_child(base, (v, rule, alpha), (plan, ring, k), n, at)
                             }
                         })
@@ -2085,45 +2114,47 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
     fn load(&mut self, i: usize, most: usize, patch: &mut [T]) -> usize {
         let m = self.layout.side;
         let n0 = m - 3;
-        let (table, start, first) = match self.source {
+        let stack = match self.source {
             Source::Start {
                 table,
                 start,
                 first,
-            } => (table, start, first),
+                phantoms,
+            } => {
+                let mut stack = 1;
+                let most = most.min(self.most);
+                while stack < most && i + stack < self.faces.len() && self.stacks[i + stack - 1] {
+                    stack += 1;
+                }
+                for q in 0..stack {
+                    let f = self.faces[i + q] as usize;
+                    let table = &table[f * m * m..][..m * m];
+                    let from = if q == 0 { 0 } else { 3 };
+                    load_rows(
+                        table,
+                        start,
+                        self.layout,
+                        &mut patch[q * n0 * m * 3..],
+                        from,
+                    );
+                }
+                if stack == 1 && phantoms {
+                    let f = self.faces[i];
+                    self.base
+                        .load_phantoms((f, n0 as i64, first), self.layout, patch);
+                }
+                stack
+            }
             Source::Fans(patches) => {
                 let len = m * m * 3;
                 patch[..len].copy_from_slice(&patches[i * len..][..len]);
-                if let Some((handoff, offsets, to, slot)) = self.give {
-                    // SAFETY: each point of the box has one giver, and nothing reads it
-                    // until the workers are done (`Refiner::fan_faces`).
-                    unsafe { handoff.give(slot + i, (&patch[..len], offsets), None, to) };
-                }
-                self.i = i;
-                return 1;
+                1
             }
         };
-        let mut stack = 1;
-        let most = most.min(self.most);
-        while stack < most && i + stack < self.faces.len() && self.stacks[i + stack - 1] {
-            stack += 1;
-        }
-        for q in 0..stack {
-            let f = self.faces[i + q] as usize;
-            let table = &table[f * m * m..][..m * m];
-            let from = if q == 0 { 0 } else { 3 };
-            load_rows(
-                table,
-                start,
-                self.layout,
-                &mut patch[q * n0 * m * 3..],
-                from,
-            );
-        }
-        let f = self.faces[i];
-        if stack == 1 {
-            self.base
-                .load_phantoms((f, n0 as i64, first), self.layout, patch);
+        if let Some((handoff, offsets, to, slot)) = self.give {
+            // SAFETY: each point of the box has one giver, and nothing reads it until the
+            // workers are done (`Refiner::fan_faces`).
+            unsafe { handoff.give(slot + i, (&patch[..m * m * 3], offsets), None, to) };
         }
         self.i = i;
         stack
@@ -2221,12 +2252,14 @@ impl<T: Real> Faces<T> for Ordinary<'_, '_, T> {
 /// Where the composed kernel's faces take their patches from.
 #[derive(Clone, Copy)]
 enum Source<'a, T> {
-    /// Gathered from the start level by its table, phantoms set by step `first`'s rules
-    /// (ordinary faces, every depth-first step composed).
+    /// Gathered from the start level by its table (a missing point as zero), phantoms set by
+    /// step `first`'s rules if `phantoms` (ordinary faces, every depth-first step composed;
+    /// fan faces whose only step is the last).
     Start {
         table: &'a [u32],
         start: &'a [[T; 3]],
         first: usize,
+        phantoms: bool,
     },
     /// The fan faces' patches of the level before the last, one after the other, phantoms
     /// set, row-major (their last step).

@@ -145,6 +145,12 @@ impl<T: Real> Composed<T> {
         }
     }
 
+    /// Whether its refined rows fill at least three quarters of their tiles (the kernel sums
+    /// whole tiles of [`TILE`] values).
+    pub(super) fn fills_tiles(&self) -> bool {
+        4 * (PAD + 3 * self.first.len()) >= 3 * self.width
+    }
+
     /// Scratch values a stack of faces needs: the start patch, the rows refined along x, a
     /// face's final rows and the row it shares with the next face.
     pub(super) fn scratch_len(&self) -> usize {
