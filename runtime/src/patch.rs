@@ -732,9 +732,10 @@ impl Base<'_> {
     /// neighbours' new patches: every row across an edge not sharp at step k, and the
     /// diagonal across each ordinary interior corner. Rows toward faces that are not in
     /// lock-step keep the values f's own step gave them (exact there: nothing at those points
-    /// changes between steps). On a mesh without features f's own step gives every ring
-    /// point but the two next to each EV corner (its diagonal is missing, and with contained
-    /// masks it reaches only those and the EV child, \[G\] Prop. 4.8): only those are copied.
+    /// changes between steps). On a mesh without features, or where f had no phantom but its
+    /// EV corners' diagonals in the step before, f's own step gives every ring point but the
+    /// two next to each EV corner (its diagonal is missing, and with contained masks it
+    /// reaches only those and the EV child, \[G\] Prop. 4.8): only those are copied.
     fn refresh_ring<T: Real>(
         &self,
         (f, n, k): (u32, i64, usize),
@@ -750,7 +751,10 @@ impl Base<'_> {
         // Each edge's ring row is the row next to the edge in the face across: both run with
         // a constant step, so the row is copied point by point at two strides. The points
         // read are inside their face and those written outside f, so none is both.
-        let plain = self.features.is_plain();
+        // A face with no phantom beside its EV corners' diagonals in the step just taken
+        // (k − 1; nor after it: sharpness only decays) computed its whole new ring itself, as
+        // on a mesh without features, but the two points next to each EV corner.
+        let plain = self.features.is_plain() || !self.rules(f, k - 1).has_phantoms_beside_evs();
         let ev = |c: u8| self.lockstep[self.topo.vertex(f, c % 4) as usize];
         for l in 0..4u8 {
             let Some((g, gl, back)) = self.across(f, l).filter(|_| !rules.sharp[l as usize]) else {
