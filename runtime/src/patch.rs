@@ -1776,13 +1776,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         // gathered here, for the lock-step.
         let gathered = !(self.plans.len() == 1 && self.fan_last.is_some());
         let start = grown(old, if gathered { faces * m * m * 3 } else { 0 });
-        for (patch, &f) in start.chunks_exact_mut(m * m * 3).zip(&self.fan_faces) {
+        let chunks = start.chunks_exact_mut(m * m * 3).zip(&self.fan_faces);
+        for (s, (patch, &f)) in chunks.enumerate() {
             let t = &self.start_gather[f as usize * m * m..][..m * m];
             let layout = ring_layout(self.start_num.n, a_is_x);
-            // A point the start level does not have (an EV's diagonal) loads as zero: on a
-            // mesh without features (whose box hands the rings) that is every phantom.
+            // A point the start level does not have (an EV's diagonal) loads as zero: for a
+            // face whose box hands its ring that is every phantom.
             load(t, &self.start, layout, patch);
-            if !hands_rings {
+            if !self.handoff.as_ref().is_some_and(|h| h.hands_ring(s)) {
                 self.base
                     .load_phantoms((f, self.start_num.n, start_level), layout, patch);
             }
@@ -2005,7 +2006,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 let (faces, slot) = (&self.fan_faces, &self.fan_slot);
                 // The ring points each face takes from its neighbours, all read before any
                 // patch changes (they are inside the neighbours, where nothing below writes);
-                // on a mesh without features they were handed on during the step.
+                // those of a face without phantoms beside its EV corners were handed on
+                // during the step.
                 let chunk = faces.len().div_ceil(self.threads).max(BETWEEN);
                 let new_level = &new[..faces.len() * new_len];
                 let rings = if hands_rings {
@@ -2013,7 +2015,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 } else {
                     in_threads(faces.chunks(chunk), |faces| {
                         let mut got = Vec::new();
-                        for &f in faces {
+                        let handed = |f: u32| {
+                            handoff.is_some_and(|h| h.hands_ring(slot[f as usize] as usize))
+                        };
+                        for &f in faces.iter().filter(|&&f| !handed(f)) {
                             let mut put = |at, p| got.push((f, at, p));
                             let new = new_level;
                             base.refresh_ring((f, n_new, k + 1), layout, slot, new, &mut put);
@@ -2041,7 +2046,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         while let Some((_, at, p)) = got.next_if(|g| g.0 == f) {
                             patch[at..at + 3].copy_from_slice(&p);
                         }
-                        match handoff.filter(|_| hands_rings) {
+                        match handoff.filter(|h| h.hands_ring(i * chunk + q)) {
                             Some(h) => h.take(i * chunk + q, &offsets.1, handed, patch),
                             None => base.load_phantoms((f, n_new, k + 1), layout, patch),
                         }

@@ -1,15 +1,15 @@
 //! What the fan faces read from each other between two lock-step levels
-//! (`Refiner::fan_faces`): each EV's old 1-ring, for its child (\[G\] §3), and, on a mesh
-//! without features, per EV corner the two new ring points next to it, which the face's own
-//! step cannot give (its diagonal is missing; with contained masks it reaches only those and
+//! (`Refiner::fan_faces`): each EV's old 1-ring, for its child (\[G\] §3), and, for a face
+//! without phantoms beside its EV corners' diagonals, per EV corner the two new ring points
+//! next to it, which the face's own step cannot give (its diagonal is missing; with contained masks it reaches only those and
 //! the EV child, \[G\] Prop. 4.8). Read from the neighbours' patches after the step, these were
 //! cache misses (a quarter of the time on a triangle mesh, every face at an EV, and 13 % on
 //! the open one: `perf`, docs/benchmarks.md). Here each face's worker pushes them into one
 //! small box right after the face's step, while both of its patches are in cache, and the EV
 //! children and the rings read the box in order. The same values are copied and summed in
-//! the same order: the same bits. On a mesh with features the rings take whole rows from the
-//! neighbours and the phantoms are made from them (`Base::refresh_ring`): there the box holds
-//! the 1-rings only.
+//! the same order: the same bits. A face with other phantoms (an edge sharp, a corner set by
+//! its kind) takes whole rows from its neighbours and makes its phantoms from them
+//! (`Base::refresh_ring`).
 
 use super::{Base, Layout, SharedOut, Spot};
 use crate::features::CornerKind;
@@ -100,7 +100,11 @@ pub(super) struct Handoff {
     /// Per face slot, its corners at an EV (bit c), whose diagonal ring point does not exist
     /// and is kept zero (the face's only phantoms, `Base::phantoms`).
     ev_corners: Vec<u8>,
-    /// Whether the box holds the ring points too (a mesh without features).
+    /// Per face slot, whether its own step gives its ring but the points it takes from the
+    /// box ([`Handoff::take`]): no phantom beside its EV corners' diagonals from step 0 on
+    /// (sharpness only decays).
+    ring: Vec<bool>,
+    /// Whether every face's is (a mesh without features).
     rings: bool,
     /// Special vertex i's old 1-ring in the box from `ring_at[i]`: the vertex, then per wedge
     /// of its rotation the spoke shared with the wedge before and the diagonal.
@@ -123,28 +127,28 @@ pub(super) fn bytes_per_fan_face(point: u128) -> u128 {
 
 impl Handoff {
     /// The handoff of `fans` (fan faces, and each face's slot among them): the 1-rings, and
-    /// on a mesh without features the ring points; `None` where a special vertex's face is
-    /// not a fan face, or a mesh without features has a corner of another kind.
+    /// the ring points of the faces without phantoms beside their EV corners' diagonals;
+    /// `None` where a special vertex's face is not a fan face.
     pub(super) fn new(base: &Base<'_>, fans: &[u32], slot: &[u32]) -> Option<Handoff> {
-        let rings = base.features.is_plain();
         let topo = base.topo;
         let slot_of = |f: u32| slot.get(f as usize).copied().filter(|&s| s != u32::MAX);
         let mut gives: Vec<Vec<Give>> = vec![Vec::new(); fans.len()];
         // The rings: across edge l of face f, at each end whose vertex is in lock-step, the
         // point of the face g across one step inside from the shared edge.
         let (mut take_at, mut takes) = (vec![0u32], Vec::new());
-        let mut ev_corners = Vec::with_capacity(fans.len());
-        for &f in fans.iter().filter(|_| rings) {
+        let (mut ev_corners, mut ring) = (Vec::with_capacity(fans.len()), Vec::new());
+        for &f in fans {
+            // A face with a phantom beside its EV corners' diagonals (on a mesh with
+            // features) takes its ring from its neighbours' rows (`Base::refresh_ring`).
             let rules = base.rules(f, 0);
-            let mut ev = 0u8;
-            for (c, kind) in rules.corners.iter().enumerate() {
-                match kind {
-                    CornerKind::Real => {}
-                    CornerKind::Ev => ev |= 1 << c,
-                    _ => return None,
-                }
+            let own = !rules.has_phantoms_beside_evs();
+            ring.push(own);
+            let evs = rules.corners.iter().enumerate();
+            ev_corners.push(evs.fold(0u8, |e, (c, k)| e | (u8::from(*k == CornerKind::Ev) << c)));
+            if !own {
+                take_at.push(takes.len() as u32);
+                continue;
             }
-            ev_corners.push(ev);
             let lockstep = |c: u8| base.lockstep[topo.vertex(f, c % 4) as usize];
             for l in 0..4u8 {
                 let Some((g, gl, back)) = base.across(f, l) else {
@@ -204,16 +208,24 @@ impl Handoff {
             take_at,
             takes,
             ev_corners,
-            rings,
+            rings: base.features.is_plain(),
+            ring,
             ring_at,
             len,
         })
     }
 
-    /// Whether the box holds the ring points next to the EV corners too, which
-    /// [`Handoff::take`] sets (a mesh without features).
+    /// Whether every face's ring is its own step's and the points next to its EV corners
+    /// from the box ([`Handoff::hands_ring`]): a mesh without features.
     pub(super) fn hands_rings(&self) -> bool {
         self.rings
+    }
+
+    /// Whether face slot s's ring is its own step's and the points next to its EV corners
+    /// from the box, which [`Handoff::take`] sets (else it is refreshed from its neighbours'
+    /// rows, `Base::refresh_ring`).
+    pub(super) fn hands_ring(&self, s: usize) -> bool {
+        self.ring[s]
     }
 
     /// Points in the box.
