@@ -2085,10 +2085,12 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     }
 }
 
-/// A worker's run of ordinary faces for [`Composed::run`]: where their start patches are and
-/// where their points go. Each face owns its interior and the edges it meets first
-/// (`Numbering`), and faces are taken in order, so a worker's interiors and its edges are two
-/// ascending runs of the output ([`Stream`]); corners are written as they come.
+/// A worker's run of faces for [`Composed::run`] (ordinary faces, or fan faces at their last
+/// step): where their start patches are ([`Source`]) and where their points go. Each face owns
+/// its interior and the edges it meets first (`Numbering`), and faces are taken in order, so
+/// a worker's interiors and its edges are two ascending runs of the output ([`Stream`]);
+/// corners are written as they come (a fan face's corners at special vertices are written
+/// again by their children afterwards).
 struct Ordinary<'a, 'w, T> {
     faces: &'a [u32],
     /// Per face: whether the next face stacks on it ([`Faces::load`]); a stack ends with the
