@@ -1154,7 +1154,11 @@ fn an_open_creased_triangle_mesh_starts_level_by_level() {
                 };
                 let (lead, alone) = refine(&topo, &mesh, &features);
                 let (none, together) = refine(&topo_both, &both, &features);
-                assert_eq!(none, 0, "{name}, {steps} steps");
+                // A refinement to side 2 runs level by level on any mesh (`patch/direct.rs`);
+                // past it the mesh with the torus beside it composes its steps.
+                if s.tables().image_len(s.tables().axiom, steps) > 2 {
+                    assert_eq!(none, 0, "{name}, {steps} steps");
+                }
                 if name == "uniform-binary" {
                     assert!(lead >= steps.min(2), "{name}, {steps} steps: {lead}");
                 }

@@ -341,7 +341,7 @@ fn a_triangle_mesh_hands_its_rings_on() {
 /// computing the points it owns from the level before (`patch/direct.rs`): every step of the
 /// split icosphere refined once or twice by uniform binary, some of them for the other
 /// schemes; the reference driver's points in f64 and f32, on one to three threads, bit for bit
-/// the same. A mesh of mostly ordinary faces has none.
+/// the same. A mesh of mostly ordinary faces has none past side 2.
 #[test]
 fn a_mesh_of_small_fans_starts_level_by_level() {
     use lsubdiv::runtime::patch::Refiner;
@@ -376,12 +376,13 @@ fn a_mesh_of_small_fans_starts_level_by_level() {
             let d = d.fold(0.0, f64::max);
             assert!(d < 1e-5, "{name}, {steps} steps, f32: {d:e}");
         }
-        assert!(
-            Refiner::<_, f64>::new(&s, &Topology::build(&grid_cube(4)).unwrap(), 2, 1)
-                .unwrap()
-                .level_steps()
-                == 0
-        );
+        // Past side 2, to which every mesh runs level by level.
+        let mostly_ordinary = Topology::build(&grid_cube(4)).unwrap();
+        let level_steps = Refiner::<_, f64>::new(&s, &mostly_ordinary, 2, 1)
+            .unwrap()
+            .level_steps();
+        let side = s.tables().image_len(s.tables().axiom, 2);
+        assert!(side <= 2 || level_steps == 0, "{name}: {level_steps}");
     }
 }
 

@@ -37,19 +37,40 @@ const SIDE: i64 = 4;
 /// worker's 1.7.
 const PER_WORKER: usize = 16384;
 
+/// The largest side N' of a whole refinement that runs level by level on any mesh. At N' = 2
+/// (one binary step) the composed kernel's fixed costs per face — its gather, a tile of 32
+/// values for 14, its writers' runs of single points — made it half as fast as this step
+/// (one thread, alternated, M/s composed against level by level: torus 256 × 256 uniform
+/// binary 27–41 against 69–86, Fibonacci 42 against 76–83, the creased torus 34–37 against
+/// 73–75, grid-cube:64 34 against 88); at N' = 3 (Binary-Ternary's step) they were even, and
+/// at N' = 4 (two steps) the composed kernel 1.5× faster.
+const ALONE: i64 = 2;
+
 /// How many of the leading depth-first steps (new sides `sides`, in order) run level by
-/// level: on a mesh whose faces are at least half fans, those to a side of at most
-/// [`SIDE`]; none elsewhere (a mesh of ordinary faces composes every step,
-/// `patch/composed.rs`, which a stored level would only slow down).
+/// level: all of them where the last side is at most [`ALONE`]; on a mesh whose faces are
+/// at least half fans, those to a side of at most [`SIDE`]; none elsewhere (a mesh of
+/// ordinary faces composes every step, `patch/composed.rs`, which a stored level would only
+/// slow down).
 pub(super) fn leading(
     base: &Base<'_>,
     fan_faces: usize,
     sides: impl Iterator<Item = i64>,
 ) -> usize {
-    if 2 * fan_faces < base.topo.face_count() {
-        return 0;
+    // Sides never shrink (every symbol rewrites to one or more): stop at the first past SIDE.
+    let (mut small, mut alone) = (0, true);
+    for n in sides {
+        if n > SIDE {
+            alone = false;
+            break;
+        }
+        alone &= n <= ALONE;
+        small += 1;
     }
-    sides.take_while(|&n| n <= SIDE).count()
+    if alone || 2 * fan_faces >= base.topo.face_count() {
+        small
+    } else {
+        0
+    }
 }
 
 /// One step run level by level: level k (side N, numbered `old`) to level k + 1 (`new`).
@@ -299,12 +320,14 @@ impl Step {
                 }
             }
             // Along y, only the points the face writes: its interior rows straight into its
-            // run of the level, then each border point it owns.
-            // SAFETY: face f is the only writer of its interior.
-            let inside = unsafe { out.run(self.new.interior(f), k * k) }.as_flattened_mut();
-            for (yn, dst) in (1..side - 1).zip(inside.chunks_exact_mut(k * 3)) {
-                let w = &weights[yn * band..][..band];
-                banded(dst, w, &across[self.lo[yn] * row + 3..], (k * 3, row));
+            // run of the level (none at N' = 1), then each border point it owns.
+            if k > 0 {
+                // SAFETY: face f is the only writer of its interior.
+                let inside = unsafe { out.run(self.new.interior(f), k * k) }.as_flattened_mut();
+                for (yn, dst) in (1..side - 1).zip(inside.chunks_exact_mut(k * 3)) {
+                    let w = &weights[yn * band..][..band];
+                    banded(dst, w, &across[self.lo[yn] * row + 3..], (k * 3, row));
+                }
             }
             let border = self.border_at[f] as usize..self.border_at[f + 1] as usize;
             for &(g, i) in &self.border[border] {
