@@ -23,8 +23,8 @@
 //! next to the corner. Faces with an EV corner therefore advance in lock-step: after each step
 //! the EV child is set from its old 1-ring, (α·P + Σ_k (E1·R_k + E2·D_k)) / (α + n(E1 + E2)),
 //! and those two ring points are copied from the neighbouring faces of the fan, which own them
-//! (each face hands its corners' 1-ring points on right after its step, and on a mesh without
-//! features those ring points too, `patch/handoff.rs`).
+//! (each face hands its corners' 1-ring points on right after its step, and those ring points
+//! too where it has no other phantom, `patch/handoff.rs`).
 //! On a mesh whose faces are mostly at EVs (a triangle mesh split into quads)
 //! the first such steps, while patches are small, run level by level instead, each face
 //! computing only the points it owns (`patch/direct.rs`).
@@ -148,6 +148,11 @@ impl Plan {
             complete,
             simd: Simd::detect(),
         })
+    }
+
+    /// Per new point, its parents (old point index x + 1, weight).
+    fn parent_rows(&self) -> Vec<&[(usize, f64)]> {
+        self.rows.iter().map(|r| &self.parents[r.clone()]).collect()
     }
 
     /// Side of the new patch, ring included.
@@ -1247,8 +1252,8 @@ pub struct Refiner<'s, S, T> {
     stacks: Vec<bool>,
     fan_faces: Vec<u32>,
     fan_slot: Vec<u32>,
-    /// What the fan faces hand each other between levels (the 1-rings, and on a mesh
-    /// without features the ring points), and its box ([`Handoff`]).
+    /// What the fan faces hand each other between levels (the 1-rings, and the ring points
+    /// of faces without other phantoms), and its box ([`Handoff`]).
     handoff: Option<Handoff>,
     handed: Vec<[T; 3]>,
     threads: usize,
@@ -1410,18 +1415,20 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .collect::<Result<_, _>>()?;
         let (ordinary, stacks) = base.chains(&ordinary, start_level);
         let composed = (!plans.is_empty()).then(|| {
-            let rows = plans
-                .iter()
-                .map(|p| p.rows.iter().map(|r| &p.parents[r.clone()]).collect());
-            Composed::new(m.side, &composed::compose(m.side, rows))
+            Composed::new(
+                m.side,
+                &composed::compose(m.side, plans.iter().map(Plan::parent_rows)),
+            )
         });
         let fan_last = plans
             .last()
             .filter(|p| !fan_faces.is_empty() && p.old_side <= FAN_COMPOSED_SIDE);
         let fan_last = fan_last
             .map(|p| {
-                let rows = p.rows.iter().map(|r| &p.parents[r.clone()]).collect();
-                Composed::new(p.old_side, &composed::compose(p.old_side, [rows]))
+                Composed::new(
+                    p.old_side,
+                    &composed::compose(p.old_side, [p.parent_rows()]),
+                )
             })
             .filter(Composed::fills_tiles);
         let mut fan_slot = vec![u32::MAX; nf];
@@ -1977,11 +1984,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                             _ => {
                                 let at = |f: u32, x: i64, y: i64| match gathered {
                                     true => *fans.point(f, x, y),
-                                    // The start level's point, by the kernel's table.
+                                    // The start level's point, by the kernel's table (x-major).
                                     false => {
-                                        let t = f as usize * m * m;
-                                        start[table[t + (x + 1) as usize * m + (y + 1) as usize]
-                                            as usize]
+                                        let at = ring_layout(n, true).at(x, y) / 3;
+                                        start[table[f as usize * m * m + at] as usize]
                                     }
                                 };
                                 vertex_child(base, (v, rule, alpha), (plan, ring, k), n, at)

@@ -1,8 +1,8 @@
 //! What the fan faces read from each other between two lock-step levels
 //! (`Refiner::fan_faces`): each EV's old 1-ring, for its child (\[G\] §3), and, for a face
 //! without phantoms beside its EV corners' diagonals, per EV corner the two new ring points
-//! next to it, which the face's own step cannot give (its diagonal is missing; with contained masks it reaches only those and
-//! the EV child, \[G\] Prop. 4.8). Read from the neighbours' patches after the step, these were
+//! next to it, which the face's own step cannot give (its diagonal is missing; with contained
+//! masks it reaches only those and the EV child, \[G\] Prop. 4.8). Read from the neighbours' patches after the step, these were
 //! cache misses (a quarter of the time on a triangle mesh, every face at an EV, and 13 % on
 //! the open one: `perf`, docs/benchmarks.md). Here each face's worker pushes them into one
 //! small box right after the face's step, while both of its patches are in cache, and the EV
@@ -104,7 +104,8 @@ pub(super) struct Handoff {
     /// box ([`Handoff::take`]): no phantom beside its EV corners' diagonals from step 0 on
     /// (sharpness only decays).
     ring: Vec<bool>,
-    /// Whether every face's is (a mesh without features).
+    /// Whether every face's is (a mesh without features, or one whose features are
+    /// only away from the fan faces).
     rings: bool,
     /// Special vertex i's old 1-ring in the box from `ring_at[i]`: the vertex, then per wedge
     /// of its rotation the spoke shared with the wedge before and the diagonal.
@@ -208,7 +209,7 @@ impl Handoff {
             take_at,
             takes,
             ev_corners,
-            rings: base.features.is_plain(),
+            rings: ring.iter().all(|&r| r),
             ring,
             ring_at,
             len,
@@ -216,7 +217,7 @@ impl Handoff {
     }
 
     /// Whether every face's ring is its own step's and the points next to its EV corners
-    /// from the box ([`Handoff::hands_ring`]): a mesh without features.
+    /// from the box ([`Handoff::hands_ring`]).
     pub(super) fn hands_rings(&self) -> bool {
         self.rings
     }
