@@ -15,7 +15,7 @@ use std::process::Command;
 
 fn run(args: &[String]) -> Value {
     let out = Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
-        .arg("bench")
+        .args(["bench", "--json"])
         .args(args)
         .output()
         .expect("lsubdiv bench runs");

@@ -345,6 +345,7 @@ fn bench_json_has_the_documented_fields() {
     // = 256 + 512·3 + 256·9 = 4096 output vertices; both steps run depth first.
     let v = json(&[
         "bench",
+        "--json",
         "--mesh",
         "torus:16:16",
         "--scheme",
@@ -382,6 +383,7 @@ fn bench_json_has_the_documented_fields() {
     // `--simd` picks the kernels' instruction set, and the JSON says which ran.
     let v = json(&[
         "bench",
+        "--json",
         "--mesh",
         "torus:8:8",
         "--runs",
@@ -390,6 +392,26 @@ fn bench_json_has_the_documented_fields() {
         "baseline",
     ]);
     assert_eq!(v["simd"], "baseline");
+    // Without `--json`, one summary line naming the same run.
+    let o = lsubdiv(&[
+        "bench",
+        "--mesh",
+        "torus:8:8",
+        "--steps",
+        "1",
+        "--runs",
+        "1",
+        "--simd",
+        "baseline",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let line = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(line.lines().count(), 1, "{line}");
+    assert!(
+        line.starts_with("torus:8:8, uniform-binary, 1 step (generated path, f64, baseline, 1 thread): 256 output vertices in ")
+            && line.contains(" M vertices/s (median of 1)"),
+        "{line}"
+    );
 }
 
 /// Long runs show their stages on a terminal (here a pseudo-terminal made by `script`, from

@@ -102,6 +102,7 @@ fn ply_of_every_encoding_refines_as_the_same_obj() {
     assert!(png(&ply, "ply.png") == png(&obj.display().to_string(), "obj.png"));
     let v = json(&[
         "bench",
+        "--json",
         "--mesh",
         &ply,
         "--scheme",

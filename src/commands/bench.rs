@@ -41,6 +41,9 @@ pub struct BenchArgs {
     limit: MemoryLimit,
     #[command(flatten)]
     boundary: BoundaryArgs,
+    /// One JSON object (every field: phases, levels, memory) instead of the summary line.
+    #[arg(long)]
+    json: bool,
 }
 
 /// `--simd`: the kernels' instruction set ([`Simd`]).
@@ -61,7 +64,7 @@ impl SimdArg {
     }
 }
 
-/// One JSON line per configuration.
+/// One line: a summary, or with `--json` one JSON object.
 pub fn run(a: BenchArgs) -> Result<(), Error> {
     let BenchArgs {
         mesh,
@@ -74,6 +77,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         simd,
         limit,
         boundary,
+        json,
     } = a;
     let best = Simd::detect();
     let simd = match simd.map(SimdArg::simd) {
@@ -131,19 +135,49 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         },
     )
     .map_err(Error::input)?;
-    println!(
-        "{}",
-        serde_json::json!({
-            "mesh": mesh, "scheme": scheme, "path": implementation.name(),
-            "threads": threads, "steps": steps, "scalar": if f32 { "f32" } else { "f64" },
-            "simd": r.simd.name(),
-            "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
-            "setup_seconds": r.setup_seconds,
-            "mvps": r.mvps(), "peak_rss_bytes": bench::peak_rss_bytes(),
-            "file_rss_bytes": r.file_rss_bytes, "guard_bytes": guard_bytes as u64,
-            "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]},
-            "level_seconds": r.level_seconds, "essential_bytes": r.essential_bytes,
-        })
-    );
+    let scalar = if f32 { "f32" } else { "f64" };
+    let peak_rss = bench::peak_rss_bytes();
+    if json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "mesh": mesh, "scheme": scheme, "path": implementation.name(),
+                "threads": threads, "steps": steps, "scalar": scalar,
+                "simd": r.simd.name(),
+                "output_vertices": r.output_vertices, "median_seconds": r.median_seconds,
+                "setup_seconds": r.setup_seconds,
+                "mvps": r.mvps(), "peak_rss_bytes": peak_rss,
+                "file_rss_bytes": r.file_rss_bytes, "guard_bytes": guard_bytes as u64,
+                "phase_seconds": {"start": r.phase_seconds[0], "ordinary": r.phase_seconds[1], "fans": r.phase_seconds[2]},
+                "level_seconds": r.level_seconds, "essential_bytes": r.essential_bytes,
+            })
+        );
+    } else {
+        let threads = plural(threads, "thread");
+        println!(
+            "{mesh}, {scheme}, {} ({} path, {scalar}, {}, {threads}): {} output vertices \
+             in {:.2} ms, {:.1} M vertices/s (median of {runs}); setup {:.1} ms{}",
+            plural(steps, "step"),
+            implementation.name(),
+            r.simd.name(),
+            r.output_vertices,
+            r.median_seconds * 1e3,
+            r.mvps(),
+            r.setup_seconds * 1e3,
+            peak_rss.map_or(String::new(), |b| format!(
+                "; peak RSS {:.1} MB",
+                b as f64 / 1e6
+            )),
+        );
+    }
     Ok(())
+}
+
+/// `n thing` or `n things`.
+fn plural(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
 }
