@@ -2853,14 +2853,7 @@ impl Cut {
                 }
                 _ => None,
             };
-            next.map(|s| {
-                let [x, y] = topo.edge_vertices(s);
-                if x == a {
-                    y
-                } else {
-                    x
-                }
-            })
+            next.map(|s| topo.other_end(s, a))
         };
         let sharp = (0..topo.edge_count() as u32)
             .filter(|&e| features.edge_sharp(e, 0))

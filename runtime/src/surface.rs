@@ -346,8 +346,7 @@ impl Step<'_> {
         let mut at = v;
         let mut out = vec![label];
         while out.len() < len {
-            let [x, y] = self.topo.edge_vertices(e);
-            let q = if x == at { y } else { x };
+            let q = self.topo.other_end(e, at);
             let qs = self.spokes(q);
             if self.ordinary(q) {
                 let i = qs

@@ -411,6 +411,17 @@ impl Topology {
         self.edge_verts[edge as usize]
     }
 
+    /// The end of `edge` other than `v` (v one of its ends).
+    pub fn other_end(&self, edge: u32, v: u32) -> u32 {
+        let [x, y] = self.edge_vertices(edge);
+        debug_assert!(v == x || v == y, "vertex {v} is not an end of edge {edge}");
+        if x == v {
+            y
+        } else {
+            x
+        }
+    }
+
     /// The sides of an edge as (face, local edge index): the first where the edge is first met
     /// scanning faces in order, the second none on a boundary edge.
     pub fn edge_faces(&self, edge: u32) -> ((u32, u8), Option<(u32, u8)>) {
@@ -667,6 +678,8 @@ mod tests {
                 let mut ends = [t.vertex(f, i), t.vertex(f, (i + 1) % 4)];
                 ends.sort_unstable();
                 assert_eq!(t.edge_vertices(e), ends);
+                let (a, b) = (t.vertex(f, i), t.vertex(f, (i + 1) % 4));
+                assert_eq!((t.other_end(e, a), t.other_end(e, b)), (b, a));
                 // across is an involution and lands on the same edge.
                 let (first, second) = t.edge_faces(e);
                 let Some((g, l)) = t.across(f, i) else {
