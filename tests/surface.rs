@@ -12,7 +12,7 @@ use lsubdiv::runtime::topology::Topology;
 use lsubdiv::{generated, Curve, CurveScheme};
 use lsubdiv_cli::resolve;
 use lsubdiv_testkit::catmull_clark::catmull_clark_steps;
-use lsubdiv_testkit::meshes::capless;
+use lsubdiv_testkit::meshes::{capless, split};
 use lsubdiv_testkit::points::same_points;
 
 fn surface(name: &str) -> GenericSurface {
@@ -390,13 +390,6 @@ fn a_mesh_of_small_fans_starts_level_by_level() {
 /// and its vertex, valence 5 or 6).
 fn split_icosphere(level: usize) -> QuadMesh {
     split(&icosphere(level))
-}
-
-/// A polygon mesh split into quads by one Catmull–Clark step.
-fn split(mesh: &lsubdiv::runtime::polygon::PolyMesh) -> QuadMesh {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::polygon::catmull_clark;
-    catmull_clark(mesh, &Features::default()).unwrap().mesh
 }
 
 /// Where the first steps run by the reference driver (Binary-Ternary's masks are contained at

@@ -305,7 +305,7 @@ const MAX_FACES: usize = 20_000;
 
 /// A small structured input → scheme text → [`scheme::parse`] → [`Scheme::build`] → generic
 /// curve refinement, and, when the scheme passes the surface conditions, the patch path on the
-/// cube. Invariants: the generated text parses; label and point counts agree; a constant
+/// cube or a split icosphere. Invariants: the generated text parses; label and point counts agree; a constant
 /// polygon stays constant (partition of unity); refined points and vertices are finite, and
 /// the patch path's points are the reference driver's.
 pub fn check_pipeline(data: &[u8]) -> Outcome {
@@ -366,17 +366,23 @@ pub fn check_pipeline(data: &[u8]) -> Outcome {
         return Ok(());
     };
     let steps = u.int_in_range(1..=2usize).map_err(|e| e.to_string())?;
-    let cube = generators::cube();
+    // The cube (fans around its EVs, composed patches elsewhere), or a triangle mesh split
+    // into quads, every face at two EVs (level by level, lock-step, the last step composed).
+    let mesh = if bool::arbitrary(&mut u).map_err(|e| e.to_string())? {
+        crate::meshes::split(&generators::icosphere(1))
+    } else {
+        generators::cube()
+    };
     let side = surface.scheme().ls.axiom.len() * max_rule.pow(steps as u32);
-    if cube.faces.len() * side * side > MAX_FACES {
+    if mesh.faces.len() * side * side > MAX_FACES {
         return Err("refined mesh too large".into());
     }
-    let fine = patch::subdivide::<_, f64>(&surface, &cube, steps, 1).map_err(|e| e.to_string())?;
+    let fine = patch::subdivide::<_, f64>(&surface, &mesh, steps, 1).map_err(|e| e.to_string())?;
     let nv = fine.positions.len();
     assert!(fine.faces.iter().flatten().all(|&v| (v as usize) < nv));
     assert!(fine.positions.iter().flatten().all(|x| x.is_finite()));
     // The reference driver (level by level, the whole mesh) makes the same points.
-    let labelled = LabelledMesh::with_axiom(&surface.tables(), cube).map_err(|e| e.to_string())?;
+    let labelled = LabelledMesh::with_axiom(&surface.tables(), mesh).map_err(|e| e.to_string())?;
     let (reference, _) = refine_surface(&surface, &labelled, steps).map_err(|e| e.to_string())?;
     let d = same_points(&fine.positions, &reference.mesh.positions);
     assert!(d < 1e-12, "patch path off the reference driver by {d:e}");

@@ -1,6 +1,8 @@
 //! Test meshes built from the runtime's generators.
 
-use lsubdiv::runtime::polygon::PolyMesh;
+use lsubdiv::runtime::features::Features;
+use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
 
 /// `mesh` without the faces whose every vertex lies above `z` (a cap cut off a closed mesh,
 /// leaving a boundary loop), its vertices renumbered in the order the kept faces reach them.
@@ -24,4 +26,12 @@ pub fn capless(mesh: &PolyMesh, z: f64) -> PolyMesh {
         open.push_face(&kept);
     }
     open
+}
+
+/// A polygon mesh without features split into quads by one Catmull–Clark step: a triangle
+/// mesh becomes a quad mesh whose every face has two EV corners.
+pub fn split(mesh: &PolyMesh) -> QuadMesh {
+    catmull_clark(mesh, &Features::default())
+        .expect("a valid polygon mesh splits")
+        .mesh
 }
