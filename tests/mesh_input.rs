@@ -125,28 +125,74 @@ fn what_subdivide_writes_as_ply_reads_back() {
     std::fs::write(&input, lsubdiv::obj::format(&cube()).unwrap()).unwrap();
     let input = input.display().to_string();
     for steps in ["1", "3"] {
-        let (obj, ply) = (d.join("fine.obj"), d.join("fine.ply"));
-        for out in [&obj, &ply] {
-            let o = lsubdiv(&[
+        let (obj, ply, bin) = (d.join("fine.obj"), d.join("fine.ply"), d.join("bin.ply"));
+        for (out, binary) in [(&obj, None), (&ply, None), (&bin, Some("--binary"))] {
+            let out = out.display().to_string();
+            let mut args = vec![
                 "subdivide",
                 "binary-ternary",
                 "--steps",
                 steps,
                 &input,
                 "-o",
-                &out.display().to_string(),
-            ]);
+                &out,
+            ];
+            args.extend(binary);
+            let o = lsubdiv(&args);
             assert!(o.status.success(), "{}", stderr(&o));
         }
         let from_obj = lsubdiv::read_mesh(&obj, u64::MAX).unwrap();
         let from_ply = lsubdiv::read_mesh(&ply, u64::MAX).unwrap();
         assert!(from_ply.warnings.is_empty(), "{:?}", from_ply.warnings);
         assert_eq!(from_ply.mesh, from_obj.mesh, "{steps} steps");
+        // `--binary`: a binary PLY of the same mesh, bit for bit: 24 bytes a vertex, 17 a quad.
+        assert!(std::fs::read(&bin)
+            .unwrap()
+            .starts_with(b"ply\nformat binary_little_endian 1.0\n"));
+        let from_bin = lsubdiv::read_mesh(&bin, u64::MAX).unwrap();
+        assert!(from_bin.warnings.is_empty(), "{:?}", from_bin.warnings);
+        assert_eq!(from_bin.mesh, from_ply.mesh, "{steps} steps");
+        let bytes = std::fs::read(&bin).unwrap();
+        let end = b"end_header\n";
+        let h = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+        let m = &from_bin.mesh;
+        assert_eq!(bytes.len(), h + 24 * m.positions.len() + 17 * m.faces.len());
         // And once more through the command line: the PLY refines as the OBJ.
         let a = subdivide(&obj.display().to_string(), &d.join("a.obj"));
         let b = subdivide(&ply.display().to_string(), &d.join("b.obj"));
         assert!(a == b, "{steps} steps");
     }
+}
+
+/// `--binary` writes PLY only: asked of an OBJ output (by extension or `-`), it is refused
+/// before anything is read, and nothing is written.
+#[test]
+fn binary_output_is_ply_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("cube.obj");
+    std::fs::write(&input, lsubdiv::obj::format(&cube()).unwrap()).unwrap();
+    let out = dir.path().join("fine.obj");
+    for target in [out.display().to_string(), "-".to_string()] {
+        let input = input.display().to_string();
+        let o = lsubdiv(&[
+            "subdivide",
+            "uniform-binary",
+            "--steps",
+            "1",
+            &input,
+            "-o",
+            &target,
+            "--binary",
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{target}");
+        assert!(
+            stderr(&o).contains("--binary: ") && stderr(&o).contains("name a `.ply` output"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(o.stdout.is_empty());
+    }
+    assert!(!out.exists());
 }
 
 /// The cube as binary little-endian PLY, and where its data begins.

@@ -39,6 +39,10 @@ pub struct SubdivideArgs {
     /// (FVAR_LINEAR_NONE).
     #[arg(long, value_enum, default_value_t = UvArg::Linear)]
     uv: UvArg,
+    /// Binary PLY (little-endian doubles and `uint` indices) instead of ASCII: about a third of
+    /// the size, written several times faster; `.ply` output only.
+    #[arg(long)]
+    binary: bool,
 }
 
 /// `--uv`.
@@ -74,6 +78,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         boundary,
         limit,
         uv,
+        binary,
     } = a;
     check_output(&output)?;
     let format = if output.as_os_str() == "-" {
@@ -85,6 +90,12 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
             &[("obj", MeshFormat::Obj), ("ply", MeshFormat::Ply)],
         )?
     };
+    if binary && matches!(format, MeshFormat::Obj) {
+        return Err(Error::input(format!(
+            "--binary: {} is written as OBJ, a text format; name a `.ply` output",
+            output.display()
+        )));
+    }
     let r = load(&refine.scheme, None)?;
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
@@ -117,10 +128,11 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         uv: uv.as_ref(),
     };
     let bytes = match format {
-        MeshFormat::Obj => lsubdiv::obj::format_with(&fine.mesh, extras)?,
-        MeshFormat::Ply => lsubdiv::ply::format_with(&fine.mesh, extras)?,
+        MeshFormat::Obj => lsubdiv::obj::format_with(&fine.mesh, extras)?.into_bytes(),
+        MeshFormat::Ply if binary => lsubdiv::ply::binary_with(&fine.mesh, extras, false)?,
+        MeshFormat::Ply => lsubdiv::ply::format_with(&fine.mesh, extras)?.into_bytes(),
     };
-    write_atomic(&output, bytes.as_bytes())
+    write_atomic(&output, &bytes)
 }
 
 /// The note for a limit with vertices not derived in closed form, if it has any.
