@@ -396,25 +396,43 @@ impl Resolved {
         k: usize,
     ) -> CornerKind {
         let v = topo.vertex(f, c);
-        let rot = topo.rotation(v);
-        let n = rot.len();
-        let w = rot
+        let w = topo
+            .rotation(v)
             .iter()
             .position(|w| w.face == f && w.corner == c)
             .expect("a face corner is in its vertex's rotation");
+        self.corner_kinds(topo, v, k)[w]
+    }
+
+    /// [`Resolved::corner_kind`] of every wedge of v's rotation at step k, in its order (the
+    /// sharp spokes read once for all of them).
+    pub fn corner_kinds(
+        &self,
+        topo: &crate::topology::Topology,
+        v: u32,
+        k: usize,
+    ) -> Vec<CornerKind> {
+        let rot = topo.rotation(v);
+        let n = rot.len();
         let sharp = self.sharp_spokes(topo, v, k);
-        let (prev, next) = (sharp[w], sharp[(w + 1) % sharp.len()]);
-        // Which of the face's local edges is the wedge's previous one: c − 1 when the next
-        // edge is c → c + 1.
-        let prev_is_minus = rot[w].next_is_plus;
-        match (prev, next) {
-            (true, true) => CornerKind::Both,
-            (true, false) | (false, true) if self.sector_len(&sharp, n, w) == 2 => {
-                CornerKind::OneSide(prev == prev_is_minus)
-            }
-            (false, false) if n == 4 && !topo.is_boundary(v) => CornerKind::Real,
-            _ => CornerKind::Ev,
-        }
+        let interior4 = n == 4 && !topo.is_boundary(v);
+        rot.iter()
+            .enumerate()
+            .map(|(w, wedge)| {
+                let (prev, next) = (sharp[w], sharp[(w + 1) % sharp.len()]);
+                // Which of the face's local edges is the wedge's previous one: c − 1 when the
+                // next edge is c → c + 1.
+                let prev_is_minus = wedge.next_is_plus;
+                match (prev, next) {
+                    (true, true) => CornerKind::Both,
+                    (true, false) | (false, true) if self.sector_len(&sharp, n, w) == 2 => {
+                        CornerKind::OneSide(prev == prev_is_minus)
+                    }
+                    (false, false) if interior4 => CornerKind::Real,
+                    _ => CornerKind::Ev,
+                }
+            })
+            .collect()
     }
 
     /// The steps after which nothing changes: the largest finite sharpness.

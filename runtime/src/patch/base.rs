@@ -67,22 +67,17 @@ impl<'t> Base<'t> {
         steps: usize,
     ) -> Result<Base<'t>, SurfaceError> {
         topo.check_valences()?;
-        let diagonal = (0..topo.face_count() as u32)
-            .map(|f| {
-                [0u8, 1, 2, 3].map(|c| {
-                    let v = topo.vertex(f, c);
-                    let rot = topo.rotation(v);
-                    let i = rot.iter().position(|w| w.face == f && w.corner == c);
-                    match i {
-                        Some(i) if rot.len() == 4 && !topo.is_boundary(v) => {
-                            let w = rot[(i + 2) % 4];
-                            w.face * 4 + u32::from(w.corner)
-                        }
-                        _ => u32::MAX,
-                    }
-                })
-            })
-            .collect();
+        // Vertex by vertex, each wedge's corner across an ordinary interior vertex.
+        let mut diagonal = vec![[u32::MAX; 4]; topo.face_count()];
+        for v in 0..topo.vertex_count() as u32 {
+            let rot = topo.rotation(v);
+            if rot.len() == 4 && !topo.is_boundary(v) {
+                for (i, w) in rot.iter().enumerate() {
+                    let d = rot[(i + 2) % 4];
+                    diagonal[w.face as usize][w.corner as usize] = d.face * 4 + u32::from(d.corner);
+                }
+            }
+        }
         // Sharpness changes only in the first `changing_steps` steps: the rules of the last
         // of them hold for every later step.
         let decided = steps.min(features.changing_steps() + 1).max(1);
@@ -109,15 +104,25 @@ impl<'t> Base<'t> {
                 lockstep[v as usize] = true;
             }
         }
-        let rules: Vec<FaceRules> = (0..decided)
-            .flat_map(|k| {
-                let features = &features;
-                (0..topo.face_count() as u32).map(move |f| FaceRules {
-                    sharp: [0, 1, 2, 3].map(|l| features.edge_sharp(topo.edge_of(f, l), k)),
-                    corners: [0, 1, 2, 3].map(|c| features.corner_kind(topo, f, c, k)),
-                })
-            })
-            .collect();
+        // Per step, each face's sharp sides, and its corners' kinds vertex by vertex.
+        let faces = topo.face_count();
+        let mut rules = Vec::with_capacity(decided * faces);
+        for k in 0..decided {
+            rules.extend((0..faces as u32).map(|f| FaceRules {
+                sharp: [0, 1, 2, 3].map(|l| features.edge_sharp(topo.edge_of(f, l), k)),
+                corners: [CornerKind::Real; 4],
+            }));
+            let step = &mut rules[k * faces..];
+            for v in 0..nv {
+                for (w, kind) in topo
+                    .rotation(v)
+                    .iter()
+                    .zip(features.corner_kinds(topo, v, k))
+                {
+                    step[w.face as usize].corners[w.corner as usize] = kind;
+                }
+            }
+        }
         let vertex_rules = (0..decided)
             .flat_map(|k| {
                 let features = &features;
