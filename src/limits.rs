@@ -7,7 +7,7 @@
 //! (without what only holes use), n = |π^N(ω)| (`CurveTables::image_len`, `patch::output_counts`), in u128 and
 //! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input and
 //! the driver's buffers (the fast driver's own model, `patch::footprint`), then the output and
-//! the output file text (built in memory, then written).
+//! the output file: a curve's text built in memory, a mesh's streamed through a buffer.
 
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::Checked;
@@ -22,6 +22,10 @@ pub const FALLBACK_MAX_MEMORY: u64 = 8 << 30;
 /// Characters of one f64 written at round-trip precision (`{:?}`), at most
 /// (`-1.2345678901234567e-308`).
 const COORDINATE_TEXT: u128 = 24;
+
+/// Bytes a streamed output file holds in memory: its write buffer
+/// (`lsubdiv::write_atomic_with`).
+const WRITE_BUFFER: u128 = 64 << 10;
 
 /// Parses a size: bytes, or a number with a binary unit `K`, `M`, `G`, `T` (optionally followed
 /// by `B` or `iB`, any case): `4G`, `512M`, `1.5GiB`, `1000000`.
@@ -81,23 +85,13 @@ pub struct Prediction {
 impl Prediction {
     /// The prediction with what a refined mesh's limit and texture coordinates add (issue 16):
     /// with `limit`, the limit pass's f64 positions and normals and the kept normals (72 bytes
-    /// a vertex) and their text (`vn` lines, faces `a//a`); with `uv`, up to four values a quad
-    /// with their index (about 80 bytes: the value, its key and the hash table's share), the
-    /// quads' indices (16) and their text (`vt` lines, the `/t` of the faces).
+    /// a vertex); with `uv`, up to four values a quad with their index (about 80 bytes: the
+    /// value, its key and the hash table's share) and the quads' indices (16). The file is
+    /// streamed ([`surface`]), so their text is not held.
     pub fn with_extras(self, limit: bool, uv: bool) -> Prediction {
         let (v, q) = (self.vertices, self.quads.unwrap_or(0));
-        let digits = v.max(1).ilog10() as u128 + 1;
-        let limit = if limit {
-            v.saturating_mul(72 + 3 * COORDINATE_TEXT + 4)
-                .saturating_add(q.saturating_mul(4 * (digits + 2)))
-        } else {
-            0
-        };
-        let uv = if uv {
-            q.saturating_mul(4 * (80 + 2 * COORDINATE_TEXT + 4) + 16 + 4 * (digits + 2))
-        } else {
-            0
-        };
+        let limit = if limit { v.saturating_mul(72) } else { 0 };
+        let uv = if uv { q.saturating_mul(4 * 80 + 16) } else { 0 };
         self.holding(limit.saturating_add(uv))
     }
 
@@ -313,9 +307,9 @@ pub fn read_mesh(
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
-/// on the mesh of topology `topo` with `features`, positions of `scalar` bytes; `text`: the output file is built in memory. The
-/// refiner's own memory is its [`footprint`]; the file text comes after refining.
-#[allow(clippy::too_many_arguments)]
+/// on the mesh of topology `topo` with `features`, positions of `scalar` bytes. The refiner's
+/// own memory is its [`footprint`]; the output file is streamed from the refined mesh through
+/// a buffer of [`WRITE_BUFFER`] bytes, never held whole.
 pub fn surface(
     t: &CurveTables<'_>,
     contained_from: usize,
@@ -324,25 +318,14 @@ pub fn surface(
     steps: usize,
     scalar: u128,
     threads: usize,
-    text: bool,
 ) -> Prediction {
     let fp = footprint(t, contained_from, topo, features, steps, scalar, threads);
-    let (vertices, quads) = (fp.vertices, fp.quads);
-    let file = if text {
-        // `v x y z` and `f a b c d` lines (PLY lines are shorter).
-        let digits = vertices.max(1).ilog10() as u128 + 1;
-        vertices
-            .saturating_mul(3 * COORDINATE_TEXT + 5)
-            .saturating_add(quads.saturating_mul(4 * digits + 6))
-    } else {
-        0
-    };
     Prediction {
-        vertices,
-        quads: Some(quads),
+        vertices: fp.vertices,
+        quads: Some(fp.quads),
         bytes: fp
             .input
-            .saturating_add(fp.refining.max(fp.output.saturating_add(file))),
+            .saturating_add(fp.refining.max(fp.output.saturating_add(WRITE_BUFFER))),
     }
 }
 

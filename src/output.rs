@@ -16,8 +16,17 @@ fn writing() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 
 /// Writes `bytes` to `path` whole or not at all; the error names the path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    write_atomic_with(path, |out| out.write_all(bytes))
+}
+
+/// Writes what `content` writes to `path` whole or not at all, streamed
+/// ([`lsubdiv::write_atomic_with`]); the error names the path.
+pub fn write_atomic_with(
+    path: &Path,
+    content: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<(), Error> {
     writing().push(path.to_path_buf());
-    let result = lsubdiv::write_atomic(path, bytes);
+    let result = lsubdiv::write_atomic_with(path, content);
     writing().retain(|p| p != path);
     result
 }

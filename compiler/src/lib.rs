@@ -79,4 +79,4 @@ mod output;
 pub use config::{compile, Config};
 pub use error::{Error, Kind, Location};
 pub use input::{read_bytes, read_text, text};
-pub use output::{temporary_files, write_atomic, write_if_changed};
+pub use output::{temporary_files, write_atomic, write_atomic_with, write_if_changed};

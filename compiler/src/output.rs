@@ -54,23 +54,36 @@ fn folder(path: &Path) -> &Path {
 ///
 /// The error names the path.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    write(path, bytes).map_err(|e| Error::io(path, &e))
+    write_atomic_with(path, |out| out.write_all(bytes))
 }
 
-/// [`write_atomic`] before its error is placed.
-fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
+/// [`write_atomic`] of what `content` writes, streamed through a buffer: the output is never
+/// held whole in memory. `content` should fail only on I/O (check what can be refused
+/// before), so that a device or pipe gets all of it or nothing.
+pub fn write_atomic_with(
+    path: &Path,
+    content: impl FnOnce(&mut dyn io::Write) -> io::Result<()>,
+) -> Result<(), Error> {
+    write(path, content).map_err(|e| Error::io(path, &e))
+}
+
+/// Bytes buffered between `content` and the output.
+const BUFFER: usize = 64 << 10;
+
+/// [`write_atomic_with`] before its error is placed.
+fn write(
+    path: &Path,
+    content: impl FnOnce(&mut dyn io::Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let buffered = |out: &mut dyn io::Write| {
+        let mut out = io::BufWriter::with_capacity(BUFFER, out);
+        content(&mut out)?;
+        out.flush()
+    };
     match destination(path)? {
-        Some(file) => replace(&file, bytes),
-        None if path.as_os_str() == "-" => {
-            let mut out = io::stdout().lock();
-            out.write_all(bytes)?;
-            out.flush()
-        }
-        None => {
-            let mut file = fs::OpenOptions::new().write(true).open(path)?;
-            file.write_all(bytes)?;
-            file.flush()
-        }
+        Some(file) => replace(&file, buffered),
+        None if path.as_os_str() == "-" => buffered(&mut io::stdout().lock()),
+        None => buffered(&mut fs::OpenOptions::new().write(true).open(path)?),
     }
 }
 
@@ -99,7 +112,10 @@ pub fn write_if_changed(path: &Path, text: &str) -> Result<(), Error> {
 }
 
 /// Writes a regular file by a temporary file and a rename (see [`write_atomic`]).
-fn replace(path: &Path, bytes: &[u8]) -> io::Result<()> {
+fn replace(
+    path: &Path,
+    content: impl FnOnce(&mut dyn io::Write) -> io::Result<()>,
+) -> io::Result<()> {
     let name = path.file_name().ok_or_else(|| {
         io::Error::new(
             io::ErrorKind::InvalidInput,
@@ -128,8 +144,7 @@ fn replace(path: &Path, bytes: &[u8]) -> io::Result<()> {
             Err(e) => return Err(e),
         }
     };
-    let result = file
-        .write_all(bytes)
+    let result = content(&mut file)
         .and_then(|()| file.sync_all())
         .and_then(|()| {
             drop(file);
@@ -231,6 +246,28 @@ mod tests {
         // No file name.
         assert!(write_atomic(Path::new("/"), b"new").is_err());
         assert_eq!(fs::read(dir.join("previous.obj")).unwrap(), b"previous");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_streamed_write_failing_midway_keeps_the_previous_file() {
+        let dir = scratch_dir("stream");
+        let path = dir.join("mesh.obj");
+        fs::write(&path, b"previous").unwrap();
+        // More than the buffer holds goes out before the failure.
+        let failing = |out: &mut dyn io::Write| {
+            out.write_all(&vec![b'v'; 3 * BUFFER])?;
+            Err(io::Error::other("the content failed"))
+        };
+        let e = write_atomic_with(&path, failing).unwrap_err();
+        assert!(e.to_string().contains("the content failed"), "{e}");
+        assert_eq!(fs::read(&path).unwrap(), b"previous");
+        assert_eq!(entries(&dir), vec!["mesh.obj"]);
+        // Streamed in pieces, it is the file.
+        write_atomic_with(&path, |out| (0..1000).try_for_each(|i| write!(out, "{i} "))).unwrap();
+        let want: String = (0..1000).map(|i| format!("{i} ")).collect();
+        assert_eq!(fs::read_to_string(&path).unwrap(), want);
+        assert_eq!(entries(&dir), vec!["mesh.obj"]);
         fs::remove_dir_all(&dir).unwrap();
     }
 

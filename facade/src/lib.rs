@@ -49,7 +49,7 @@ pub use lsubdiv_runtime::{
     CurveScheme, CurveTables, EndCurve,
 };
 
-pub use lsubdiv_compiler::{write_atomic, Error, Location};
+pub use lsubdiv_compiler::{write_atomic, write_atomic_with, Error, Location};
 pub use mesh_file::read as read_mesh;
 
 pub mod generic;

@@ -477,42 +477,66 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
 /// same order, texture coordinates as `vt` lines after them; faces `f a/ta …`, `f a//a …` or
 /// `f a/ta/a …`.
 pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
-    crate::points::finite("vertex", &mesh.positions)?;
-    extras.check(mesh)?;
+    let text = Text::new(mesh, extras)?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 64);
-    let _ = writeln!(
-        s,
-        "# lsubdiv quad mesh: {} vertices, {} faces",
-        mesh.positions.len(),
-        mesh.faces.len()
-    );
-    for p in &mesh.positions {
-        let _ = writeln!(s, "v {:?} {:?} {:?}", p[0], p[1], p[2]);
-    }
-    for n in extras.normals.into_iter().flatten() {
-        let _ = writeln!(s, "vn {:?} {:?} {:?}", n[0], n[1], n[2]);
-    }
-    for t in extras.uv.iter().flat_map(|uv| &uv.values) {
-        let _ = writeln!(s, "vt {:?} {:?}", t[0], t[1]);
-    }
-    let normals = extras.normals.is_some();
-    for (f, face) in mesh.faces.iter().enumerate() {
-        s.push('f');
-        for (c, &v) in face.iter().enumerate() {
-            let v = u64::from(v) + 1;
-            let _ = write!(s, " {v}");
-            if let Some(uv) = extras.uv {
-                let _ = write!(s, "/{}", u64::from(uv.faces[f][c]) + 1);
-            } else if normals {
-                s.push('/');
-            }
-            if normals {
-                let _ = write!(s, "/{v}");
-            }
-        }
-        s.push('\n');
-    }
+    let _ = write!(s, "{text}");
     Ok(s)
+}
+
+/// The OBJ text of a mesh with its extras, checked ([`format_with`]) and not yet formatted:
+/// `write!` it into any writer (`lsubdiv::write_atomic_with` streams it to a file).
+pub struct Text<'a> {
+    mesh: &'a QuadMesh,
+    extras: Extras<'a>,
+}
+
+impl<'a> Text<'a> {
+    /// Refuses a non-finite coordinate ([`crate::points::finite`]) and extras that do not fit
+    /// the mesh.
+    pub fn new(mesh: &'a QuadMesh, extras: Extras<'a>) -> Result<Text<'a>, Error> {
+        crate::points::finite("vertex", &mesh.positions)?;
+        extras.check(mesh)?;
+        Ok(Text { mesh, extras })
+    }
+}
+
+impl std::fmt::Display for Text<'_> {
+    fn fmt(&self, s: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let Text { mesh, extras } = self;
+        writeln!(
+            s,
+            "# lsubdiv quad mesh: {} vertices, {} faces",
+            mesh.positions.len(),
+            mesh.faces.len()
+        )?;
+        for p in &mesh.positions {
+            writeln!(s, "v {:?} {:?} {:?}", p[0], p[1], p[2])?;
+        }
+        for n in extras.normals.into_iter().flatten() {
+            writeln!(s, "vn {:?} {:?} {:?}", n[0], n[1], n[2])?;
+        }
+        for t in extras.uv.iter().flat_map(|uv| &uv.values) {
+            writeln!(s, "vt {:?} {:?}", t[0], t[1])?;
+        }
+        let normals = extras.normals.is_some();
+        for (f, face) in mesh.faces.iter().enumerate() {
+            s.write_char('f')?;
+            for (c, &v) in face.iter().enumerate() {
+                let v = u64::from(v) + 1;
+                write!(s, " {v}")?;
+                if let Some(uv) = extras.uv {
+                    write!(s, "/{}", u64::from(uv.faces[f][c]) + 1)?;
+                } else if normals {
+                    s.write_char('/')?;
+                }
+                if normals {
+                    write!(s, "/{v}")?;
+                }
+            }
+            s.write_char('\n')?;
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -1055,49 +1055,34 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
 /// one value at all its corners ([`per_vertex`]), else as a face list `texcoord` of u v per
 /// corner (`uchar double`) after the vertex indices.
 pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
-    let layout = Layout::of(mesh, extras)?;
+    let out = Out::new(mesh, extras)?;
     let mut s = String::with_capacity(32 * mesh.positions.len() + 24 * mesh.faces.len() + 256);
-    s.push_str(&layout.header(mesh, "ascii", "int"));
-    for (i, p) in mesh.positions.iter().enumerate() {
-        let _ = write!(s, "{:?} {:?} {:?}", p[0], p[1], p[2]);
-        if let Some(n) = extras.normals {
-            let _ = write!(s, " {:?} {:?} {:?}", n[i][0], n[i][1], n[i][2]);
-        }
-        if let Some(t) = &layout.vertex_uv {
-            let _ = write!(s, " {:?} {:?}", t[i][0], t[i][1]);
-        }
-        s.push('\n');
-    }
-    for (k, f) in mesh.faces.iter().enumerate() {
-        let _ = write!(s, "4 {} {} {} {}", f[0], f[1], f[2], f[3]);
-        if let Some(uv) = layout.corner_uv {
-            s.push_str(" 8");
-            for &i in &uv.faces[k] {
-                let t = uv.values[i as usize];
-                let _ = write!(s, " {:?} {:?}", t[0], t[1]);
-            }
-        }
-        s.push('\n');
-    }
+    let _ = write!(s, "{out}");
     Ok(s)
 }
 
-/// What a PLY file of `mesh` with its extras holds beside positions and faces: normals, and
-/// texture coordinates per vertex or per corner ([`format_with`]).
-struct Layout<'a> {
-    normals: bool,
+/// A mesh with its extras, checked and laid out for PLY ([`format_with`]), not yet written:
+/// `write!` it for ASCII, or [`Out::binary`]; `lsubdiv::write_atomic_with` streams either to
+/// a file.
+pub struct Out<'a> {
+    mesh: &'a QuadMesh,
+    extras: Extras<'a>,
+    /// Texture coordinates per vertex, when every vertex has one value at all its corners.
     vertex_uv: Option<Vec<[f64; 2]>>,
+    /// Else per corner.
     corner_uv: Option<&'a QuadUv>,
 }
 
-impl<'a> Layout<'a> {
-    /// Checks `mesh` (finite coordinates) and its extras, and lays them out.
-    fn of(mesh: &QuadMesh, extras: Extras<'a>) -> Result<Layout<'a>, Error> {
+impl<'a> Out<'a> {
+    /// Refuses a non-finite coordinate ([`crate::points::finite`]) and extras that do not fit
+    /// the mesh; lays out the texture coordinates.
+    pub fn new(mesh: &'a QuadMesh, extras: Extras<'a>) -> Result<Out<'a>, Error> {
         crate::points::finite("vertex", &mesh.positions)?;
         extras.check(mesh)?;
         let vertex_uv = extras.uv.and_then(|uv| per_vertex(mesh, uv));
-        Ok(Layout {
-            normals: extras.normals.is_some(),
+        Ok(Out {
+            mesh,
+            extras,
             corner_uv: extras.uv.filter(|_| vertex_uv.is_none()),
             vertex_uv,
         })
@@ -1105,30 +1090,108 @@ impl<'a> Layout<'a> {
 
     /// The header, in `format` (`ascii`, `binary_little_endian`, `binary_big_endian`) with
     /// vertex indices of type `index`.
-    fn header(&self, mesh: &QuadMesh, format: &str, index: &str) -> String {
-        let mut s = String::new();
-        let _ = write!(
+    fn header(&self, s: &mut impl fmt::Write, format: &str, index: &str) -> fmt::Result {
+        write!(
             s,
             "ply\nformat {format} 1.0\ncomment lsubdiv quad mesh\nelement vertex {}\n\
              property double x\nproperty double y\nproperty double z\n",
-            mesh.positions.len(),
-        );
-        if self.normals {
-            s.push_str("property double nx\nproperty double ny\nproperty double nz\n");
+            self.mesh.positions.len(),
+        )?;
+        if self.extras.normals.is_some() {
+            s.write_str("property double nx\nproperty double ny\nproperty double nz\n")?;
         }
         if self.vertex_uv.is_some() {
-            s.push_str("property double u\nproperty double v\n");
+            s.write_str("property double u\nproperty double v\n")?;
         }
-        let _ = write!(
+        write!(
             s,
             "element face {}\nproperty list uchar {index} vertex_indices\n",
-            mesh.faces.len()
-        );
+            self.mesh.faces.len()
+        )?;
         if self.corner_uv.is_some() {
-            s.push_str("property list uchar double texcoord\n");
+            s.write_str("property list uchar double texcoord\n")?;
         }
-        s.push_str("end_header\n");
-        s
+        s.write_str("end_header\n")
+    }
+
+    /// Binary PLY in the byte order `big` (big-endian) or little-endian, the properties of
+    /// the ASCII file (vertex indices `uint`): a third of its size or less, written several
+    /// times faster (`subdivide --binary`).
+    pub fn binary(&self, big: bool, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+        let order = if big { "big" } else { "little" };
+        let mut head = String::new();
+        let _ = self.header(&mut head, &format!("binary_{order}_endian"), "uint");
+        out.write_all(head.as_bytes())?;
+        let double = |out: &mut dyn std::io::Write, x: f64| {
+            out.write_all(&if big {
+                x.to_be_bytes()
+            } else {
+                x.to_le_bytes()
+            })
+        };
+        for (i, p) in self.mesh.positions.iter().enumerate() {
+            for &x in p {
+                double(out, x)?;
+            }
+            if let Some(n) = self.extras.normals {
+                for &x in &n[i] {
+                    double(out, x)?;
+                }
+            }
+            if let Some(t) = &self.vertex_uv {
+                for &x in &t[i] {
+                    double(out, x)?;
+                }
+            }
+        }
+        for (k, f) in self.mesh.faces.iter().enumerate() {
+            out.write_all(&[4])?;
+            for i in f {
+                out.write_all(&if big {
+                    i.to_be_bytes()
+                } else {
+                    i.to_le_bytes()
+                })?;
+            }
+            if let Some(uv) = self.corner_uv {
+                out.write_all(&[8])?;
+                for &i in &uv.faces[k] {
+                    for &x in &uv.values[i as usize] {
+                        double(out, x)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// ASCII PLY.
+impl fmt::Display for Out<'_> {
+    fn fmt(&self, s: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.header(s, "ascii", "int")?;
+        for (i, p) in self.mesh.positions.iter().enumerate() {
+            write!(s, "{:?} {:?} {:?}", p[0], p[1], p[2])?;
+            if let Some(n) = self.extras.normals {
+                write!(s, " {:?} {:?} {:?}", n[i][0], n[i][1], n[i][2])?;
+            }
+            if let Some(t) = &self.vertex_uv {
+                write!(s, " {:?} {:?}", t[i][0], t[i][1])?;
+            }
+            s.write_char('\n')?;
+        }
+        for (k, f) in self.mesh.faces.iter().enumerate() {
+            write!(s, "4 {} {} {} {}", f[0], f[1], f[2], f[3])?;
+            if let Some(uv) = self.corner_uv {
+                s.write_str(" 8")?;
+                for &i in &uv.faces[k] {
+                    let t = uv.values[i as usize];
+                    write!(s, " {:?} {:?}", t[0], t[1])?;
+                }
+            }
+            s.write_char('\n')?;
+        }
+        Ok(())
     }
 }
 
@@ -1155,52 +1218,13 @@ pub fn binary(mesh: &QuadMesh, big: bool) -> Result<Vec<u8>, Error> {
     binary_with(mesh, Extras::default(), big)
 }
 
-/// [`binary`] with the extras of [`format_with`], laid out as there: a third of the ASCII
-/// file's size or less, written several times faster (`subdivide --binary`).
+/// [`binary`] with the extras of [`format_with`] ([`Out::binary`]).
 pub fn binary_with(mesh: &QuadMesh, extras: Extras<'_>, big: bool) -> Result<Vec<u8>, Error> {
-    let layout = Layout::of(mesh, extras)?;
-    let order = if big { "big" } else { "little" };
-    let head = layout.header(mesh, &format!("binary_{order}_endian"), "uint");
-    let per_vertex =
-        24 * (1 + usize::from(layout.normals)) + 16 * usize::from(layout.vertex_uv.is_some());
-    let per_face = 17 + layout.corner_uv.map_or(0, |_| 1 + 64);
-    let mut out = head.into_bytes();
-    out.reserve(per_vertex * mesh.positions.len() + per_face * mesh.faces.len());
-    let double = |out: &mut Vec<u8>, x: f64| {
-        out.extend(if big {
-            x.to_be_bytes()
-        } else {
-            x.to_le_bytes()
-        });
-    };
-    for (i, p) in mesh.positions.iter().enumerate() {
-        p.iter().for_each(|&x| double(&mut out, x));
-        if let Some(n) = extras.normals {
-            n[i].iter().for_each(|&x| double(&mut out, x));
-        }
-        if let Some(t) = &layout.vertex_uv {
-            t[i].iter().for_each(|&x| double(&mut out, x));
-        }
-    }
-    for (k, f) in mesh.faces.iter().enumerate() {
-        out.push(4);
-        for i in f {
-            out.extend(if big {
-                i.to_be_bytes()
-            } else {
-                i.to_le_bytes()
-            });
-        }
-        if let Some(uv) = layout.corner_uv {
-            out.push(8);
-            for &i in &uv.faces[k] {
-                uv.values[i as usize]
-                    .iter()
-                    .for_each(|&x| double(&mut out, x));
-            }
-        }
-    }
-    Ok(out)
+    let out = Out::new(mesh, extras)?;
+    let mut bytes = Vec::with_capacity(48 * mesh.positions.len() + 17 * mesh.faces.len() + 256);
+    out.binary(big, &mut bytes)
+        .map_err(|e| Error::internal(None, format!("writing binary PLY to memory: {e}")))?;
+    Ok(bytes)
 }
 
 #[cfg(test)]

@@ -105,7 +105,6 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         steps,
         scalar,
         threads,
-        false,
     );
     guard.check(
         &format!("{steps} steps of {scheme} on {mesh}"),

@@ -10,7 +10,7 @@ use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{limit_available, Refined, Subdivide};
 use lsubdiv::runtime::surface::SurfaceVisitor;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
-use lsubdiv_cli::output::{format_by_extension, write_atomic};
+use lsubdiv_cli::output::{format_by_extension, write_atomic_with};
 use lsubdiv_cli::Resolved;
 
 /// Arguments of `lsubdiv subdivide`.
@@ -127,12 +127,21 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         normals: limit.then_some(fine.normals.as_slice()),
         uv: uv.as_ref(),
     };
-    let bytes = match format {
-        MeshFormat::Obj => lsubdiv::obj::format_with(&fine.mesh, extras)?.into_bytes(),
-        MeshFormat::Ply if binary => lsubdiv::ply::binary_with(&fine.mesh, extras, false)?,
-        MeshFormat::Ply => lsubdiv::ply::format_with(&fine.mesh, extras)?.into_bytes(),
-    };
-    write_atomic(&output, &bytes)
+    // Checked first, then streamed to the file: the text is never held whole in memory.
+    match format {
+        MeshFormat::Obj => {
+            let text = lsubdiv::obj::Text::new(&fine.mesh, extras)?;
+            write_atomic_with(&output, |out| write!(out, "{text}"))
+        }
+        MeshFormat::Ply => {
+            let ply = lsubdiv::ply::Out::new(&fine.mesh, extras)?;
+            if binary {
+                write_atomic_with(&output, |out| ply.binary(false, out))
+            } else {
+                write_atomic_with(&output, |out| write!(out, "{ply}"))
+            }
+        }
+    }
 }
 
 /// The note for a limit with vertices not derived in closed form, if it has any.
@@ -204,7 +213,6 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
         steps,
         8,
         threads,
-        true,
     )
     .holding(lsubdiv_cli::scale::copy_bytes(
         &m.positions,
