@@ -18,8 +18,8 @@ use std::path::Path;
 pub(crate) type Token<'a> = (&'a str, usize);
 
 /// Calls `f(line, tokens)` for each logical line of `text` that has tokens: `line` is its first
-/// physical line, `tokens` its tokens with the physical line of each, comments (`#` to the end
-/// of the physical line) stripped. A physical line whose content ends in `\` (trailing spaces
+/// physical line, `tokens` its tokens (split at ASCII whitespace) with the physical line of
+/// each, comments (`#` to the end of the physical line) stripped. A physical line whose content ends in `\` (trailing spaces
 /// and a CR allowed) continues on the next, the `\` read as a space; on the last line it ends
 /// the file.
 fn for_each_line<'a>(
@@ -30,7 +30,7 @@ fn for_each_line<'a>(
     let mut first = 0;
     for (k, raw) in text.lines().enumerate() {
         let line = k + 1;
-        let content = raw.split('#').next().unwrap_or("").trim_end();
+        let content = raw.split_once('#').map_or(raw, |(c, _)| c).trim_ascii_end();
         let (content, continued) = match content.strip_suffix('\\') {
             Some(c) if !raw.contains('#') => (c, true),
             _ => (content, false),
@@ -38,7 +38,7 @@ fn for_each_line<'a>(
         if tokens.is_empty() {
             first = line;
         }
-        tokens.extend(content.split_whitespace().map(|t| (t, line)));
+        tokens.extend(content.split_ascii_whitespace().map(|t| (t, line)));
         if !continued && !tokens.is_empty() {
             f(first, &tokens)?;
             tokens.clear();
