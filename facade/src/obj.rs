@@ -853,6 +853,12 @@ mod tests {
     #[test]
     fn errors_name_their_line() {
         let cases: Vec<(String, Option<usize>, &str)> = vec![
+            // Tokens are split at ASCII whitespace only: a no-break space stays in its token.
+            (
+                format!("{SQUARE_V}v 1\u{a0}2 3\n"),
+                Some(5),
+                "vertex has 2 values; expected x y z, x y z w or x y z r g b",
+            ),
             (
                 format!("{SQUARE_V}\nf 1 2\n"),
                 Some(6),
