@@ -461,9 +461,11 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
     })
 }
 
-/// Writes `mesh` to `path` as OBJ ([`format`]), whole or not at all.
+/// Writes `mesh` to `path` as OBJ ([`format`]), whole or not at all, streamed
+/// ([`crate::write_atomic_with`]).
 pub fn write(path: &Path, mesh: &QuadMesh) -> Result<(), Error> {
-    crate::write_atomic(path, format(mesh)?.as_bytes())
+    let text = Text::new(mesh, Extras::default())?;
+    crate::write_atomic_with(path, |out| write!(out, "{text}"))
 }
 
 /// OBJ text: a comment line, `v` lines at full round-trip f64 precision (`{:?}` of f64), then

@@ -1039,9 +1039,11 @@ pub fn parse(file: &str, bytes: &[u8]) -> Result<Parsed, Error> {
     }
 }
 
-/// Writes `mesh` to `path` as ASCII PLY ([`format`]), whole or not at all.
+/// Writes `mesh` to `path` as ASCII PLY ([`format`]), whole or not at all, streamed
+/// ([`crate::write_atomic_with`]).
 pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), Error> {
-    crate::write_atomic(path, format(mesh)?.as_bytes())
+    let out = Out::new(mesh, Extras::default())?;
+    crate::write_atomic_with(path, |file| write!(file, "{out}"))
 }
 
 /// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list; a
