@@ -396,7 +396,7 @@ fn refinement(
 }
 
 /// `1 234 567`, or `more than 10^38` when the count saturated.
-fn count(n: u128) -> String {
+pub fn count(n: u128) -> String {
     if n == u128::MAX {
         return "more than 10^38".into();
     }
@@ -411,7 +411,7 @@ fn count(n: u128) -> String {
 }
 
 /// Bytes in binary units with one decimal: `~3.1 GiB` (display only).
-fn size(bytes: u128) -> String {
+pub fn size(bytes: u128) -> String {
     const UNITS: [&str; 7] = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
     if bytes == u128::MAX {
         return "more than 10^38 bytes".into();

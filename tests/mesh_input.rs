@@ -153,10 +153,11 @@ fn what_subdivide_writes_as_ply_reads_back() {
         assert!(from_bin.warnings.is_empty(), "{:?}", from_bin.warnings);
         assert_eq!(from_bin.mesh, from_ply.mesh, "{steps} steps");
         let bytes = std::fs::read(&bin).unwrap();
-        let end = b"end_header\n";
-        let h = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
         let m = &from_bin.mesh;
-        assert_eq!(bytes.len(), h + 24 * m.positions.len() + 17 * m.faces.len());
+        assert_eq!(
+            bytes.len(),
+            body_start(&bytes) + 24 * m.positions.len() + 17 * m.faces.len()
+        );
         // And once more through the command line: the PLY refines as the OBJ.
         let a = subdivide(&obj.display().to_string(), &d.join("a.obj"));
         let b = subdivide(&ply.display().to_string(), &d.join("b.obj"));
@@ -195,11 +196,16 @@ fn binary_output_is_ply_only() {
     assert!(!out.exists());
 }
 
+/// Where the data of a PLY file begins: after its `end_header` line.
+fn body_start(bytes: &[u8]) -> usize {
+    let end = b"end_header\n";
+    bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len()
+}
+
 /// The cube as binary little-endian PLY, and where its data begins.
 fn cube_le() -> (Vec<u8>, usize) {
     let bytes = lsubdiv::ply::binary(&cube(), false).unwrap();
-    let end = b"end_header\n";
-    let h = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+    let h = body_start(&bytes);
     (bytes, h)
 }
 

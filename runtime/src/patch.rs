@@ -34,18 +34,18 @@
 //! start numbering: one semantics for every path. The last of them scatters only near the EVs
 //! where some faces are far enough from them to take it by its 1D plan (`patch/near.rs`).
 //!
-//! **Boundaries and sharp features** ([`crate::features`], docs/real-meshes.md). Across an
-//! edge that is sharp at a step (every boundary edge) a face's ring is the face's own odd
-//! reflection, phantoms 2P − Q, and each corner's diagonal is set by its
-//! [`CornerKind`](crate::features::CornerKind); refining keeps phantoms phantoms, so faces whose corners are all regular
-//! run depth first with their phantoms set once. Faces at a vertex whose rule the patches do
-//! not give (interior EVs, darts, creases and corners in other sectors, every corner) or
-//! whose sharpness changes (semi-sharp creases) run in lock-step: after each step the vertex
-//! children are set by their rule and the rings refreshed from the neighbours' new patches and
-//! from the next step's phantoms. A step the reference driver must take (masks not contained
-//! where a corner has no diagonal) runs, on a mesh with features, on the mesh cut open along
-//! its sharp edges and extended by ghost faces (`Cut`, `Ghosts`); a scheme that needs
-//! more than one such step is refused there with that reason.
+//! **Boundaries and sharp features** ([`crate::features`], docs/real-meshes.md). Across an edge
+//! that is sharp at a step (every boundary edge) a face's ring is the face's own odd reflection,
+//! phantoms 2P − Q, and each corner's diagonal is set by its
+//! [`CornerKind`](crate::features::CornerKind); refining keeps phantoms phantoms, so faces whose
+//! corners are all regular run depth first with their phantoms set once. Faces at a vertex whose
+//! rule the patches do not give (interior EVs, darts, creases and corners in other sectors, every
+//! corner) or whose sharpness changes (semi-sharp creases) run in lock-step: after each step the
+//! vertex children are set by their rule and the rings refreshed from the neighbours' new patches
+//! and from the next step's phantoms. A step the reference driver must take (masks not contained
+//! where a corner has no diagonal) runs, on a mesh with features, on the mesh cut open along its
+//! sharp edges and extended by ghost faces (`Cut`, `Ghosts`); a scheme that needs more than one
+//! such step is refused there with that reason.
 
 use crate::curve::rewrite;
 use crate::features::{Features, Resolved, VertexRule};

@@ -6,8 +6,8 @@ use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::patch::Simd;
 use lsubdiv::runtime::surface::SurfaceScheme;
-use lsubdiv_cli::bench;
 use lsubdiv_cli::implementation::{Geometry, PathChoice};
+use lsubdiv_cli::{bench, limits};
 
 /// Arguments of `lsubdiv bench`.
 #[derive(clap::Args)]
@@ -97,7 +97,7 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
     let implementation = path.pick(&r, Geometry::Surface)?;
     let steps = steps.unwrap_or_else(|| bench::steps_for(&surface, topology, 4_200_000));
     let scalar = if f32 { 4 } else { 8 };
-    let guard = lsubdiv_cli::limits::surface(
+    let guard = limits::surface(
         &lsubdiv::CurveScheme::tables(&surface),
         surface.surface().contained_from,
         topology,
@@ -159,13 +159,13 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
             plural(steps, "step"),
             implementation.name(),
             r.simd.name(),
-            r.output_vertices,
+            limits::count(r.output_vertices as u128),
             r.median_seconds * 1e3,
             r.mvps(),
             r.setup_seconds * 1e3,
             peak_rss.map_or(String::new(), |b| format!(
-                "; peak RSS {:.1} MB",
-                b as f64 / 1e6
+                "; peak RSS {}",
+                limits::size(u128::from(b))
             )),
         );
     }

@@ -96,8 +96,9 @@ pub(super) struct Step {
     /// (Y'·(N'+1) + X', index in level k + 1).
     border: Vec<(u32, u32)>,
     border_at: Vec<u32>,
-    /// Per special vertex (from `ring_at[i]`), its 1-ring in level k as [`one_ring`](super::vertices::one_ring) reads
-    /// it: the vertex, then per wedge its spoke and its diagonal.
+    /// Per special vertex (from `ring_at[i]`), its 1-ring in level k as
+    /// [`one_ring`](super::vertices::one_ring) reads it: the vertex, then per wedge its spoke
+    /// and its diagonal.
     rings: Vec<u32>,
     ring_at: Vec<u32>,
     /// The 1-ring weights of this step (\[G\] §3).

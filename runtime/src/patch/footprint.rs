@@ -21,8 +21,9 @@ pub fn output_counts(vertices: u128, edges: u128, faces: u128, n: u128) -> (u128
     )
 }
 
-/// Vertices and quads [`subdivide_with`](super::subdivide_with) writes when every edge splits into n and the holes'
-/// points that no other face uses are dropped: each vertex, edge and face counted once if a
+/// Vertices and quads [`subdivide_with`](super::subdivide_with) writes when every edge splits
+/// into n and the holes' points that no other face uses are dropped: each vertex, edge and
+/// face counted once if a
 /// face that is not a hole has it.
 fn written_counts(topo: &Topology, features: &Resolved, n: u128) -> (u128, u128) {
     let kept = |f: u32| !features.is_hole(f);
@@ -39,7 +40,8 @@ fn written_counts(topo: &Topology, features: &Resolved, n: u128) -> (u128, u128)
     output_counts(count(&vertex), count(&edge), faces, n)
 }
 
-/// What a refinement by [`Refiner`](super::Refiner) makes and holds, in bytes at most (see [`footprint()`]).
+/// What a refinement by [`Refiner`](super::Refiner) makes and holds, in bytes at most (see
+/// [`footprint()`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Footprint {
     /// Output vertices, exactly ([`output_counts`]).
@@ -56,8 +58,9 @@ pub struct Footprint {
 }
 
 /// The footprint of `steps` steps of a scheme (tables `t`, masks contained near EVs from step
-/// `contained_from`) on `mesh` by a [`Refiner`](super::Refiner) with `threads` workers and positions of
-/// `scalar_bytes` bytes, predicted from the label words before anything is built (saturating).
+/// `contained_from`) on `mesh` by a [`Refiner`](super::Refiner) with `threads` workers and
+/// positions of `scalar_bytes` bytes, predicted from the label words before anything is built
+/// (saturating).
 /// It follows the refiner's plan: the steps before masks are contained run on the whole mesh
 /// when it has EVs, the first steps of a mesh of small fans level by level
 /// (`patch/direct.rs`), then faces with an EV corner are refined as whole patches in

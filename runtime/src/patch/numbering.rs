@@ -139,8 +139,9 @@ impl Numbering {
 }
 
 impl Numbering {
-    /// Every face's patch with its ring as indices into this numbering, x-major ([`load`](super::load)),
-    /// `u32::MAX` where a point does not exist ([`Numbering::gather`]).
+    /// Every face's patch with its ring as indices into this numbering, x-major
+    /// ([`load`](super::load)), `u32::MAX` where a point does not exist
+    /// ([`Numbering::gather`]).
     pub(super) fn gather_table(&self, base: &Base<'_>) -> Vec<u32> {
         let m = ring_layout(self.n, true);
         let mut table = vec![u32::MAX; base.topo.face_count() * m.side * m.side];
