@@ -399,9 +399,12 @@ pub struct Extras<'a> {
 }
 
 impl Extras<'_> {
-    /// Refuses normals that are not one per vertex of `mesh`, texture coordinates whose faces
-    /// are not `mesh`'s or name no value, and values that are not finite.
+    /// What a mesh file cannot hold, refused before it is written: a non-finite coordinate of
+    /// `mesh` (which the readers would reject), normals that are not one per vertex, texture
+    /// coordinates whose faces are not `mesh`'s or name no value, and values that are not
+    /// finite.
     pub fn check(&self, mesh: &QuadMesh) -> Result<(), Error> {
+        crate::points::finite("vertex", &mesh.positions)?;
         let vertices = mesh.positions.len();
         if let Some(n) = self.normals {
             if n.len() != vertices {

@@ -493,10 +493,9 @@ pub struct Text<'a> {
 }
 
 impl<'a> Text<'a> {
-    /// Refuses a non-finite coordinate ([`crate::points::finite`]) and extras that do not fit
-    /// the mesh.
+    /// Refuses what an OBJ file cannot hold ([`Extras::check`]: a non-finite coordinate, extras
+    /// that do not fit the mesh).
     pub fn new(mesh: &'a QuadMesh, extras: Extras<'a>) -> Result<Text<'a>, Error> {
-        crate::points::finite("vertex", &mesh.positions)?;
         extras.check(mesh)?;
         Ok(Text { mesh, extras })
     }

@@ -1076,10 +1076,9 @@ pub struct Out<'a> {
 }
 
 impl<'a> Out<'a> {
-    /// Refuses a non-finite coordinate ([`crate::points::finite`]) and extras that do not fit
-    /// the mesh; lays out the texture coordinates.
+    /// Refuses what a PLY file cannot hold ([`Extras::check`]: a non-finite coordinate, extras
+    /// that do not fit the mesh); lays out the texture coordinates.
     pub fn new(mesh: &'a QuadMesh, extras: Extras<'a>) -> Result<Out<'a>, Error> {
-        crate::points::finite("vertex", &mesh.positions)?;
         extras.check(mesh)?;
         let vertex_uv = extras.uv.and_then(|uv| per_vertex(mesh, uv));
         Ok(Out {
