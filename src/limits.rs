@@ -7,7 +7,7 @@
 //! (without what only holes use), n = |π^N(ω)| (`CurveTables::image_len`, `patch::output_counts`), in u128 and
 //! saturating. Bytes are a bound on what the CLI's pipeline holds at its peak: the input and
 //! the driver's buffers (the fast driver's own model, `patch::footprint`), then the output and
-//! the output file: a curve's text built in memory, a mesh's streamed through a buffer.
+//! the output file, streamed through a buffer.
 
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::Checked;
@@ -18,10 +18,6 @@ use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
 pub const FALLBACK_MAX_MEMORY: u64 = 8 << 30;
-
-/// Characters of one f64 written at round-trip precision (`{:?}`), at most
-/// (`-1.2345678901234567e-308`).
-const COORDINATE_TEXT: u128 = 24;
 
 /// Bytes a streamed output file holds in memory: its write buffer
 /// (`lsubdiv::write_atomic_with`).
@@ -93,6 +89,22 @@ impl Prediction {
         let limit = if limit { v.saturating_mul(72) } else { 0 };
         let uv = if uv { q.saturating_mul(4 * 80 + 16) } else { 0 };
         self.holding(limit.saturating_add(uv))
+    }
+
+    /// The prediction with what a curve's limit pass adds (`curve --limit`, `dim` coordinates a
+    /// point): the limit positions and derivatives (16·`dim` bytes a point) beside the refined
+    /// points, and with interpolated ends (`ends`) the odd-symmetric extension whose masks give
+    /// them (a copy of the refined points and labels, and at most `3d` phantoms more:
+    /// [`curve_ends`]).
+    pub fn with_curve_limit(self, dim: usize, ends: Option<usize>) -> Prediction {
+        let point = 8 * dim as u128;
+        let limit = self.vertices.saturating_mul(2 * point);
+        let extension = ends.map_or(0, |d| {
+            self.vertices
+                .saturating_add(3 * d as u128)
+                .saturating_mul(point + 1)
+        });
+        self.holding(limit.saturating_add(extension))
     }
 
     /// The prediction when `bytes` more are held throughout, e.g. the input copied at another
@@ -330,7 +342,7 @@ pub fn surface(
 }
 
 /// `steps` steps of a curve scheme on `points` control points of dimension `dim` labelled
-/// `labels` (checked against the tables), with its point file built in memory.
+/// `labels` (checked against the tables).
 pub fn curve(
     t: &CurveTables<'_>,
     labels: &[u8],
@@ -382,16 +394,17 @@ fn refinement(
     let (last, before) = (m(steps), if steps == 0 { 0 } else { m(steps - 1) });
     let point = 8 * dim as u128;
     let input = (points as u128) * point + labels as u128;
-    // Two levels of points and labels while refining; the points and their text at the end.
+    // Two levels of points and labels while refining; the points and labels at the end, their
+    // file streamed through a buffer.
     let refine = last
         .saturating_add(before)
         .saturating_add(2 * working)
         .saturating_mul(point + 1);
-    let file = last.saturating_mul((COORDINATE_TEXT + 1) * dim as u128);
+    let out = last.saturating_mul(point + 1).saturating_add(WRITE_BUFFER);
     Prediction {
         vertices: last,
         quads: None,
-        bytes: input.saturating_add(refine.max(last.saturating_mul(point).saturating_add(file))),
+        bytes: input.saturating_add(refine.max(out)),
     }
 }
 

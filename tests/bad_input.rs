@@ -466,8 +466,9 @@ fn too_large_requests_are_refused_before_refining() {
             "more than 10^38 vertices, more than 10^38 quads",
         ),
         (
-            vec!["curve", "fibonacci", "--steps", "40", &square, "-o", &out_s],
-            "would make 331 160 285 points",
+            // ~1 TiB of points and labels: over half of any machine's memory (the default).
+            vec!["curve", "fibonacci", "--steps", "50", &square, "-o", &out_s],
+            "would make 40 730 022 151 points",
         ),
         (
             // 4 steps of binary-ternary on the cube: |π⁴(C)| = 41, so 6·41² quads, fine under
@@ -811,6 +812,8 @@ fn failed_runs_leave_previous_outputs_and_no_temporary_files() {
             "fibonacci",
             "--steps",
             "40",
+            "--max-memory",
+            "1M",
             &square,
             "-o",
             &s(&points),

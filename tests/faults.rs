@@ -147,6 +147,18 @@ fn writers_refuse_non_finite_coordinates() {
     }
     let e = lsubdiv::points::format(&[[0.0, 1.0], [f64::NAN, 2.0]]).unwrap_err();
     assert!(e.message.contains("point 2 has a non-finite"), "{e}");
+    // Limit points with their tangents: the first line with a non-finite value in any column
+    // set is named; finite ones are written side by side, at round-trip precision.
+    let (p, t) = (
+        [[0.5, 1.0], [2.0, 3.0], [4.0, 5.0]],
+        [[0.1, 1.0], [1.0, f64::INFINITY], [f64::NAN, 0.0]],
+    );
+    let e = lsubdiv::points::Text::with_columns(vec![&p, &t])
+        .err()
+        .unwrap();
+    assert!(e.message.contains("point 2 has a non-finite"), "{e}");
+    let text = lsubdiv::points::Text::with_columns(vec![&p[..1], &t[..1]]).unwrap();
+    assert_eq!(text.to_string(), "0.5 1.0 0.1 1.0\n");
     assert!(lsubdiv::obj::format(&torus(3, 3)).is_ok());
 }
 

@@ -165,6 +165,58 @@ fn the_command_line_writes_limit_points_and_tangents() {
     );
 }
 
+/// The size guard counts the limit pass (its positions and derivatives beside the refined
+/// points; with interpolated ends the extension its masks read): a budget that the refinement
+/// fits is refused for `--limit` with the prediction, before anything is written, and met with
+/// a larger one. The points are streamed to the file, so the refinement alone fits in less
+/// than its text.
+#[test]
+fn the_size_guard_counts_the_limit_pass() {
+    use common::cli::{lsubdiv, stderr, write};
+    let dir = tempfile::tempdir().unwrap();
+    let circle: String = (0..200)
+        .map(|i| {
+            let t = std::f64::consts::TAU * f64::from(i) / 200.0;
+            format!("{} {}\n", t.cos(), t.sin())
+        })
+        .collect();
+    let input = write(dir.path(), "circle.txt", &circle);
+    let out = dir.path().join("out.txt");
+    let out = out.to_str().unwrap();
+    // 9 steps of uniform binary: 102,400 points, ~4 MB of text; two levels of 2D points and
+    // labels ~2.7 MB; the limit pass adds ~3.3 MB, the extension ~1.7 MB more.
+    let run = |max: &str, extra: &[&str]| {
+        let mut args = vec!["curve", "uniform-binary", "--steps", "9", &input, "-o", out];
+        args.extend_from_slice(&["--max-memory", max]);
+        args.extend_from_slice(extra);
+        lsubdiv(&args)
+    };
+    for ends in [&["--closed"][..], &["--ends", "interpolate"]] {
+        let plain = run("3M", ends);
+        assert!(plain.status.success(), "{ends:?}: {}", stderr(&plain));
+        let text = std::fs::read_to_string(out).unwrap();
+        assert!(text.len() > 3 << 20, "{ends:?}: {} bytes", text.len());
+        std::fs::remove_file(out).unwrap();
+        let limit = [ends, &["--limit", "--tangents"]].concat();
+        let refused = run("3M", &limit);
+        assert_eq!(refused.status.code(), Some(2), "{ends:?}");
+        let e = stderr(&refused);
+        assert!(
+            e.contains("would make") && e.contains("--max-memory is ~3.0 MiB"),
+            "{e}"
+        );
+        assert!(
+            !std::path::Path::new(out).exists(),
+            "{ends:?}: written anyway"
+        );
+        let fits = run("9M", &limit);
+        assert!(fits.status.success(), "{ends:?}: {}", stderr(&fits));
+        let rows = std::fs::read_to_string(out).unwrap();
+        assert!(rows.lines().all(|l| l.split(' ').count() == 4), "{ends:?}");
+        std::fs::remove_file(out).unwrap();
+    }
+}
+
 /// The compiled surface scheme `name`.
 fn surface(name: &str) -> lsubdiv::generic::GenericSurface {
     let s = Scheme::build(lsubdiv_cli::resolve(name).unwrap().ls).unwrap();

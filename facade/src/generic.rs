@@ -23,6 +23,7 @@ use lsubdiv_compiler::exact::{Scheme, Tables};
 use lsubdiv_compiler::Error;
 use lsubdiv_runtime::surface::{SurfaceScheme, SurfaceTables};
 use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};
+use std::collections::HashSet;
 
 /// A curve scheme whose tables are computed at run time.
 #[derive(Clone, Debug)]
@@ -52,8 +53,12 @@ impl GenericScheme {
         if curve.check(&t).is_err() {
             return Ok(());
         }
+        // Each distinct word once, in order of first appearance: a refined curve of millions
+        // of points makes a few dozen.
+        let mut seen = HashSet::new();
         let start: Vec<Word> = (0..curve.points.len())
             .map(|k| curve.word(k, t.degree))
+            .filter(|w| !seen.contains(w) && seen.insert(w.clone()))
             .collect();
         self.tables.add_reachable(start)
     }

@@ -2,7 +2,6 @@
 //! Blank lines and lines starting with `#` are skipped on input; output has nothing else in it.
 
 use lsubdiv_compiler::{Error, Location};
-use std::fmt::Write as _;
 
 /// Points of dimension 2 or 3.
 #[derive(Clone, Debug, PartialEq)]
@@ -87,11 +86,56 @@ pub fn finite<const D: usize>(what: &str, points: &[[f64; D]]) -> Result<(), Err
 /// Formats points at full (round-trip) f64 precision, one per line; refuses a non-finite
 /// coordinate ([`finite`]).
 pub fn format<const D: usize>(points: &[[f64; D]]) -> Result<String, Error> {
-    finite("point", points)?;
-    let mut s = String::new();
-    for p in points {
-        let coords: Vec<String> = p.iter().map(|x| format!("{x:?}")).collect();
-        let _ = writeln!(s, "{}", coords.join(" "));
+    Ok(Text::new(points)?.to_string())
+}
+
+/// A point file's text, checked ([`format`]) and not yet formatted: `write!` it into any
+/// writer (`lsubdiv::write_atomic_with` streams it to a file). Each line holds a point's
+/// coordinates, then those of the same point in each further column set (a limit point's
+/// tangent: [`Text::with_columns`]).
+pub struct Text<'a, const D: usize> {
+    columns: Vec<&'a [[f64; D]]>,
+}
+
+impl<'a, const D: usize> Text<'a, D> {
+    /// One point per line; refuses a non-finite coordinate ([`finite`]).
+    pub fn new(points: &'a [[f64; D]]) -> Result<Text<'a, D>, Error> {
+        Text::with_columns(vec![points])
     }
-    Ok(s)
+
+    /// Line i holds point i of every column set in turn (`x y z tx ty tz`); the sets must be
+    /// as long as each other. Refuses a non-finite coordinate, named by its line ([`finite`]).
+    pub fn with_columns(columns: Vec<&'a [[f64; D]]>) -> Result<Text<'a, D>, Error> {
+        let lines = columns.first().map_or(0, |c| c.len());
+        if let Some(c) = columns.iter().find(|c| c.len() != lines) {
+            return Err(Error::internal(
+                None,
+                format!("point columns of {} and {lines} lines", c.len()),
+            ));
+        }
+        // The column set whose first non-finite point comes first names it.
+        let first_bad = |c: &&[[f64; D]]| c.iter().position(|p| !p.iter().all(|x| x.is_finite()));
+        if let Some(c) = columns
+            .iter()
+            .min_by_key(|c| first_bad(c).unwrap_or(usize::MAX))
+        {
+            finite("point", c)?;
+        }
+        Ok(Text { columns })
+    }
+}
+
+impl<const D: usize> std::fmt::Display for Text<'_, D> {
+    fn fmt(&self, s: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let lines = self.columns.first().map_or(0, |c| c.len());
+        for i in 0..lines {
+            let mut sep = "";
+            for x in self.columns.iter().flat_map(|c| &c[i]) {
+                write!(s, "{sep}{x:?}")?;
+                sep = " ";
+            }
+            writeln!(s)?;
+        }
+        Ok(())
+    }
 }

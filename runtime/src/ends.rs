@@ -115,28 +115,34 @@ pub fn refine_ends<S: CurveScheme, const D: usize>(
     let t = scheme.tables();
     curve.check(&t)?;
     let d = t.degree;
-    let mut cur = curve.clone();
+    // A step holds the extension and its refinement, no other level: the coarse points are
+    // dropped once extended, the refined ones cut back in place (the size guard counts so).
+    let mut cur: Option<EndCurve<D>> = None;
     for _ in 0..steps {
-        let ext = cur.extended(&t, sigma)?;
-        let fine = refine(scheme, &ext, 1)?;
+        let coarse = cur.as_ref().unwrap_or(curve);
+        let ext = coarse.extended(&t, sigma)?;
+        let ends = (coarse.points[0], coarse.points[coarse.points.len() - 1]);
+        let labels: Vec<u8> = coarse
+            .labels
+            .iter()
+            .flat_map(|&a| t.rule(a))
+            .copied()
+            .collect();
+        drop(cur.take());
+        let mut points = refine(scheme, &ext, 1)?.points;
+        drop(ext);
         // The child of extended point k is the new point on its middle knot (odd d): new
         // point offset(k + half) − half, offset(i) = |π(labels[..i])|, and the refined open
         // curve starts at offset(d) − d ([N] §2.3). P_0 is point r, and r + half = d, so its
         // child is refined point d − half = r; the children of the other real points follow,
         // one per refined edge.
         let first = (d - 1) / 2;
-        let labels: Vec<u8> = cur
-            .labels
-            .iter()
-            .flat_map(|&a| t.rule(a))
-            .copied()
-            .collect();
-        let mut points = fine.points[first..=first + labels.len()].to_vec();
+        points.truncate(first + labels.len() + 1);
+        points.drain(..first);
         // The end points' children are the end points (symmetric masks); exactly.
-        points[0] = cur.points[0];
-        *points.last_mut().expect("at least two points") =
-            *cur.points.last().expect("at least two points");
-        cur = EndCurve { points, labels };
+        points[0] = ends.0;
+        *points.last_mut().expect("at least two points") = ends.1;
+        cur = Some(EndCurve { points, labels });
     }
-    Ok(cur)
+    Ok(cur.unwrap_or_else(|| curve.clone()))
 }

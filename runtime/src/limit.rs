@@ -31,19 +31,21 @@ pub fn curve_limit<S: CurveScheme, const D: usize>(
     }
     let index: HashMap<&[u8], u32> = t.word_index();
     let (m, r) = (curve.points.len(), (d - 1) / 2);
-    let ks: Vec<usize> = if curve.closed {
-        (0..m).collect()
+    let ks = if curve.closed {
+        0..m
     } else {
-        (r..m.saturating_sub(r)).collect()
+        r..m.saturating_sub(r)
     };
     let mut out = CurveLimit {
         positions: Vec::with_capacity(ks.len()),
         tangents: Vec::with_capacity(ks.len()),
     };
     let n = curve.labels.len();
+    let mut word = Vec::with_capacity(d + 1);
     for k in ks {
         // Point k owns intervals k..=k+d (cyclically when closed).
-        let word: Vec<u8> = (k..=k + d).map(|i| curve.labels[i % n]).collect();
+        word.clear();
+        word.extend((k..=k + d).map(|i| curve.labels[i % n]));
         let i = *index
             .get(word.as_slice())
             .ok_or_else(|| CurveError::UnknownWord(t.word_str(&word)))?;

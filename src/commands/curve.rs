@@ -8,7 +8,7 @@ use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::{self, Points};
 use lsubdiv::{CurveError, EndCurve};
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
-use lsubdiv_cli::output::write_atomic;
+use lsubdiv_cli::output::write_atomic_with;
 use lsubdiv_cli::Resolved;
 
 /// Arguments of `lsubdiv curve`.
@@ -78,21 +78,46 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         path: refine.path,
         implementation,
         max_memory: refine.limit.bytes(),
+        limit,
     };
-    let out = match (pts, limit, tangents) {
-        (Points::D2(p), false, _) => points::format(&refine_cli(&r, p, &job)?.0)?,
-        (Points::D3(p), false, _) => points::format(&refine_cli(&r, p, &job)?.0)?,
-        (Points::D2(p), true, false) => points::format(&limit_cli(&r, p, &job)?.positions)?,
-        (Points::D3(p), true, false) => points::format(&limit_cli(&r, p, &job)?.positions)?,
-        (Points::D2(p), true, true) => {
-            points::format(&with_tangents::<2, 4>(limit_cli(&r, p, &job)?))?
-        }
-        (Points::D3(p), true, true) => {
-            points::format(&with_tangents::<3, 6>(limit_cli(&r, p, &job)?))?
-        }
+    let write = Write {
+        stages: &stages,
+        output: &output,
     };
-    stages.next(format!("writing {}", output.display()));
-    write_atomic(&output, out.as_bytes())
+    match (pts, limit) {
+        (Points::D2(p), false) => write.points(&[&refine_cli(&r, p, &job)?.0]),
+        (Points::D3(p), false) => write.points(&[&refine_cli(&r, p, &job)?.0]),
+        (Points::D2(p), true) => write.limit(limit_cli(&r, p, &job)?, tangents),
+        (Points::D3(p), true) => write.limit(limit_cli(&r, p, &job)?, tangents),
+    }
+}
+
+/// Where the points go: streamed to the output, whole or not at all.
+struct Write<'a> {
+    stages: &'a lsubdiv_cli::progress::Stages,
+    output: &'a std::path::Path,
+}
+
+impl Write<'_> {
+    /// Line i: point i of each column set in turn ([`points::Text::with_columns`]).
+    fn points<const D: usize>(&self, columns: &[&[[f64; D]]]) -> Result<(), Error> {
+        let text = points::Text::with_columns(columns.to_vec())?;
+        self.stages
+            .next(format!("writing {}", self.output.display()));
+        write_atomic_with(self.output, |out| write!(out, "{text}"))
+    }
+
+    /// The limit points, with their tangents as extra columns when asked.
+    fn limit<const D: usize>(
+        &self,
+        l: lsubdiv::CurveLimit<D>,
+        tangents: bool,
+    ) -> Result<(), Error> {
+        match tangents {
+            true => self.points(&[&l.positions, &l.tangents]),
+            false => self.points(&[&l.positions]),
+        }
+    }
 }
 
 /// What `lsubdiv curve` was asked to do, apart from the points.
@@ -107,9 +132,29 @@ struct CurveJob<'a> {
     path: PathChoice,
     implementation: Implementation,
     max_memory: u64,
+    /// `--limit`: the limit pass follows the refinement (the size guard counts it).
+    limit: bool,
 }
 
 impl CurveJob<'_> {
+    /// Refuses, before refining, a run the size guard predicts over `--max-memory`: the
+    /// refinement's `prediction`, the input (`labels` with it) copied at another scale (`lsubdiv_cli::scale`), and
+    /// with `--limit` the limit pass (`ends`: the degree, for interpolated ends).
+    fn guard<const D: usize>(
+        &self,
+        prediction: lsubdiv_cli::limits::Prediction,
+        input: &[[f64; D]],
+        labels: usize,
+        ends: Option<usize>,
+    ) -> Result<(), Error> {
+        let p = prediction.holding(lsubdiv_cli::scale::copy_bytes(input, labels as u128));
+        let p = match self.limit {
+            true => p.with_curve_limit(D, ends),
+            false => p,
+        };
+        p.check(&self.what, self.max_memory)
+    }
+
     /// A curve error as a diagnostic about the points file.
     fn input_error(&self, e: CurveError) -> Error {
         Error::in_file(self.file, e.to_string())
@@ -130,10 +175,9 @@ fn limit_cli<const D: usize>(
         let sigma = lsubdiv::compiler::exact::symmetry::rule_mirror(&r.ls)
             .ok_or_else(|| Error::internal(None, "interpolated ends without a mirror"))?;
         let curve = EndCurve { points, labels };
-        let extended = curve
-            .extended(&lsubdiv::CurveScheme::tables(&generic), &sigma)
-            .map_err(input_error)?;
-        generic.prepare(&extended)?;
+        // The extension is tabulated and dropped: `end_limit` makes its own.
+        let extended = curve.extended(&lsubdiv::CurveScheme::tables(&generic), &sigma);
+        generic.prepare(&extended.map_err(input_error)?)?;
         return lsubdiv::end_limit(&generic, &sigma, &curve).map_err(input_error);
     }
     let curve = lsubdiv::Curve {
@@ -143,15 +187,6 @@ fn limit_cli<const D: usize>(
     };
     generic.prepare(&curve)?;
     lsubdiv::curve_limit(&generic, &curve).map_err(input_error)
-}
-
-/// Positions with their tangents as extra columns.
-fn with_tangents<const D: usize, const E: usize>(l: lsubdiv::CurveLimit<D>) -> Vec<[f64; E]> {
-    l.positions
-        .iter()
-        .zip(&l.tangents)
-        .map(|(p, t)| std::array::from_fn(|i| if i < D { p[i] } else { t[i - D] }))
-        .collect()
 }
 
 /// Refines by the picked implementation; under `auto`, labels that make words the generated
@@ -172,12 +207,12 @@ fn refine_cli<const D: usize>(
     let curve = polygon(r, &generic, points, closed, job.polygon.labels.as_deref())?;
     let t = lsubdiv::CurveScheme::tables(&generic);
     curve.check(&t).map_err(input_error)?;
-    lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps)
-        .holding(lsubdiv_cli::scale::copy_bytes(
-            &curve.points,
-            curve.labels.len() as u128,
-        ))
-        .check(&job.what, job.max_memory)?;
+    job.guard(
+        lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), D, steps),
+        &curve.points,
+        curve.labels.len(),
+        None,
+    )?;
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
     let (labels, points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| lsubdiv::Curve {
@@ -234,12 +269,12 @@ fn refine_ends_cli<const D: usize>(
                 .map_err(|e| Error::input(format!("--labels: {e}")))?;
     }
     let extended = curve.extended(&t, &sigma).map_err(input_error)?;
-    lsubdiv_cli::limits::curve_ends(&t, &curve.labels, curve.points.len(), D, job.steps)
-        .holding(lsubdiv_cli::scale::copy_bytes(
-            &curve.points,
-            curve.labels.len() as u128,
-        ))
-        .check(&job.what, job.max_memory)?;
+    job.guard(
+        lsubdiv_cli::limits::curve_ends(&t, &curve.labels, curve.points.len(), D, job.steps),
+        &curve.points,
+        curve.labels.len(),
+        Some(t.degree),
+    )?;
     let (labels, points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| EndCurve {
             points,
