@@ -234,13 +234,55 @@ fn refuse_image(what: &str, bytes: u128, max: u64) -> Result<(), Error> {
     )))
 }
 
+/// What a picture holds once drawn ([`crate::picture::Picture::drawing`], or predicted before
+/// drawing it): its SVG text, its elements, their points and its text elements' characters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Drawing {
+    /// Bytes of SVG text.
+    pub text: u128,
+    /// Elements (lines, polylines, circles, rectangles, paths, texts).
+    pub elements: u128,
+    /// Points of their outlines (a polyline's vertices; two for a circle, a line…).
+    pub points: u128,
+    /// Text elements.
+    pub texts: u128,
+    /// Characters of the text elements.
+    pub glyphs: u128,
+}
+
+/// Bytes resvg's tree holds per SVG element, at most: the XML node with its attributes and the
+/// converted node with its paint (`cargo run --release` of a minimal resvg 0.45 program on
+/// 200,000-element SVGs measured 1.07–1.39 KB a circle or polyline).
+const TREE_ELEMENT: u128 = 1_800;
+/// Bytes per outline point: its text in the XML node and its segment in the path.
+pub const TREE_POINT: u128 = 32;
+/// Bytes per text element and per character once its glyphs are outlined (measured about
+/// 6.1 KB and 390 bytes with DejaVu Sans).
+const TREE_TEXT: u128 = 8 << 10;
+const TREE_GLYPH: u128 = 512;
+
 /// Refuses a picture (`plot`, `graph`, `ev --characteristic-map`) of `width` × `height` pixels
-/// and about `svg` bytes of SVG text whose rendering would exceed `max` bytes: the text, its
-/// parsed tree (a few times the text), the RGBA pixmap and the PNG encoding.
-pub fn picture(dims: (u32, u32), svg: u128, max: u64) -> Result<(), Error> {
-    let pixels = u128::from(dims.0) * u128::from(dims.1);
-    let bytes = svg * 4 + pixels * (4 + IMAGE_PIXEL);
+/// whose rendering would exceed `max` bytes: the text and the document made of it, resvg's
+/// tree of it (per element, point and glyph: [`TREE_ELEMENT`]), the RGBA pixmap and the PNG
+/// encoding.
+pub fn picture(dims: (u32, u32), d: &Drawing, max: u64) -> Result<(), Error> {
+    let bytes = picture_bytes(dims, d);
     refuse_image(&format!("a {}x{} picture", dims.0, dims.1), bytes, max)
+}
+
+/// What rendering a picture holds at most ([`picture`]).
+pub fn picture_bytes(dims: (u32, u32), d: &Drawing) -> u128 {
+    let pixels = u128::from(dims.0) * u128::from(dims.1);
+    [
+        d.text.saturating_mul(2),
+        d.elements.saturating_mul(TREE_ELEMENT),
+        d.points.saturating_mul(TREE_POINT),
+        d.texts.saturating_mul(TREE_TEXT),
+        d.glyphs.saturating_mul(TREE_GLYPH),
+        pixels * (4 + IMAGE_PIXEL),
+    ]
+    .into_iter()
+    .fold(0u128, u128::saturating_add)
 }
 
 /// Reads an input file (a mesh or a point file; `-` is standard input) under `--max-memory max`:

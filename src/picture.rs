@@ -2,6 +2,7 @@
 //! as SVG text, written as SVG or rasterised to PNG by resvg. PNG text uses DejaVu Sans,
 //! embedded in the binary (the `dejavu` crate), so that no system font is needed.
 
+use crate::limits::Drawing;
 use crate::output::{format_by_extension, write_atomic};
 use lsubdiv::compiler::Error;
 use std::fmt::Write as _;
@@ -102,6 +103,8 @@ pub struct Picture {
     body: String,
     /// Some coordinate given was not finite (the picture is refused, never written).
     non_finite: bool,
+    /// Its elements, points and text, for the size guard ([`Picture::drawing`]).
+    drawn: Drawing,
 }
 
 /// A coordinate with at most 2 decimals (enough for pixels, keeps files small).
@@ -138,6 +141,7 @@ impl Picture {
             height,
             body: String::new(),
             non_finite: false,
+            drawn: Drawing::default(),
         };
         p.rect(
             [0.0, 0.0],
@@ -160,7 +164,7 @@ impl Picture {
 
     /// A straight line.
     pub fn line(&mut self, a: [f64; 2], b: [f64; 2], style: &Style, class: &str) {
-        self.check(&[a, b]);
+        self.element(&[a, b]);
         let _ = writeln!(
             self.body,
             "<line{} x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" {}/>",
@@ -175,7 +179,7 @@ impl Picture {
 
     /// A polyline through `points`, closed into a polygon when `closed`.
     pub fn polyline(&mut self, points: &[[f64; 2]], closed: bool, style: &Style, class: &str) {
-        self.check(points);
+        self.element(points);
         let coords: Vec<String> = points
             .iter()
             .map(|p| format!("{},{}", num(p[0]), num(p[1])))
@@ -192,7 +196,7 @@ impl Picture {
 
     /// An axis-aligned rectangle from its top-left corner and size.
     pub fn rect(&mut self, at: [f64; 2], size: [f64; 2], style: &Style, class: &str) {
-        self.check(&[at, size]);
+        self.element(&[at, size]);
         let _ = writeln!(
             self.body,
             "<rect{} x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" rx=\"{}\" {}/>",
@@ -208,7 +212,7 @@ impl Picture {
 
     /// A circle.
     pub fn circle(&mut self, centre: [f64; 2], r: f64, style: &Style, class: &str) {
-        self.check(&[centre, [r, 0.0]]);
+        self.element(&[centre, [r, 0.0]]);
         let _ = writeln!(
             self.body,
             "<circle{} cx=\"{}\" cy=\"{}\" r=\"{}\" {}/>",
@@ -222,6 +226,9 @@ impl Picture {
 
     /// An SVG path (`d` in path syntax), e.g. the Bézier curve of a graph edge.
     pub fn path(&mut self, d: &str, style: &Style, class: &str) {
+        // A point takes three characters of `d` at least (`1 2 `).
+        self.element(&[]);
+        self.drawn.points += d.len() as u128 / 3 + 1;
         let _ = writeln!(
             self.body,
             "<path{} d=\"{d}\" {}/>",
@@ -232,7 +239,9 @@ impl Picture {
 
     /// Text with its baseline at `at`.
     pub fn text(&mut self, at: [f64; 2], text: &str, size: f64, anchor: Anchor, colour: &str) {
-        self.check(&[at, [size, 0.0]]);
+        self.element(&[at, [size, 0.0]]);
+        self.drawn.texts += 1;
+        self.drawn.glyphs += text.chars().count() as u128;
         let anchor = match anchor {
             Anchor::Start => "start",
             Anchor::Middle => "middle",
@@ -248,9 +257,19 @@ impl Picture {
         );
     }
 
-    /// Notes coordinates that are not finite (or beyond what [`num`] writes): such a picture
-    /// is refused by [`Picture::svg`].
-    fn check(&mut self, points: &[[f64; 2]]) {
+    /// What the picture holds so far, for the size guard ([`crate::limits::picture`]).
+    pub fn drawing(&self) -> Drawing {
+        Drawing {
+            text: self.body.len() as u128,
+            ..self.drawn
+        }
+    }
+
+    /// Counts an element with its coordinates, and notes those that are not finite (or beyond
+    /// what [`num`] writes): such a picture is refused by [`Picture::svg`].
+    fn element(&mut self, points: &[[f64; 2]]) {
+        self.drawn.elements += 1;
+        self.drawn.points += points.len() as u128;
         self.non_finite |= points
             .iter()
             .flatten()
@@ -345,7 +364,7 @@ pub fn save(picture: &Picture, path: &Path, max_memory: u64) -> Result<(), Error
         Format::Png => {
             crate::limits::picture(
                 (picture.width, picture.height),
-                picture.body.len() as u128,
+                &picture.drawing(),
                 max_memory,
             )?;
             picture.png()?

@@ -10,15 +10,62 @@
 //! the first d again, whose spline is the closed one over one period.
 
 use crate::input_error;
+use crate::limits::{count, Drawing, TREE_POINT};
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericScheme;
-use lsubdiv::runtime::{refine, Curve, CurveScheme};
+use lsubdiv::runtime::{refine, Curve, CurveScheme, CurveTables};
 
 /// Edges of the limit curve are at most this long in pixels.
 const PIXEL: f64 = 1.0;
 /// The limit curve stops refining at this many points whatever the edge length.
 const MAX_POINTS: usize = 400_000;
+
+/// Characters of an SVG coordinate pair at most (`-12345.67,-12345.67 `: the picture writes
+/// two decimals, and is at most 10000 pixels a side).
+const PAIR_TEXT: u128 = 20;
+/// Characters of a point's circle element at most, its coordinates included.
+const CIRCLE_TEXT: u128 = 100;
+/// Characters of a limit piece's polyline element at most, without its points.
+const PIECE_TEXT: u128 = 160;
+/// Elements of the title, axes, ticks and legend at most, besides two per symbol; each at most
+/// [`FRAME_TEXT`] characters of SVG and [`FRAME_GLYPHS`] of text.
+const FRAME_ELEMENTS: u128 = 80;
+const FRAME_TEXT: u128 = 240;
+const FRAME_GLYPHS: u128 = 80;
+
+/// What a plot of levels of `vertices` points (steps 0..=N) draws, predicted before refining
+/// them, for the size guard: a circle and a polygon vertex per point of every level, and a
+/// polyline per knot interval of the last holding the limit curve's points, counted here as
+/// many as the last level's (each further point of the limit pass is counted as it is made:
+/// [`limit_point_bytes`]).
+pub fn predicted(t: &CurveTables<'_>, vertices: &[u128]) -> Drawing {
+    let d = t.degree as u128;
+    let last = vertices.last().copied().unwrap_or(0);
+    let all = vertices.iter().fold(0u128, |a, &v| a.saturating_add(v));
+    let (fine, pieces) = (last.saturating_add(d), last.saturating_add(2 * d + 1));
+    let frame = FRAME_ELEMENTS + 2 * t.symbol_count() as u128;
+    let sum = |terms: &[u128]| terms.iter().fold(0u128, |a, &x| a.saturating_add(x));
+    Drawing {
+        text: sum(&[
+            all.saturating_mul(CIRCLE_TEXT + PAIR_TEXT),
+            pieces.saturating_mul(PIECE_TEXT),
+            fine.saturating_add(pieces).saturating_mul(PAIR_TEXT),
+            frame * FRAME_TEXT,
+        ]),
+        elements: sum(&[all, vertices.len() as u128, pieces, frame]),
+        points: sum(&[all.saturating_mul(3), fine, pieces, frame * 2]),
+        texts: frame,
+        glyphs: frame * FRAME_GLYPHS,
+    }
+}
+
+/// Bytes the limit pass holds per point of its finest polygon at most: two levels of points
+/// with their parameter and labels, the point in its piece, its SVG text and the document's
+/// copy of it, and for a PNG its share of resvg's tree.
+pub fn limit_point_bytes(png: bool) -> u128 {
+    2 * (24 + 1) + 16 + 2 * PAIR_TEXT + if png { TREE_POINT } else { 0 }
+}
 
 /// Interval colours by symbol index (odd indices are also dashed, as \[N\] Fig. 2's S).
 const PALETTE: [&str; 8] = [
@@ -60,8 +107,14 @@ pub fn limit(
     scheme: &mut GenericScheme,
     last: &Curve<2>,
     max_edge: f64,
+    max_points: u128,
 ) -> Result<Vec<Piece>, Error> {
-    let d = scheme.tables().degree;
+    let t = scheme.tables();
+    let d = t.degree;
+    let growth = (0..t.symbol_count() as u8)
+        .map(|a| t.rule(a).len() as u128)
+        .max()
+        .unwrap_or(1);
     let lengths: Vec<f64> = scheme.scheme().lengths.iter().map(|e| e.to_f64()).collect();
     let (points, labels): (Vec<[f64; 2]>, Vec<u8>) = if last.closed {
         let m = last.points.len();
@@ -97,6 +150,14 @@ pub fn limit(
             .fold(0.0, f64::max);
         if longest <= max_edge || fine.points.len() > MAX_POINTS {
             break;
+        }
+        let next = (fine.points.len() as u128).saturating_mul(growth);
+        if next > max_points {
+            return Err(Error::input(format!(
+                "drawing the limit curve to a pixel refines it to up to {} points, and --max-memory leaves room for {}; use fewer points or steps, or raise --max-memory",
+                count(next),
+                count(max_points)
+            )));
         }
         fine = refine(scheme, &fine, 1).map_err(input_error)?;
     }
@@ -214,6 +275,7 @@ pub fn plot(
     curve: &Curve<2>,
     steps: usize,
     size: (u32, u32),
+    max_limit_points: u128,
 ) -> Result<Picture, Error> {
     scheme.prepare(curve)?;
     let all = levels(&scheme, curve, steps)?;
@@ -234,7 +296,7 @@ pub fn plot(
     let data = bounds(all.iter().flat_map(|c| c.points.iter()), 0.04);
     let frame = Frame::fit(data, plot_box);
     let last = all.last().expect("non-empty");
-    let pieces = limit(&mut scheme, last, PIXEL / frame.scale())?;
+    let pieces = limit(&mut scheme, last, PIXEL / frame.scale(), max_limit_points)?;
 
     let mut pic = Picture::new(size.0, size.1);
     pic.text(

@@ -325,6 +325,29 @@ fn image_buffers_and_streamed_point_files_are_bounded_by_max_memory() {
         }
         assert!(!Path::new(output).exists(), "{args:?} wrote {output}");
     }
+    // A plot's limit curve is counted as it is refined to a pixel: past what the levels and
+    // the picture leave, it is refused and nothing is written; with room, drawn.
+    let svg = dir.path().join("h.svg");
+    let plot = |max: &str| {
+        lsubdiv(&[
+            "plot",
+            "uniform-binary",
+            "-o",
+            svg.to_str().unwrap(),
+            "--max-memory",
+            max,
+        ])
+    };
+    let o = plot("400K");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("drawing the limit curve to a pixel refines it to up to"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!svg.exists());
+    let o = plot("2M");
+    assert!(o.status.success() && svg.exists(), "{}", stderr(&o));
     // Within the limit the same render is drawn.
     let o = lsubdiv(&[
         "render",

@@ -135,7 +135,7 @@ fn limit_curve_pieces_meet_at_the_knots() {
             ]
         })
         .collect();
-    let pieces = lsubdiv_cli::plot::limit(&mut g, &last, 1e-3).unwrap();
+    let pieces = lsubdiv_cli::plot::limit(&mut g, &last, 1e-3, u128::MAX).unwrap();
     assert_eq!(pieces.len(), m);
     for (i, piece) in pieces.iter().enumerate() {
         // The unrolled polygon's domain starts at interval d = 2: piece i is interval i + 2,

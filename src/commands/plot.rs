@@ -45,7 +45,7 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
         size,
         limit,
     } = a;
-    picture::format_of(&output)?;
+    let format = picture::format_of(&output)?;
     let size = picture::parse_size(&size)?;
     let max = limit.bytes();
     if steps > 12 {
@@ -70,20 +70,39 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
     let curve = polygon(&r, &generic, pts, closed, labels.as_deref())?;
     let t = lsubdiv::CurveScheme::tables(&generic);
     curve.check(&t).map_err(lsubdiv_cli::input_error)?;
-    // Every level is kept and drawn (some 40 bytes of SVG text a point): the sum over them.
+    // Every level is kept and drawn: the sum over them.
     let levels: Vec<_> = (0..=steps)
         .map(|k| lsubdiv_cli::limits::curve(&t, &curve.labels, closed, curve.points.len(), 2, k))
         .collect();
     let sum = |f: fn(&lsubdiv_cli::limits::Prediction) -> u128| {
         levels.iter().map(f).fold(0u128, u128::saturating_add)
     };
+    // The levels and the picture's text are held together while it is drawn, then a PNG's
+    // rendering (counted again, exactly, before it is made: `picture::save`); what the limit
+    // pass adds beyond the last level's points is counted as it refines, within what is left.
+    let vertices: Vec<u128> = levels.iter().map(|p| p.vertices).collect();
+    let drawing = lsubdiv_cli::plot::predicted(&t, &vertices);
+    let png = format == picture::Format::Png;
+    let start = (vertices[steps] + t.degree as u128)
+        .saturating_mul(lsubdiv_cli::plot::limit_point_bytes(png));
+    let drawn = sum(|p| p.bytes)
+        .saturating_add(drawing.text.saturating_mul(2))
+        .saturating_add(start);
     lsubdiv_cli::limits::Prediction {
         vertices: sum(|p| p.vertices),
         quads: None,
-        bytes: sum(|p| p.bytes),
+        bytes: drawn,
     }
     .check(&format!("{steps} steps of {} in a plot", r.ls.name), max)?;
-    lsubdiv_cli::limits::picture(size, sum(|p| p.vertices).saturating_mul(40), max)?;
-    let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size)?;
+    let rendered = match png {
+        true => {
+            lsubdiv_cli::limits::picture(size, &drawing, max)?;
+            lsubdiv_cli::limits::picture_bytes(size, &drawing)
+        }
+        false => 0,
+    };
+    let left = u128::from(max).saturating_sub(drawn.max(rendered));
+    let limit_points = left / lsubdiv_cli::plot::limit_point_bytes(png);
+    let pic = lsubdiv_cli::plot::plot(generic, &curve, steps, size, limit_points)?;
     picture::save(&pic, &output, max)
 }
