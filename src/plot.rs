@@ -102,7 +102,8 @@ fn levels(scheme: &GenericScheme, curve: &Curve<2>, steps: usize) -> Result<Vec<
 }
 
 /// The limit curve of `last`, in pieces over its knot intervals, refined until every edge is
-/// below `max_edge` (data units).
+/// below `max_edge` (data units); a step that could make more than `max_points` points (the
+/// size guard's room) is refused before it is taken.
 pub fn limit(
     scheme: &mut GenericScheme,
     last: &Curve<2>,

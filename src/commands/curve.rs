@@ -80,7 +80,7 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         max_memory: refine.limit.bytes(),
         limit,
     };
-    let write = Write {
+    let write = Output {
         stages: &stages,
         output: &output,
     };
@@ -93,12 +93,12 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
 }
 
 /// Where the points go: streamed to the output, whole or not at all.
-struct Write<'a> {
+struct Output<'a> {
     stages: &'a lsubdiv_cli::progress::Stages,
     output: &'a std::path::Path,
 }
 
-impl Write<'_> {
+impl Output<'_> {
     /// Line i: point i of each column set in turn ([`points::Text::with_columns`]).
     fn points<const D: usize>(&self, columns: &[&[[f64; D]]]) -> Result<(), Error> {
         let text = points::Text::with_columns(columns.to_vec())?;
@@ -138,8 +138,9 @@ struct CurveJob<'a> {
 
 impl CurveJob<'_> {
     /// Refuses, before refining, a run the size guard predicts over `--max-memory`: the
-    /// refinement's `prediction`, the input (`labels` with it) copied at another scale (`lsubdiv_cli::scale`), and
-    /// with `--limit` the limit pass (`ends`: the degree, for interpolated ends).
+    /// refinement's `prediction`, the input (`labels` with it) copied at another scale
+    /// (`lsubdiv_cli::scale`), and with `--limit` the limit pass (`ends`: the degree, for
+    /// interpolated ends).
     fn guard<const D: usize>(
         &self,
         prediction: lsubdiv_cli::limits::Prediction,
