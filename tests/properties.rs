@@ -1,15 +1,15 @@
 //! Property tests on random valid L-systems (1–5 symbols, rules of length 1–4, degree 1–5):
 //! exact partition of unity, exact mirror symmetry of the masks of symmetric systems (\[G\]
-//! eq. (14)), refinement keeps the spline (de Boor), affine invariance.
+//! eq. (14)), refinement keeps the spline (de Boor), affine invariance, interpolated ends.
 
 mod common;
 
 use lsubdiv::compiler::exact::field::Elem;
 use lsubdiv::compiler::exact::lsystem::LSystem;
-use lsubdiv::compiler::exact::symmetry::{check_symmetry, involutions, is_symmetry};
+use lsubdiv::compiler::exact::symmetry::{check_symmetry, involutions, is_symmetry, rule_mirror};
 use lsubdiv::compiler::exact::{scheme, validity, Scheme};
 use lsubdiv::generic::GenericScheme;
-use lsubdiv::{Curve, CurveScheme};
+use lsubdiv::{refine_ends, Curve, CurveScheme, EndCurve};
 use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
 use lsubdiv_testkit::spline::spline_distance;
 use proptest::collection::vec;
@@ -196,6 +196,62 @@ fn mirror_symmetry(c: &Case) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Interpolated ends (`lsubdiv::runtime::ends`, odd degrees): after the steps the end points
+/// are the coarse ones exactly, there are |π^N(edges)| + 1 points (the size guard's count), and
+/// the ordinary refinement (\[N\] §2.3) of the real points, labelled as in the extension, is a
+/// run of them.
+fn interpolated_ends(c: &mut Case) -> Result<(), TestCaseError> {
+    let ls = &c.generic.scheme().ls;
+    let (d, steps) = (ls.degree, c.steps);
+    let Some(sigma) = rule_mirror(ls).filter(|_| d % 2 == 1) else {
+        return Ok(());
+    };
+    let points = c.curve.points.clone();
+    let m = points.len();
+    let labels = c.curve.labels[..m - 1].to_vec();
+    let coarse = EndCurve {
+        points: points.clone(),
+        labels: labels.clone(),
+    };
+    let ext = coarse
+        .extended(&c.generic.tables(), &sigma)
+        .expect("extends");
+    c.generic.prepare(&ext).expect("tabulates");
+    let r = (d - 1) / 2;
+    let shrink = Curve {
+        points: points.clone(),
+        labels: ext.labels[r..r + m + d].to_vec(),
+        closed: false,
+    };
+    c.generic.prepare(&shrink).expect("tabulates");
+    let fine = refine_ends(&c.generic, &sigma, &coarse, steps).expect("refines");
+    prop_assert_eq!(fine.points[0], points[0]);
+    prop_assert_eq!(fine.points.last(), points.last());
+    let t = c.generic.tables();
+    prop_assert_eq!(fine.labels.len() as u128, t.image_len(&labels, steps));
+    prop_assert_eq!(fine.points.len(), fine.labels.len() + 1);
+    let guard = lsubdiv_cli::limits::curve_ends(&t, &labels, m, 3, steps);
+    prop_assert_eq!(guard.vertices, fine.points.len() as u128);
+    let plain = lsubdiv::refine(&c.generic, &shrink, steps).expect("refines");
+    let scale = fine
+        .points
+        .iter()
+        .flatten()
+        .fold(1.0f64, |a, x| a.max(x.abs()));
+    let close = |run: &[[f64; 3]]| {
+        run.iter()
+            .flatten()
+            .zip(plain.points.iter().flatten())
+            .all(|(x, y)| (x - y).abs() <= 1e-12 * scale)
+    };
+    let runs = fine.points.len() + 1 - plain.points.len().min(fine.points.len() + 1);
+    prop_assert!(
+        (0..runs).any(|o| close(&fine.points[o..o + plain.points.len()])),
+        "the interior is not the ordinary refinement"
+    );
+    Ok(())
+}
+
 /// The exact limit masks (cubic schemes) are the B-spline at each point's middle knot.
 fn limit_masks(c: &Case) -> Result<(), TestCaseError> {
     lsubdiv_testkit::spline::check_limit_masks(c.generic.scheme()).map_err(TestCaseError::fail)
@@ -251,9 +307,10 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
     #[test]
-    fn random_symmetric_systems(c in cases(1.0)) {
+    fn random_symmetric_systems(mut c in cases(1.0)) {
         mirror_symmetry(&c)?;
         partition_of_unity(&c)?;
+        interpolated_ends(&mut c)?;
     }
 }
 
