@@ -387,25 +387,8 @@ impl Resolved {
         }
     }
 
-    /// The kind of the ring point diagonal to corner c of face f at step k.
-    pub fn corner_kind(
-        &self,
-        topo: &crate::topology::Topology,
-        f: u32,
-        c: u8,
-        k: usize,
-    ) -> CornerKind {
-        let v = topo.vertex(f, c);
-        let w = topo
-            .rotation(v)
-            .iter()
-            .position(|w| w.face == f && w.corner == c)
-            .expect("a face corner is in its vertex's rotation");
-        self.corner_kinds(topo, v, k)[w]
-    }
-
-    /// [`Resolved::corner_kind`] of every wedge of v's rotation at step k, in its order (the
-    /// sharp spokes read once for all of them).
+    /// The kind of the ring point diagonal to each wedge's face corner, for every wedge of v's
+    /// rotation at step k, in its order (the sharp spokes read once for all of them).
     pub fn corner_kinds(
         &self,
         topo: &crate::topology::Topology,

@@ -278,6 +278,8 @@ impl Topology {
         let mut mates = vec![NONE; nh];
         // rep[h]: the first half-edge (in scanning order) of h's edge.
         let mut rep = vec![NONE; nh];
+        // The edge of more than two faces whose first half-edge comes first, and its faces.
+        let mut crowded: Option<(u32, usize)> = None;
         for b in offsets.windows(2) {
             let bucket = &mut order[b[0] as usize..b[1] as usize];
             bucket.sort_unstable_by_key(|&h| (ends(h as usize).1, h));
@@ -285,12 +287,27 @@ impl Topology {
                 for &h in run {
                     rep[h as usize] = run[0];
                 }
-                if let [a, b] = *run {
-                    mates[a as usize] = b;
-                    mates[b as usize] = a;
+                match *run {
+                    [a, b] => {
+                        mates[a as usize] = b;
+                        mates[b as usize] = a;
+                    }
+                    [first, _, _, ..] if crowded.is_none_or(|(h, _)| first < h) => {
+                        crowded = Some((first, run.len()));
+                    }
+                    _ => {}
                 }
             }
         }
+        if let Some((h, faces)) = crowded {
+            let (lo, hi) = ends(h as usize);
+            return Err(TopologyError::NonManifoldEdge {
+                edge: [lo, hi],
+                faces,
+                face: h / 4,
+            });
+        }
+        drop((offsets, order));
         let mut face_edges = vec![0u32; nh];
         let mut edge_verts: Vec<[u32; 2]> = Vec::with_capacity(2 * nf);
         let mut edge_half: Vec<u32> = Vec::with_capacity(2 * nf);
@@ -298,16 +315,6 @@ impl Topology {
             let r = rep[h] as usize;
             if r == h {
                 let (lo, hi) = ends(h);
-                let bucket =
-                    &order[offsets[lo as usize] as usize..offsets[lo as usize + 1] as usize];
-                let faces = bucket.iter().filter(|&&x| ends(x as usize).1 == hi).count();
-                if faces > 2 {
-                    return Err(TopologyError::NonManifoldEdge {
-                        edge: [lo, hi],
-                        faces,
-                        face: (h / 4) as u32,
-                    });
-                }
                 face_edges[h] = edge_verts.len() as u32;
                 edge_verts.push([lo, hi]);
                 edge_half.push(h as u32);
@@ -315,7 +322,7 @@ impl Topology {
                 face_edges[h] = face_edges[r];
             }
         }
-        drop((offsets, order, rep));
+        drop(rep);
 
         // Rotations (CSR). Every corner is in exactly one rotation, so 4F wedges in all.
         let mut rot_offsets = vec![0u32; nv + 1];
@@ -974,6 +981,20 @@ mod tests {
         assert_eq!(
             e.to_string(),
             "edge (0, 1) of face 2 is shared by 3 faces (non-manifold edge)"
+        );
+
+        // Two fins: the edge whose first face comes first is named, (4, 6) of face 0 before
+        // (0, 1) of face 2, though its smaller end is larger.
+        m.positions.push([1.0, 3.0, 1.0]);
+        m.positions.push([1.0, 3.0, 0.0]);
+        m.faces.push([4, 6, 10, 11]);
+        assert_eq!(
+            err(&m),
+            TopologyError::NonManifoldEdge {
+                edge: [4, 6],
+                faces: 3,
+                face: 0
+            }
         );
 
         // Two cubes sharing an edge: 4 faces on it.

@@ -183,10 +183,19 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
         let mut positions = vec![[0.0; 3]; output.len()];
         let mut normals = vec![[0.0; 3]; output.len()];
         // Special corners whose patch describes their sector exactly (a corner's one-face
-        // sectors, doubly reflected) add their patch normal too.
-        let exact_corner = |v: u32, f: u32, c: u8| {
-            rule(v) == VertexRule::Corner && features.corner_kind(topo, f, c, k) == CornerKind::Both
-        };
+        // sectors, doubly reflected) add their patch normal too: per face corner, a corner
+        // vertex's kinds computed once for its whole rotation.
+        let mut exact = vec![false; 4 * topo.face_count()];
+        for v in (0..nv).filter(|&v| special[v as usize] && rule(v) == VertexRule::Corner) {
+            for (wedge, kind) in topo
+                .rotation(v)
+                .iter()
+                .zip(features.corner_kinds(topo, v, k))
+            {
+                exact[wedge.face as usize * 4 + wedge.corner as usize] = kind == CornerKind::Both;
+            }
+        }
+        let exact_corner = |f: u32, c: u8| exact[f as usize * 4 + c as usize];
         let layout = ring_layout(n, true);
         let mut patch = vec![0.0f64; layout.side * layout.side * 3];
         for f in 0..topo.face_count() as u32 {
@@ -208,7 +217,7 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                     let ruled = corner && special[i];
                     if ruled {
                         let c = (0..4u8).find(|&c| corner_at(c, n, n) == (x, y));
-                        if !c.is_some_and(|c| exact_corner(i as u32, f, c)) {
+                        if !c.is_some_and(|c| exact_corner(f, c)) {
                             continue;
                         }
                     }
@@ -287,7 +296,7 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                 }
                 VertexRule::Corner => {
                     positions[vi] = centre;
-                    let exact = rot.iter().all(|w| exact_corner(v, w.face, w.corner));
+                    let exact = rot.iter().all(|w| exact_corner(w.face, w.corner));
                     if !exact {
                         approximate.push(v);
                         fallback.push(v);
