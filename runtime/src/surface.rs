@@ -337,18 +337,19 @@ impl Step<'_> {
         self.topo.valence(v) == 4 && !self.topo.is_boundary(v)
     }
 
-    /// `len` labels along the straight line leaving v by spoke k, read outward. At an ordinary
-    /// vertex the line continues through the opposite edge; at an EV it continues with the
-    /// mirrored label (\[G\] §2.2.2).
-    fn ray(&self, v: u32, k: usize, len: usize) -> Vec<u8> {
-        let sp = self.spokes(v);
-        let (mut e, mut label) = sp[k];
+    /// `len` labels along the straight line leaving v by its spoke `start` (edge, label read
+    /// from v), read outward. At an ordinary vertex the line continues through the opposite
+    /// edge; at an EV it continues with the mirrored label (\[G\] §2.2.2). Only ordinary
+    /// vertices' spokes are read on the way, so a ray costs the same beside an EV of any
+    /// valence.
+    fn ray(&self, v: u32, start: (u32, u8), len: usize) -> Vec<u8> {
+        let (mut e, mut label) = start;
         let mut at = v;
         let mut out = vec![label];
         while out.len() < len {
             let q = self.topo.other_end(e, at);
-            let qs = self.spokes(q);
             if self.ordinary(q) {
+                let qs = self.spokes(q);
                 let i = qs
                     .iter()
                     .position(|s| s.0 == e)
@@ -363,12 +364,13 @@ impl Step<'_> {
         out
     }
 
-    /// The (d+1)-word of v along spoke k, read outward, and its mask index.
-    fn word(&self, v: u32, k: usize) -> Result<u32, SurfaceError> {
+    /// The (d+1)-word of v along spoke k of its spokes `sp` ([`Step::spokes`]), read outward,
+    /// and its mask index.
+    fn word(&self, v: u32, sp: &[(u32, u8)], k: usize) -> Result<u32, SurfaceError> {
         let half = self.t.degree.div_ceil(2);
-        let ahead = self.ray(v, k, half);
+        let ahead = self.ray(v, sp[k], half);
         let behind = if self.ordinary(v) {
-            self.ray(v, (k + 2) % 4, half)
+            self.ray(v, sp[(k + 2) % 4], half)
         } else {
             ahead.clone()
         };
@@ -577,8 +579,9 @@ impl Step<'_> {
             }
             let n = topo.valence(v);
             // One word per spoke: n at an interior vertex, n + 1 at a boundary one (a chain).
-            let words = (0..self.spokes(v).len())
-                .map(|k| self.word(v, k))
+            let sp = self.spokes(v);
+            let words = (0..sp.len())
+                .map(|k| self.word(v, &sp, k))
                 .collect::<Result<Vec<u32>, _>>()?;
             let centre = if n == 4 || topo.is_boundary(v) {
                 // A boundary vertex of a ghosted mesh: its child is not kept (a ghost), or set
