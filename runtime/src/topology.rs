@@ -463,12 +463,19 @@ impl Topology {
             .chain(closing)
     }
 
-    /// The edge between vertices a and b, if they share one.
+    /// The edge between vertices a and b, if they share one (found among the spokes of the
+    /// one of smaller valence, so that looking up every edge at a vertex of valence n costs
+    /// O(n), not O(n²)).
     pub fn edge_between(&self, a: u32, b: u32) -> Option<u32> {
         if a as usize >= self.vertex_count || b as usize >= self.vertex_count {
             return None;
         }
-        self.spokes(a).find(|&e| {
+        let from = if self.valence(a) <= self.valence(b) {
+            a
+        } else {
+            b
+        };
+        self.spokes(from).find(|&e| {
             let [x, y] = self.edge_vertices(e);
             (x, y) == (a.min(b), a.max(b))
         })

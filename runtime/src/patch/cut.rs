@@ -62,9 +62,13 @@ impl Cut {
             faces,
         };
         let cut = Topology::build(&mesh).ok()?;
+        // Each vertex's rule, resolved once (an end of many sharp edges is met once per edge).
+        let rules: Vec<VertexRule> = (0..topo.vertex_count() as u32)
+            .map(|v| features.vertex_rule(topo, v, 0))
+            .collect();
         // The vertex beyond a, away from b, along the sharp line through a (edge e).
         let beyond = |a: u32, e: u32| {
-            let next = match features.vertex_rule(topo, a, 0) {
+            let next = match rules[a as usize] {
                 VertexRule::Crease => topo
                     .spokes(a)
                     .find(|&s| s != e && features.edge_sharp(s, 0)),
@@ -88,7 +92,7 @@ impl Cut {
             .collect();
         let darts = (0..topo.vertex_count() as u32)
             .filter(|&v| {
-                features.vertex_rule(topo, v, 0) == VertexRule::Smooth
+                rules[v as usize] == VertexRule::Smooth
                     && features.sharp_spokes(topo, v, 0).contains(&true)
             })
             .collect();
