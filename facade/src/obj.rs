@@ -19,9 +19,9 @@ pub(crate) type Token<'a> = (&'a str, usize);
 
 /// Calls `f(line, tokens)` for each logical line of `text` that has tokens: `line` is its first
 /// physical line, `tokens` its tokens (split at ASCII whitespace) with the physical line of
-/// each, comments (`#` to the end of the physical line) stripped. A physical line whose content ends in `\` (trailing spaces
-/// and a CR allowed) continues on the next, the `\` read as a space; on the last line it ends
-/// the file.
+/// each, comments (`#` to the end of the physical line) stripped. A physical line whose content
+/// ends in `\` (trailing spaces and a CR allowed) continues on the next, the `\` read as a
+/// space; on the last line it ends the file.
 fn for_each_line<'a>(
     text: &'a str,
     mut f: impl FnMut(usize, &[Token<'a>]) -> Result<(), Error>,

@@ -85,8 +85,8 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         output: &output,
     };
     match (pts, limit) {
-        (Points::D2(p), false) => write.points(&[&refine_cli(&r, p, &job)?.0]),
-        (Points::D3(p), false) => write.points(&[&refine_cli(&r, p, &job)?.0]),
+        (Points::D2(p), false) => write.points(&[&refine_cli(&r, p, &job)?.points]),
+        (Points::D3(p), false) => write.points(&[&refine_cli(&r, p, &job)?.points]),
         (Points::D2(p), true) => write.limit(limit_cli(&r, p, &job)?, tangents),
         (Points::D3(p), true) => write.limit(limit_cli(&r, p, &job)?, tangents),
     }
@@ -169,8 +169,11 @@ fn limit_cli<const D: usize>(
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
 ) -> Result<lsubdiv::CurveLimit<D>, Error> {
-    let (points, labels) = refine_cli(r, points, job)?;
-    let mut generic = GenericScheme::new(build(r)?)?;
+    let Refined {
+        points,
+        labels,
+        mut generic,
+    } = refine_cli(r, points, job)?;
     let input_error = |e| job.input_error(e);
     if job.ends == Ends::Interpolate {
         let sigma = lsubdiv::compiler::exact::symmetry::rule_mirror(&r.ls)
@@ -192,12 +195,12 @@ fn limit_cli<const D: usize>(
 
 /// Refines by the picked implementation; under `auto`, labels that make words the generated
 /// tables lack go to the generic path. Refuses, before refining, a result predicted to need
-/// more than `--max-memory`. Returns the refined points and their labels.
+/// more than `--max-memory`.
 fn refine_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
-) -> Result<(Vec<[f64; D]>, Vec<u8>), Error> {
+) -> Result<Refined<D>, Error> {
     if job.ends == Ends::Interpolate {
         return refine_ends_cli(r, points, job);
     }
@@ -234,7 +237,19 @@ fn refine_cli<const D: usize>(
         };
         Ok((refined.labels, refined.points))
     })?;
-    Ok((points, labels))
+    Ok(Refined {
+        points,
+        labels,
+        generic,
+    })
+}
+
+/// A refined curve, and the generic tables built for it (the limit pass tabulates its words
+/// there instead of compiling the scheme again).
+struct Refined<const D: usize> {
+    points: Vec<[f64; D]>,
+    labels: Vec<u8>,
+    generic: GenericScheme,
 }
 
 /// `--ends interpolate`: the odd-symmetric extension across each end (`lsubdiv::runtime::ends`)
@@ -244,7 +259,7 @@ fn refine_ends_cli<const D: usize>(
     r: &Resolved,
     points: Vec<[f64; D]>,
     job: &CurveJob<'_>,
-) -> Result<(Vec<[f64; D]>, Vec<u8>), Error> {
+) -> Result<Refined<D>, Error> {
     let input_error = |e| job.input_error(e);
     if job.polygon.closed {
         return Err(Error::input(
@@ -294,7 +309,11 @@ fn refine_ends_cli<const D: usize>(
         };
         Ok((fine.labels, fine.points))
     })?;
-    Ok((points, labels))
+    Ok(Refined {
+        points,
+        labels,
+        generic,
+    })
 }
 
 /// The generated kernels' result by `run` (a registry call) when the picked implementation is
