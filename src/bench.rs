@@ -142,6 +142,7 @@ fn checked(spec: &str, mesh: QuadMesh, split: bool, features: Features) -> Resul
     let topology = Topology::build(&mesh)
         .map_err(|e| Error::internal(None, format!("built-in mesh `{spec}`: {e}")))?;
     Ok(Checked {
+        weld: None,
         mesh,
         split,
         topology,

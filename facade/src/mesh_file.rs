@@ -8,6 +8,7 @@ use lsubdiv_compiler::{Error, Location};
 use lsubdiv_runtime::facevarying::{PolyUv, QuadUv, UvError, UvRule};
 use lsubdiv_runtime::features::{FeatureError, FeatureList, Features};
 use lsubdiv_runtime::mesh::QuadMesh;
+use lsubdiv_runtime::nonmanifold::{separate, Weld};
 use lsubdiv_runtime::polygon::{catmull_clark, check_features, PolyMesh, SplitError};
 use lsubdiv_runtime::topology::{Topology, TopologyError};
 use std::path::Path;
@@ -37,6 +38,9 @@ pub struct Places {
     pub faces: Vec<usize>,
     /// Lines of the tags of the features.
     pub features: FeatureLines,
+    /// The file's vertex of each vertex of the mesh checked, where it was separated
+    /// ([`lsubdiv_runtime::nonmanifold::separate`]); empty where it is the file's own.
+    pub origin: Vec<u32>,
 }
 
 /// The line of the tag of each entry of a file's [`Features`]: crease k read at line
@@ -99,6 +103,9 @@ pub struct Checked {
     pub uv: Option<QuadUv>,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
+    /// Where the file is not a 2-manifold: which vertices of `mesh` are copies of one point,
+    /// to join after refining ([`Weld::join`]).
+    pub weld: Option<Weld>,
 }
 
 /// `n` and the noun, singular for one: `1 vertex`, `8 vertices`.
@@ -134,7 +141,13 @@ impl Places {
             vertices: Vec::new(),
             faces: Vec::new(),
             features: FeatureLines::default(),
+            origin: Vec::new(),
         }
+    }
+
+    /// The file's vertex of vertex v of the mesh checked.
+    fn file_vertex(&self, v: u32) -> u32 {
+        self.origin.get(v as usize).copied().unwrap_or(v)
     }
 
     /// The feature error `e` of the mesh read from `file` as a diagnostic at the line of the
@@ -207,8 +220,11 @@ impl Places {
     /// face or vertex it names, with vertices numbered as in the file.
     pub fn locate(&self, file: &str, e: &TopologyError) -> Error {
         let face = |f: u32| self.at(file, "face", f, self.faces.get(f as usize));
-        let vertex = |v: u32| self.at(file, "vertex", v, self.vertices.get(v as usize));
-        let num = |v: u32| u64::from(v) + self.first;
+        let vertex = |v: u32| {
+            let v = self.file_vertex(v);
+            self.at(file, "vertex", v, self.vertices.get(v as usize))
+        };
+        let num = |v: u32| u64::from(self.file_vertex(v)) + self.first;
         let ((place, prefix), message) = match *e {
             TopologyError::FaceIndexOutOfRange {
                 face: f,
@@ -300,19 +316,31 @@ impl Parsed {
             uv_rule,
             warnings,
         } = self;
+        let mut places = places;
+        let mut warnings = warnings;
         let uv_error = |e: UvError| Error::in_file(file, format!("texture coordinates: {e}"));
         if let Some(uv) = &uv {
             uv.check(&mesh).map_err(uv_error)?;
         }
+        check_features(mesh.positions.len(), (0..mesh.face_count()).map(|f| mesh.face(f)), &features)
+            .map_err(|e| places.locate_feature(file, &e))?;
+        let separated = separate(&mesh, &features).map_err(|e| places.locate(file, &e))?;
+        let (mesh, features) = match separated {
+            None => (mesh, features),
+            Some(s) => {
+                warnings.extend(separation_notes(&s));
+                places.origin = s.origin;
+                (s.mesh, s.features)
+            }
+        };
+        let origin = (!places.origin.is_empty()).then_some(&places.origin[..]);
         let topology_of =
             |q: &QuadMesh| Topology::build(q).and_then(|t| t.check_valences().map(|()| t));
-        let (quads, features, topology, uv, split) = match mesh.into_quads() {
+        let (quads, features, topology, uv, split, weld) = match mesh.into_quads() {
             Ok(q) => {
-                let faces = q.faces.iter().map(|f| &f[..]);
-                check_features(q.positions.len(), faces, &features)
-                    .map_err(|e| places.locate_feature(file, &e))?;
                 let topology = topology_of(&q).map_err(|e| places.locate(file, &e))?;
-                (q, features, topology, uv.map(|uv| uv.quads()), false)
+                let weld = origin.map(Weld::new);
+                (q, features, topology, uv.map(|uv| uv.quads()), false, weld)
             }
             Err(mesh) => {
                 let s = catmull_clark(&mesh, &features).map_err(|e| match e {
@@ -323,7 +351,8 @@ impl Parsed {
                     topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
                 let uv = (uv.map(|uv| uv.split(&mesh, &features, uv_rule)).transpose())
                     .map_err(uv_error)?;
-                (s.mesh, s.features, topology, uv, true)
+                let weld = origin.map(|o| Weld::after_split(o, &s));
+                (s.mesh, s.features, topology, uv, true, weld)
             }
         };
         Ok(Checked {
@@ -333,8 +362,30 @@ impl Parsed {
             features,
             uv,
             warnings,
+            weld,
         })
     }
+}
+
+/// One line each for what [`separate`] did to a file: vertices dropped, non-manifold vertices
+/// and edges made sharp.
+fn separation_notes(s: &lsubdiv_runtime::nonmanifold::Separated) -> Vec<String> {
+    let mut notes = Vec::new();
+    if s.isolated > 0 {
+        notes.push(format!(
+            "{} used by no face: dropped",
+            counted(s.isolated, "vertex", "vertices")
+        ));
+    }
+    if s.vertices + s.edges > 0 {
+        notes.push(format!(
+            "not a 2-manifold: {} and {} made infinitely sharp, each fan refined on its own, as \
+             OpenSubdiv does (docs/real-meshes.md)",
+            counted(s.vertices, "non-manifold vertex", "non-manifold vertices"),
+            counted(s.edges, "non-manifold edge", "non-manifold edges")
+        ));
+    }
+    notes
 }
 
 /// The formats [`parse`] reads.

@@ -11,8 +11,8 @@
 //! - `t corner 1/1/0 v s`: vertex v has sharpness s; several vertices, one sharpness for all or
 //!   one per vertex;
 //! - `t hole 1/0/0 f`: face f (counted from 0) is a hole; several faces;
-//! - `t interpolateboundary 1/0/0 k`: 1 edge-and-corner, 2 edge-only (0, none, OpenSubdiv's
-//!   `VTX_BOUNDARY_NONE`, is refused: lsubdiv refines boundaries).
+//! - `t interpolateboundary 1/0/0 k`: 0 none (OpenSubdiv's `VTX_BOUNDARY_NONE`: the faces at
+//!   the boundary are holes), 1 edge-and-corner, 2 edge-only.
 //!
 //! The count field may omit its string count (`2/1`). Sharpness is read by
 //! [`Sharpness::from_f64`] (`inf` and 10 or more: infinitely sharp; fractional refused). A value
@@ -234,16 +234,14 @@ impl Tags {
 
     /// `t interpolateboundary 1/0/0 k`, the mode `(tok, line)`.
     fn boundary(&mut self, (tok, line): Token<'_>) -> Result<(), Failure> {
-        const NONE: &str = "boundary interpolation 0 (none: OpenSubdiv makes the boundary faces \
-                            holes) is not supported; lsubdiv refines boundaries edge-and-corner \
-                            (1) or edge-only (2)";
         let boundary = match tok.parse::<i64>() {
             Ok(1) => Boundary::EdgeAndCorner,
             Ok(2) => Boundary::EdgeOnly,
-            Ok(0) => return Err((line, NONE.into())),
+            Ok(0) => Boundary::None,
             _ => {
                 let message = format!(
-                    "`{}` is not a boundary interpolation mode (1 edge-and-corner, 2 edge-only)",
+                    "`{}` is not a boundary interpolation mode (0 none, 1 edge-and-corner, 2 \
+                     edge-only)",
                     shorten(tok)
                 );
                 return Err((line, message));
@@ -381,6 +379,7 @@ mod tests {
         for (tags, boundary, line) in [
             ("t interpolateboundary 1/0/0 1", Boundary::EdgeAndCorner, 6),
             ("t interpolateboundary 1/0/0 2", Boundary::EdgeOnly, 6),
+            ("t interpolateboundary 1/0/0 0", Boundary::None, 6),
             (
                 "t interpolateboundary 1/0 +2\n\nt interpolateboundary 1/0/0 2",
                 Boundary::EdgeOnly,
@@ -542,16 +541,10 @@ mod tests {
                 "corner vertex 0 has another sharpness at line 6".into(),
             ),
             (
-                "t interpolateboundary 1/0/0 0",
-                6,
-                "boundary interpolation 0 (none: OpenSubdiv makes the boundary faces holes) is \
-                 not supported; lsubdiv refines boundaries edge-and-corner (1) or edge-only (2)"
-                    .into(),
-            ),
-            (
                 "t interpolateboundary 1/0/0 3",
                 6,
-                "`3` is not a boundary interpolation mode (1 edge-and-corner, 2 edge-only)".into(),
+                "`3` is not a boundary interpolation mode (0 none, 1 edge-and-corner, 2 edge-only)"
+                    .into(),
             ),
             (
                 "t interpolateboundary 1/0/0 1\nt interpolateboundary 1/0/0 2",
@@ -638,6 +631,7 @@ mod tests {
             creases: vec![([0, 4], s(2)), ([4, 1], s(2))],
             corners: vec![],
             holes: vec![3, 4, 5],
+            fins: vec![],
         };
         assert_eq!(c.features, want);
         assert_eq!(c.mesh.positions[3], [1.0, -1.0, -1.0]); // the corner, held

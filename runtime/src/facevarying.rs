@@ -165,6 +165,10 @@ fn layout_features<'a>(
             })
             .collect(),
         holes: features.holes.clone(),
+        fins: (features.fins.iter())
+            .flat_map(|v| at.get(v).map_or(&[][..], Vec::as_slice))
+            .copied()
+            .collect(),
     }
 }
 

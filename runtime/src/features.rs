@@ -97,6 +97,17 @@ pub enum Boundary {
     /// default).
     #[default]
     EdgeAndCorner,
+    /// OpenSubdiv's `VTX_BOUNDARY_NONE`: the faces at a vertex with a boundary edge not tagged
+    /// infinitely sharp are holes, the rest refined edge-only. Readers apply it
+    /// ([`crate::nonmanifold::separate`]); given to a refiner, it is refined edge-only.
+    None,
+}
+
+impl Boundary {
+    /// Whether a boundary vertex with one face is an interpolated corner.
+    pub fn one_face_corners(self) -> bool {
+        self == Boundary::EdgeAndCorner
+    }
 }
 
 /// The sharp features of a mesh, named by its vertices and faces (0-based, as OpenSubdiv's
@@ -111,6 +122,9 @@ pub struct Features {
     pub corners: Vec<(u32, Sharpness)>,
     /// Hole faces: refined like every face (the surface is smooth across them), not written.
     pub holes: Vec<u32>,
+    /// Vertices on a non-manifold crease ([`crate::nonmanifold`]): never made corners by the
+    /// boundary rule, though separated into fans with one face.
+    pub fins: Vec<u32>,
 }
 
 impl Features {
@@ -124,7 +138,10 @@ impl Features {
 
     /// Whether there are creases, corners or holes (the boundary rule aside).
     pub fn is_empty(&self) -> bool {
-        self.creases.is_empty() && self.corners.is_empty() && self.holes.is_empty()
+        self.creases.is_empty()
+            && self.corners.is_empty()
+            && self.holes.is_empty()
+            && self.fins.is_empty()
     }
 }
 
@@ -248,7 +265,6 @@ pub enum CornerKind {
 /// sharp), per vertex its corner tag, per face whether it is a hole.
 #[derive(Clone, Debug)]
 pub struct Resolved {
-    boundary: Boundary,
     edge: Vec<Sharpness>,
     vertex: Vec<Sharpness>,
     hole: Vec<bool>,
@@ -286,6 +302,16 @@ impl Resolved {
         for &(v, s) in &features.corners {
             vertex[v as usize] = s;
         }
+        // OpenSubdiv sharpens a boundary vertex with one face under edge-and-corner
+        // (`isSharpenedCorner`), not a vertex separated from a non-manifold crease.
+        if features.boundary.one_face_corners() {
+            let fin = features.fins.iter().copied().collect::<std::collections::HashSet<_>>();
+            for v in 0..topo.vertex_count() as u32 {
+                if topo.is_boundary(v) && topo.valence(v) == 1 && !fin.contains(&v) {
+                    vertex[v as usize] = Sharpness::INFINITE;
+                }
+            }
+        }
         for &f in &features.holes {
             hole[f as usize] = true;
         }
@@ -293,7 +319,6 @@ impl Resolved {
             && edge.iter().all(|s| !s.is_sharp())
             && vertex.iter().all(|s| !s.is_sharp());
         Ok(Resolved {
-            boundary: features.boundary,
             edge,
             vertex,
             hole,
@@ -343,9 +368,7 @@ impl Resolved {
     /// The vertex rule of v at step k.
     pub fn vertex_rule(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> VertexRule {
         let sharp = self.sharp_spokes(topo, v, k).iter().filter(|&&s| s).count();
-        let one_face_corner =
-            topo.is_boundary(v) && topo.valence(v) == 1 && self.boundary == Boundary::EdgeAndCorner;
-        if self.vertex[v as usize].sharp_at(k) || one_face_corner || sharp >= 3 {
+        if self.vertex[v as usize].sharp_at(k) || sharp >= 3 {
             VertexRule::Corner
         } else if sharp == 2 {
             VertexRule::Crease

@@ -62,6 +62,7 @@ pub mod generators;
 mod grid;
 pub mod limit;
 pub mod mesh;
+pub mod nonmanifold;
 pub mod patch;
 pub mod polygon;
 pub mod real;

@@ -17,7 +17,7 @@
 //! sharpness, so the rules are those of the current sharpness). Holes are refined like every
 //! face; their children are holes.
 
-use crate::features::{Boundary, FeatureError, Features};
+use crate::features::{FeatureError, Features};
 use crate::mesh::QuadMesh;
 use crate::topology::{check_corners, TopologyError};
 use std::collections::{HashMap, HashSet};
@@ -343,12 +343,13 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             s.0 += 1;
         }
     }
-    let one_face_corners = features.boundary == Boundary::EdgeAndCorner;
+    let one_face_corners = features.boundary.one_face_corners();
+    let fin: HashSet<u32> = features.fins.iter().copied().collect();
     let mut positions: Vec<[f64; 3]> = (0..nv)
         .map(|v| {
             let (p, (qs, nq), (rs, n)) = (m.positions[v], q[v], r[v]);
             match sharp_ends[v] {
-                _ if corner[v] || (one_face_corners && nq == 1) => p,
+                _ if corner[v] || (one_face_corners && nq == 1 && !fin.contains(&(v as u32))) => p,
                 (3.., _) => p,
                 (2, [a, b]) => {
                     let ends = add(m.positions[a as usize], m.positions[b as usize]);
@@ -394,6 +395,7 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             .flat_map(|&f| m.offsets[f as usize]..m.offsets[f as usize + 1])
             .map(|q| q as u32)
             .collect(),
+        fins: features.fins.clone(),
     };
     Ok(Split {
         mesh: QuadMesh { positions, faces },
@@ -459,7 +461,7 @@ impl TopologyError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::features::{FeatureList, Sharpness};
+    use crate::features::{Boundary, FeatureList, Sharpness};
     use crate::generators::cube;
 
     fn poly(positions: &[[f64; 3]], faces: &[&[u32]]) -> PolyMesh {
@@ -488,7 +490,7 @@ mod tests {
                 .iter()
                 .map(|&(v, s)| (v, Sharpness::steps(s)))
                 .collect(),
-            holes: Vec::new(),
+            ..Features::default()
         }
     }
 

@@ -304,15 +304,17 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
         }
         _ => None,
     };
-    Ok(RefinedMesh {
-        fine: Refined {
-            mesh: QuadMesh { positions, faces },
-            normals,
-            approximate,
-        },
-        uv,
-        refused,
-    })
+    let fine = Refined {
+        mesh: QuadMesh { positions, faces },
+        normals,
+        approximate,
+    };
+    // A mesh that was not a 2-manifold: the refined copies of each point joined again.
+    let fine = match &input.weld {
+        Some(weld) => weld.apply(&m.faces, &input.features.holes, fine),
+        None => fine,
+    };
+    Ok(RefinedMesh { fine, uv, refused })
 }
 
 /// What [`refine_mesh`] gives.

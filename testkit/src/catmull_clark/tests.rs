@@ -158,7 +158,9 @@ fn one_open_quad_numbering_and_both_boundary_modes() {
                 // One face: an interpolated corner.
                 Boundary::EdgeAndCorner => p[i],
                 // Two sharp (boundary) edges: a crease vertex.
-                Boundary::EdgeOnly => crease(p[(i + 3) % 4], p[i], p[(i + 1) % 4]),
+                Boundary::EdgeOnly | Boundary::None => {
+                    crease(p[(i + 3) % 4], p[i], p[(i + 1) % 4])
+                }
             };
             assert_close(m.positions[i], want, "vertex");
         }
@@ -180,7 +182,9 @@ fn open_grid_vertex_and_edge_rules() {
         ] {
             let want = match mode {
                 Boundary::EdgeAndCorner => g.at(i, j),
-                Boundary::EdgeOnly => crease(g.at(a.0, a.1), g.at(i, j), g.at(b.0, b.1)),
+                Boundary::EdgeOnly | Boundary::None => {
+                    crease(g.at(a.0, a.1), g.at(i, j), g.at(b.0, b.1))
+                }
             };
             assert_close(vp(i, j), want, "corner");
         }

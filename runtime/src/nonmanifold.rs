@@ -1,0 +1,463 @@
+//! Meshes that are not 2-manifolds, refined as OpenSubdiv refines them, by every scheme.
+//!
+//! OpenSubdiv's Vtr (`Level::completeTopologyFromFaceVertices`, `orderVertexFacesAndEdges`)
+//! tags an edge non-manifold when it has more than two faces, when one face uses it twice, or
+//! when it is degenerate (a face repeats a vertex in consecutive corners), and a vertex when it
+//! ends such an edge or its faces form more than one fan. Far
+//! (`TopologyRefinerFactoryBase::prepareComponentTagsAndSharpness`) then makes every
+//! non-manifold edge infinitely sharp and every non-manifold vertex an infinitely sharp corner,
+//! except on a non-manifold crease: exactly two non-manifold edges, no boundary edge and more
+//! faces than edges (fins meeting along a line), where the vertex keeps the crease rule.
+//!
+//! Sharp edges are lines of odd symmetry, refined from the points on them alone, and corners
+//! stay where they are: so the faces on either side of a non-manifold edge or vertex never read
+//! each other's points. [`separate`] gives each fan of a vertex its own copy of it (each face
+//! corner joins the corners across the manifold edges at it: the fans are the components), tags
+//! the copies and the edges between them as OpenSubdiv tags the originals, and drops vertices no
+//! face uses. The result is a 2-manifold with boundaries that every scheme refines with its own
+//! boundary and crease rules; [`Weld`] joins the refined copies of one point again.
+//!
+//! Two faces that use an edge in the same direction (inconsistent orientation) are joined
+//! across it like any other pair: the topology is orientation-agnostic, so a mesh whose faces
+//! are not consistently oriented is refined smoothly where OpenSubdiv makes such edges sharp.
+//!
+//! [`Boundary::None`] (OpenSubdiv's `VTX_BOUNDARY_NONE`) is applied here too: the faces at a
+//! vertex with a boundary edge that is not tagged infinitely sharp become holes, and the
+//! boundary is refined edge-only.
+
+use crate::features::{Boundary, Features, Sharpness};
+use crate::mesh::QuadMesh;
+use crate::patch::Refined;
+use crate::polygon::{PolyMesh, Split};
+use crate::topology::TopologyError;
+use std::collections::HashMap;
+
+/// A mesh made a 2-manifold: the input's vertices that faces use, in order, then one copy for
+/// each further fan of a non-manifold vertex; the faces as in the input (the same count, each
+/// corner renamed); the features carried over, with OpenSubdiv's sharpness at the non-manifold
+/// places.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Separated {
+    /// The manifold mesh.
+    pub mesh: PolyMesh,
+    /// Its features: the input's renamed (creases by their edge's copy, corners by each copy of
+    /// their vertex), non-manifold edges infinitely sharp, non-manifold vertices infinitely
+    /// sharp corners or ([`Features::fins`]) on a non-manifold crease; with
+    /// [`Boundary::None`], the boundary faces holes and the boundary edge-only.
+    pub features: Features,
+    /// Per vertex of `mesh`, the input's vertex it stands for.
+    pub origin: Vec<u32>,
+    /// How many input vertices no face uses (dropped).
+    pub isolated: usize,
+    /// How many input vertices are non-manifold.
+    pub vertices: usize,
+    /// How many input edges are non-manifold (each degenerate edge counted).
+    pub edges: usize,
+}
+
+/// Union–find over face corners, with path halving.
+struct Corners(Vec<u32>);
+
+impl Corners {
+    fn root(&mut self, mut x: u32) -> u32 {
+        while self.0[x as usize] != x {
+            let up = self.0[self.0[x as usize] as usize];
+            self.0[x as usize] = up;
+            x = up;
+        }
+        x
+    }
+
+    fn join(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.root(a), self.root(b));
+        self.0[a.max(b) as usize] = a.min(b);
+    }
+}
+
+/// The corner after corner `c` (an index into [`PolyMesh::corners`]) of face f.
+fn next(m: &PolyMesh, f: usize, c: usize) -> usize {
+    if c + 1 == m.offsets[f + 1] {
+        m.offsets[f]
+    } else {
+        c + 1
+    }
+}
+
+/// Separates the non-manifold vertices and edges of `m` (the rules of the [module](self)),
+/// drops the vertices no face uses and applies [`Boundary::None`]; `None` when the mesh needs
+/// none of it. `features` must fit `m` ([`crate::polygon::check_features`]). Errors: a corner
+/// index out of range, a face of fewer than three corners.
+pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, TopologyError> {
+    let nv = m.positions.len();
+    if m.face_count() == 0 {
+        return Err(TopologyError::NoFaces);
+    }
+    if nv > u32::MAX as usize || m.corners.len() >= u32::MAX as usize {
+        return Err(TopologyError::TooLarge {
+            vertices: nv,
+            faces: m.face_count(),
+        });
+    }
+    for f in 0..m.face_count() {
+        if let Some(&index) = m.face(f).iter().find(|&&v| v as usize >= nv) {
+            return Err(TopologyError::FaceIndexOutOfRange {
+                face: f as u32,
+                index,
+                vertices: nv,
+            });
+        }
+    }
+    // Each corner c is the start of the half-edge from its vertex to the next corner's.
+    let mut face_of = vec![0u32; m.corners.len()];
+    let mut half: HashMap<[u32; 2], Vec<u32>> = HashMap::new();
+    let mut degenerate = Vec::new();
+    for f in 0..m.face_count() {
+        for c in m.offsets[f]..m.offsets[f + 1] {
+            face_of[c] = f as u32;
+            let (a, b) = (m.corners[c], m.corners[next(m, f, c)]);
+            if a == b {
+                degenerate.push(c as u32);
+            } else {
+                half.entry([a.min(b), a.max(b)]).or_default().push(c as u32);
+            }
+        }
+    }
+    let manifold = |hs: &[u32]| hs.len() == 2 && face_of[hs[0] as usize] != face_of[hs[1] as usize];
+    let mut fans = Corners((0..m.corners.len() as u32).collect());
+    let mut nonmanifold_vertex = vec![false; nv];
+    // Per vertex: faces (corners), edges, boundary and non-manifold edges, as Far counts them.
+    let mut faces_at = vec![0u32; nv];
+    let mut edges_at = vec![0u32; nv];
+    let mut boundary_at = vec![0u32; nv];
+    let mut nonmanifold_at = vec![0u32; nv];
+    let mut nonmanifold_edges = degenerate.len();
+    for &v in &m.corners {
+        faces_at[v as usize] += 1;
+    }
+    for &c in &degenerate {
+        let v = m.corners[c as usize] as usize;
+        nonmanifold_vertex[v] = true;
+        edges_at[v] += 1;
+        boundary_at[v] += 1;
+        nonmanifold_at[v] += 1;
+    }
+    for (&[a, b], hs) in &half {
+        for v in [a, b] {
+            edges_at[v as usize] += 1;
+            boundary_at[v as usize] += u32::from(hs.len() == 1);
+        }
+        if manifold(hs) {
+            let (c, d) = (hs[0] as usize, hs[1] as usize);
+            let after = |c: usize| next(m, face_of[c] as usize, c) as u32;
+            if m.corners[c] == m.corners[d] {
+                fans.join(c as u32, d as u32);
+                fans.join(after(c), after(d));
+            } else {
+                fans.join(c as u32, after(d));
+                fans.join(after(c), d as u32);
+            }
+        } else if hs.len() > 1 {
+            nonmanifold_edges += 1;
+            for v in [a, b] {
+                nonmanifold_vertex[v as usize] = true;
+                nonmanifold_at[v as usize] += 1;
+            }
+        }
+    }
+    // One copy per fan: the vertex's first fan (by its first corner) keeps the vertex.
+    let mut copy_of_root: HashMap<u32, u32> = HashMap::new();
+    let mut first_fan = vec![u32::MAX; nv];
+    let mut origin: Vec<u32> = Vec::new();
+    let mut renamed = vec![0u32; nv];
+    let used: Vec<bool> = faces_at.iter().map(|&k| k > 0).collect();
+    for v in (0..nv).filter(|&v| used[v]) {
+        renamed[v] = origin.len() as u32;
+        origin.push(v as u32);
+    }
+    let mut corners = vec![0u32; m.corners.len()];
+    for (c, &v) in m.corners.iter().enumerate() {
+        let r = fans.root(c as u32);
+        let v = v as usize;
+        corners[c] = if first_fan[v] == u32::MAX || first_fan[v] == r {
+            first_fan[v] = r;
+            renamed[v]
+        } else {
+            nonmanifold_vertex[v] = true;
+            *copy_of_root.entry(r).or_insert_with(|| {
+                origin.push(v as u32);
+                (origin.len() - 1) as u32
+            })
+        };
+    }
+    // A fan that meets one face twice (possible only around non-manifold edges) gives the
+    // later corner a copy of its own, so that no face repeats a vertex.
+    for f in 0..m.face_count() {
+        let range = m.offsets[f]..m.offsets[f + 1];
+        for c in range.clone() {
+            if corners[range.start..c].contains(&corners[c]) {
+                let v = origin[corners[c] as usize];
+                nonmanifold_vertex[v as usize] = true;
+                origin.push(v);
+                corners[c] = (origin.len() - 1) as u32;
+            }
+        }
+    }
+    let isolated = used.iter().filter(|&&u| !u).count();
+    let vertices = nonmanifold_vertex.iter().filter(|&&n| n).count();
+    if isolated == 0 && vertices == 0 && features.boundary != Boundary::None {
+        return Ok(None);
+    }
+    // Far's sharpening: every non-manifold vertex but one on a non-manifold crease.
+    let crease = |v: usize| nonmanifold_at[v] == 2 && boundary_at[v] == 0 && faces_at[v] > edges_at[v];
+    let sharpened = |v: usize| nonmanifold_vertex[v] && !crease(v);
+    let mut copies: Vec<Vec<u32>> = vec![Vec::new(); nv];
+    for (k, &v) in origin.iter().enumerate() {
+        copies[v as usize].push(k as u32);
+    }
+    let mut out = Features {
+        boundary: features.boundary,
+        holes: features.holes.clone(),
+        ..Features::default()
+    };
+    // Creases: a manifold edge's tag moves to its copy; every copy of a non-manifold edge is
+    // infinitely sharp (whatever its tag).
+    let copy_ends = |c: usize| {
+        let f = face_of[c] as usize;
+        let (a, b) = (corners[c], corners[next(m, f, c)]);
+        [a.min(b), a.max(b)]
+    };
+    for &([a, b], s) in &features.creases {
+        if let Some(hs) = half.get(&[a.min(b), a.max(b)]) {
+            if manifold(hs) {
+                out.creases.push((copy_ends(hs[0] as usize), s));
+            }
+        }
+    }
+    let mut sharp_copies: Vec<[u32; 2]> = degenerate.iter().map(|&c| copy_ends(c as usize)).collect();
+    for hs in half.values().filter(|hs| hs.len() > 1 && !manifold(hs)) {
+        sharp_copies.extend(hs.iter().map(|&c| copy_ends(c as usize)));
+    }
+    sharp_copies.sort_unstable();
+    sharp_copies.dedup();
+    let tagged: std::collections::HashSet<[u32; 2]> = out.creases.iter().map(|c| c.0).collect();
+    out.creases.extend(
+        sharp_copies
+            .into_iter()
+            .filter(|e| !tagged.contains(e))
+            .map(|e| (e, Sharpness::INFINITE)),
+    );
+    // Corners: every copy of a sharpened vertex infinitely sharp; a tag on any other vertex
+    // moves to each of its copies; fins as Far leaves them.
+    let mut tag = vec![None; nv];
+    for &(v, s) in &features.corners {
+        tag[v as usize] = Some(s);
+    }
+    for v in (0..nv).filter(|&v| used[v]) {
+        let s = if sharpened(v) {
+            Some(Sharpness::INFINITE)
+        } else {
+            tag[v]
+        };
+        if let Some(s) = s {
+            out.corners.extend(copies[v].iter().map(|&k| (k, s)));
+        }
+        if nonmanifold_vertex[v] && crease(v) {
+            out.fins.extend(&copies[v]);
+        }
+    }
+    if features.boundary == Boundary::None {
+        // Far: the faces at a vertex with a boundary edge not tagged infinitely sharp are
+        // holes (`makeBoundaryFacesHoles`), before boundary edges are sharpened.
+        let inf: std::collections::HashSet<[u32; 2]> = features
+            .creases
+            .iter()
+            .filter(|c| c.1.is_infinite())
+            .map(|&([a, b], _)| [a.min(b), a.max(b)])
+            .collect();
+        let mut open = vec![false; nv];
+        for (&e, hs) in &half {
+            if hs.len() == 1 && !inf.contains(&e) {
+                open[e[0] as usize] = true;
+                open[e[1] as usize] = true;
+            }
+        }
+        for &c in &degenerate {
+            open[m.corners[c as usize] as usize] = true;
+        }
+        let mut hole = vec![false; m.face_count()];
+        for &h in &features.holes {
+            hole[h as usize] = true;
+        }
+        for (c, &v) in m.corners.iter().enumerate() {
+            hole[face_of[c] as usize] |= open[v as usize];
+        }
+        out.holes = (0..m.face_count() as u32)
+            .filter(|&f| hole[f as usize])
+            .collect();
+        out.boundary = Boundary::EdgeOnly;
+    }
+    let positions = origin.iter().map(|&v| m.positions[v as usize]).collect();
+    Ok(Some(Separated {
+        mesh: PolyMesh {
+            positions,
+            offsets: m.offsets.clone(),
+            corners,
+        },
+        features: out,
+        origin,
+        isolated,
+        vertices,
+        edges: nonmanifold_edges,
+    }))
+}
+
+/// Which vertices of the quad mesh a refiner takes are copies of one point ([`separate`]), so
+/// that the refined copies are joined again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Weld {
+    /// Per vertex of the quad mesh, the point it stands for: copies share it.
+    point: Vec<u32>,
+    /// Whether more than one vertex stands for the point.
+    shared: Vec<bool>,
+}
+
+impl Weld {
+    /// For the separated mesh itself (all quads), from [`Separated::origin`].
+    pub fn new(origin: &[u32]) -> Weld {
+        Weld::of(origin.to_vec())
+    }
+
+    /// For the first Catmull–Clark step of the separated mesh: its vertices stand for their
+    /// origins ([`Separated::origin`]), each edge point for its edge's ends' origins, each face
+    /// point for itself.
+    pub fn after_split(origin: &[u32], split: &Split) -> Weld {
+        let mut point = origin.to_vec();
+        let mut next = (origin.len()).max(origin.iter().map(|&v| v as usize + 1).max().unwrap_or(0)) as u32;
+        let mut edge_point: HashMap<[u32; 2], u32> = HashMap::new();
+        for &[a, b] in &split.edges {
+            let (a, b) = (origin[a as usize], origin[b as usize]);
+            let id = *edge_point.entry([a.min(b), a.max(b)]).or_insert_with(|| {
+                next += 1;
+                next - 1
+            });
+            point.push(id);
+        }
+        let rest = split.mesh.positions.len() - point.len();
+        point.extend((0..rest as u32).map(|k| next + k));
+        Weld::of(point)
+    }
+
+    fn of(point: Vec<u32>) -> Weld {
+        let mut count: HashMap<u32, u32> = HashMap::new();
+        for &p in &point {
+            *count.entry(p).or_insert(0) += 1;
+        }
+        let shared = point.iter().map(|p| count[p] > 1).collect();
+        Weld { point, shared }
+    }
+
+    /// Joins the copies in a refinement of the quad mesh whose faces are `base` and whose hole
+    /// faces are `holes`: `faces` are the refined quads, an N × N grid per base face that is
+    /// not a hole, in order, row by row from the face's first corner along its first edge
+    /// (`patch::Refiner::faces`). Each point on a shared vertex or on an edge between two
+    /// shared vertices is named by the points it stands for and its place along the edge; the
+    /// first refined vertex of each name stays. Returns, per refined vertex, its index among
+    /// the kept ones, and the kept ones' old indices.
+    pub fn join(
+        &self,
+        base: &[[u32; 4]],
+        holes: &[u32],
+        vertices: usize,
+        faces: &[[u32; 4]],
+    ) -> (Vec<u32>, Vec<u32>) {
+        let mut hole = vec![false; base.len()];
+        for &h in holes {
+            hole[h as usize] = true;
+        }
+        let kept_faces = hole.iter().filter(|&&h| !h).count();
+        let n = (0..=faces.len())
+            .find(|n| n * n * kept_faces >= faces.len())
+            .unwrap_or(0);
+        let mut rep: Vec<u32> = (0..vertices as u32).collect();
+        if n == 0 || n * n * kept_faces != faces.len() {
+            return (rep.clone(), rep);
+        }
+        let mut first: HashMap<(u32, u32, usize), u32> = HashMap::new();
+        let live = base.iter().enumerate().filter(|(f, _)| !hole[*f]);
+        for (k, (_, face)) in live.enumerate() {
+            let quads = &faces[k * n * n..(k + 1) * n * n];
+            // The grid point (x, y) of this face.
+            let at = |x: usize, y: usize| {
+                let (qx, qy) = (x.min(n - 1), y.min(n - 1));
+                let q = quads[qy * n + qx];
+                match (x == n, y == n) {
+                    (false, false) => q[0],
+                    (true, false) => q[1],
+                    (true, true) => q[2],
+                    (false, true) => q[3],
+                }
+            };
+            // Corner l at (0,0), (n,0), (n,n), (0,n); edge l from corner l to corner l + 1.
+            let corner = [(0, 0), (n, 0), (n, n), (0, n)];
+            for l in 0..4 {
+                let (a, b) = (face[l] as usize, face[(l + 1) % 4] as usize);
+                let (pa, pb) = (self.point[a], self.point[b]);
+                let ((x0, y0), (x1, y1)) = (corner[l], corner[(l + 1) % 4]);
+                let along = |t: usize| {
+                    let lerp = |u: usize, w: usize| (u * (n - t) + w * t) / n;
+                    at(lerp(x0, x1), lerp(y0, y1))
+                };
+                let mut name = |key: (u32, u32, usize), v: u32| {
+                    let r = *first.entry(key).or_insert(v);
+                    rep[v as usize] = r;
+                };
+                if self.shared[a] {
+                    name((pa, u32::MAX, 0), along(0));
+                }
+                if self.shared[a] && self.shared[b] && pa != pb {
+                    for t in 1..n {
+                        let key = if pa < pb { (pa, pb, t) } else { (pb, pa, n - t) };
+                        name(key, along(t));
+                    }
+                }
+            }
+        }
+        let mut index = vec![u32::MAX; vertices];
+        let mut kept = Vec::new();
+        for v in 0..vertices {
+            if rep[v] as usize == v {
+                index[v] = kept.len() as u32;
+                kept.push(v as u32);
+            }
+        }
+        for v in 0..vertices {
+            index[v] = index[rep[v] as usize];
+        }
+        (index, kept)
+    }
+
+    /// `fine`, a refinement of the quad mesh `base` with hole faces `holes`, with the copies
+    /// joined ([`Weld::join`]): the first copy's position and normal stay.
+    pub fn apply<T: Copy>(&self, base: &[[u32; 4]], holes: &[u32], fine: Refined<T>) -> Refined<T> {
+        let Refined {
+            mesh,
+            normals,
+            approximate,
+        } = fine;
+        let (index, kept) = self.join(base, holes, mesh.positions.len(), &mesh.faces);
+        let pick = |values: &[[T; 3]]| kept.iter().map(|&v| values[v as usize]).collect();
+        let mut approximate: Vec<u32> = approximate.iter().map(|&v| index[v as usize]).collect();
+        approximate.sort_unstable();
+        approximate.dedup();
+        Refined {
+            normals: if normals.is_empty() { normals } else { pick(&normals) },
+            mesh: QuadMesh {
+                positions: pick(&mesh.positions),
+                faces: (mesh.faces.iter())
+                    .map(|q| q.map(|v| index[v as usize]))
+                    .collect(),
+            },
+            approximate,
+        }
+    }
+}
