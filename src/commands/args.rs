@@ -47,14 +47,17 @@ pub enum BoundaryArg {
     EdgeAndCorner,
     /// Boundary edges sharp, vertices with one face smooth.
     EdgeOnly,
+    /// The faces at the boundary are holes (not written), the rest refined edge-only
+    /// (OpenSubdiv's VTX_BOUNDARY_NONE).
+    None,
 }
 
 /// `--boundary`, for the commands that read meshes.
 #[derive(clap::Args)]
 pub struct BoundaryArgs {
     /// Boundary rule: boundary vertices with one face are interpolated corners
-    /// (`edge-and-corner`) or smooth (`edge-only`). Default: the file's `t
-    /// interpolateboundary` tag, else edge-and-corner.
+    /// (`edge-and-corner`) or smooth (`edge-only`), or the boundary faces are dropped
+    /// (`none`). Default: the file's `t interpolateboundary` tag, else edge-and-corner.
     #[arg(long, value_enum)]
     pub boundary: Option<BoundaryArg>,
 }
@@ -72,6 +75,7 @@ impl BoundaryArg {
         match self {
             BoundaryArg::EdgeAndCorner => lsubdiv::runtime::features::Boundary::EdgeAndCorner,
             BoundaryArg::EdgeOnly => lsubdiv::runtime::features::Boundary::EdgeOnly,
+            BoundaryArg::None => lsubdiv::runtime::features::Boundary::None,
         }
     }
 }

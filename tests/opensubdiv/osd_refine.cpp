@@ -1,0 +1,186 @@
+// OpenSubdiv 3.x reference driver for tests/opensubdiv_shapes.rs: uniform Catmark refinement
+// of an OBJ shape with the options OpenSubdiv's regression drivers give it.
+//
+//   osd_refine MESH.obj LEVELS BOUNDARY CREASE TRI > OUT
+//
+// BOUNDARY: none | edge-only | edge-and-corner; CREASE: uniform | chaikin; TRI: catmark | smooth
+// (Sdc::Options). Reads `v` and `f` lines (any polygon, `i/t/n` corners, negative indices) and
+// the tags `t crease`, `t corner`, `t hole` (OpenSubdiv's shape files, vertices counted from 0),
+// builds Far::TopologyRefinerFactory<Far::TopologyDescriptor>, refines uniformly LEVELS levels
+// and interpolates positions in double (Far::PrimvarRefinerReal<double>). Writes the last level:
+// `v x y z t` per vertex, t the vertex's taint (below), then `f a b c d` per face (0-based).
+//
+// Taint marks what lsubdiv's L-system rule may change: at each level taken by the scheme (every
+// level of an all-quad base, every level after the first otherwise: the first step of a mesh
+// with other polygons is Catmull-Clark's in lsubdiv too), the child of a vertex whose rule is
+// smooth or dart and whose valence is not 4 ([G] §3's extraordinary-vertex rule, not
+// Catmull-Clark's) is tainted 1, and every vertex's taint is carried to the next level by the
+// absolute values of its weights: taint 0 means the vertex depends on no such child.
+
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace OpenSubdiv;
+
+namespace {
+
+struct Point {
+    double x, y, z, taint;
+    void Clear(void * = 0) { x = y = z = taint = 0.0; }
+    void AddWithWeight(Point const &src, double w) {
+        x += w * src.x;
+        y += w * src.y;
+        z += w * src.z;
+        taint += std::fabs(w) * src.taint;
+    }
+};
+
+struct Shape {
+    std::vector<Point> points;
+    std::vector<int> counts, corners;
+    std::vector<int> creasePairs, cornerVerts, holes;
+    std::vector<float> creaseWeights, cornerWeights;
+};
+
+[[noreturn]] void fail(const std::string &what) {
+    std::fprintf(stderr, "osd_refine: %s\n", what.c_str());
+    std::exit(2);
+}
+
+Shape read(const char *path) {
+    std::ifstream in(path);
+    if (!in) fail(std::string(path) + ": cannot open");
+    Shape s;
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream l(line);
+        std::string tag;
+        if (!(l >> tag)) continue;
+        if (tag == "v") {
+            Point p{0, 0, 0, 0};
+            l >> p.x >> p.y >> p.z;
+            s.points.push_back(p);
+        } else if (tag == "f") {
+            std::string tok;
+            int n = 0;
+            while (l >> tok) {
+                int i = std::atoi(tok.c_str());
+                s.corners.push_back(i < 0 ? (int)s.points.size() + i : i - 1);
+                ++n;
+            }
+            s.counts.push_back(n);
+        } else if (tag == "t") {
+            std::string name, count;
+            l >> name >> count;
+            int ni = 0, nf = 0;
+            std::sscanf(count.c_str(), "%d/%d", &ni, &nf);
+            std::vector<int> ints(ni);
+            std::vector<float> floats(nf);
+            for (int &i : ints) l >> i;
+            for (float &f : floats) {
+                std::string tok;
+                l >> tok;
+                f = tok == "inf" ? 10.0f : std::strtof(tok.c_str(), nullptr);
+            }
+            if (name == "crease") {
+                for (int k = 0; k + 1 < ni; k += 2) {
+                    s.creasePairs.push_back(ints[k]);
+                    s.creasePairs.push_back(ints[k + 1]);
+                    s.creaseWeights.push_back(floats[nf > 1 ? k / 2 : 0]);
+                }
+            } else if (name == "corner") {
+                for (int k = 0; k < ni; ++k) {
+                    s.cornerVerts.push_back(ints[k]);
+                    s.cornerWeights.push_back(floats[nf > 1 ? k : 0]);
+                }
+            } else if (name == "hole") {
+                s.holes.insert(s.holes.end(), ints.begin(), ints.end());
+            }
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+    if (argc != 6) fail("usage: osd_refine MESH.obj LEVELS BOUNDARY CREASE TRI");
+    Shape s = read(argv[1]);
+    int levels = std::atoi(argv[2]);
+    std::string boundary = argv[3], crease = argv[4], tri = argv[5];
+
+    Sdc::Options options;
+    options.SetVtxBoundaryInterpolation(
+        boundary == "none"        ? Sdc::Options::VTX_BOUNDARY_NONE
+        : boundary == "edge-only" ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
+                                  : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+    options.SetCreasingMethod(crease == "chaikin" ? Sdc::Options::CREASE_CHAIKIN
+                                                  : Sdc::Options::CREASE_UNIFORM);
+    options.SetTriangleSubdivision(tri == "smooth" ? Sdc::Options::TRI_SUB_SMOOTH
+                                                   : Sdc::Options::TRI_SUB_CATMARK);
+
+    Far::TopologyDescriptor desc;
+    desc.numVertices = (int)s.points.size();
+    desc.numFaces = (int)s.counts.size();
+    desc.numVertsPerFace = s.counts.data();
+    desc.vertIndicesPerFace = s.corners.data();
+    desc.numCreases = (int)s.creaseWeights.size();
+    desc.creaseVertexIndexPairs = s.creasePairs.data();
+    desc.creaseWeights = s.creaseWeights.data();
+    desc.numCorners = (int)s.cornerWeights.size();
+    desc.cornerVertexIndices = s.cornerVerts.data();
+    desc.cornerWeights = s.cornerWeights.data();
+    desc.numHoles = (int)s.holes.size();
+    desc.holeIndices = s.holes.data();
+
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    Far::TopologyRefiner *refiner =
+        Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, options));
+    if (!refiner) fail(std::string(argv[1]) + ": Far refused the topology");
+    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+
+    bool quads = true;
+    for (int n : s.counts) quads = quads && n == 4;
+
+    std::vector<Point> level = s.points;
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    for (int l = 1; l <= levels; ++l) {
+        Far::TopologyLevel const &parent = refiner->GetLevel(l - 1);
+        std::vector<Point> next(refiner->GetLevel(l).GetNumVertices());
+        primvar.Interpolate(l, level, next);
+        if (quads || l > 1) {
+            for (int v = 0; v < parent.GetNumVertices(); ++v) {
+                Sdc::Crease::Rule rule = parent.GetVertexRule(v);
+                bool smooth = rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART;
+                int child = parent.GetVertexChildVertex(v);
+                if (smooth && parent.GetVertexFaces(v).size() != 4 && child >= 0) {
+                    next[child].taint = 1.0;
+                }
+            }
+        }
+        level.swap(next);
+    }
+
+    Far::TopologyLevel const &last = refiner->GetLevel(levels);
+    for (Point const &p : level) {
+        std::printf("v %.17g %.17g %.17g %.17g\n", p.x, p.y, p.z, p.taint);
+    }
+    for (int f = 0; f < last.GetNumFaces(); ++f) {
+        if (last.IsFaceHole(f)) continue;
+        Far::ConstIndexArray fv = last.GetFaceVertices(f);
+        std::printf("f");
+        for (int i = 0; i < fv.size(); ++i) std::printf(" %d", fv[i]);
+        std::printf("\n");
+    }
+    delete refiner;
+    return 0;
+}
