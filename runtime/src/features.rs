@@ -6,31 +6,54 @@
 //! mirror image), with mirrored labels. So the line is refined as the scheme's own curve, and
 //! a vertex where three or more sharp edges meet (a corner) is interpolated.
 
-/// How long an edge or vertex stays sharp: integer sharpness s keeps it sharp for s steps
-/// (OpenSubdiv's uniform rule, sharpness minus one per step); 10 or more is infinitely sharp
-/// (`Sdc::Crease::SHARPNESS_INFINITE`). Fractional sharpness is not represented: readers
-/// refuse it (see [`Sharpness::from_f64`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Sharpness(u8);
+/// How long an edge or vertex stays sharp, as OpenSubdiv counts it (`Sdc::Crease`, uniform
+/// creasing): a value s in \[0, 10\], 10 (`SHARPNESS_INFINITE`) for ever. At each step a
+/// sharpness s > 1 becomes s − 1 and one ≤ 1 becomes 0 (`decrementSharpness`, in `f32` as
+/// OpenSubdiv computes it). An edge of sharpness s ≥ 1 at a step is sharp there; one of
+/// 0 < s < 1 blends the sharp and the smooth rule, s of the sharp ([`Sharpness::weight`]); a
+/// vertex whose rule changes across a step blends its two rules
+/// ([`Resolved::transition`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sharpness(f32);
+
+impl PartialEq for Sharpness {
+    fn eq(&self, other: &Sharpness) -> bool {
+        self.0.to_bits() == other.0.to_bits()
+    }
+}
+
+impl Eq for Sharpness {}
+
+impl std::hash::Hash for Sharpness {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.0.to_bits().hash(state);
+    }
+}
+
+impl PartialOrd for Sharpness {
+    fn partial_cmp(&self, other: &Sharpness) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// Sharpness is never negative or NaN, so its bits order as its values.
+impl Ord for Sharpness {
+    fn cmp(&self, other: &Sharpness) -> std::cmp::Ordering {
+        self.0.to_bits().cmp(&other.0.to_bits())
+    }
+}
 
 /// Why a sharpness value is refused.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SharpnessError {
     /// Below zero, or not a number.
     Negative(f64),
-    /// Between two integers below 10: OpenSubdiv blends rules there; lsubdiv does not.
-    Fractional(f64),
 }
 
 impl std::fmt::Display for SharpnessError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             SharpnessError::Negative(s) => write!(f, "sharpness {s} is not ≥ 0"),
-            SharpnessError::Fractional(s) => write!(
-                f,
-                "sharpness {s} is fractional; only whole steps 0..9 (sharp for that many steps) \
-                 and 10 or more (infinitely sharp) are supported"
-            ),
         }
     }
 }
@@ -39,51 +62,72 @@ impl std::error::Error for SharpnessError {}
 
 impl Sharpness {
     /// Not sharp.
-    pub const SMOOTH: Sharpness = Sharpness(0);
+    pub const SMOOTH: Sharpness = Sharpness(0.0);
     /// Sharp at every step.
-    pub const INFINITE: Sharpness = Sharpness(10);
+    pub const INFINITE: Sharpness = Sharpness(10.0);
 
     /// Sharp for `s` steps (10 or more: infinitely).
     pub fn steps(s: u32) -> Sharpness {
-        Sharpness(s.min(10) as u8)
+        Sharpness(s.min(10) as f32)
     }
 
-    /// A sharpness as files write it (`inf` included); fractional values below 10 are refused.
+    /// A sharpness as files write it (`inf` included): 10 or more is infinitely sharp.
     pub fn from_f64(s: f64) -> Result<Sharpness, SharpnessError> {
         if s.is_nan() || s < 0.0 {
             return Err(SharpnessError::Negative(s));
         }
-        if s >= 10.0 {
-            return Ok(Sharpness::INFINITE);
-        }
-        if s.fract() != 0.0 {
-            return Err(SharpnessError::Fractional(s));
-        }
-        Ok(Sharpness(s as u8))
+        Ok(Sharpness((s.min(10.0) as f32).max(0.0)))
     }
 
-    /// Sharp at the next step.
+    /// The value, in \[0, 10\].
+    pub fn value(self) -> f32 {
+        self.0
+    }
+
+    /// Sharp at the next step (s > 0).
     pub fn is_sharp(self) -> bool {
-        self.0 > 0
+        self.0 > 0.0
     }
 
     /// Sharp at every step.
     pub fn is_infinite(self) -> bool {
-        self == Sharpness::INFINITE
+        self.0 >= 10.0
     }
 
-    /// Whether sharp at step `k` (0-based) of the refinement.
-    pub fn sharp_at(self, k: usize) -> bool {
-        self.is_infinite() || k < usize::from(self.0)
-    }
-
-    /// The sharpness of the children after one step.
+    /// The sharpness after one step (OpenSubdiv's `decrementSharpness`).
     pub fn decremented(self) -> Sharpness {
         if self.is_infinite() {
             self
+        } else if self.0 > 1.0 {
+            Sharpness(self.0 - 1.0)
         } else {
-            Sharpness(self.0.saturating_sub(1))
+            Sharpness::SMOOTH
         }
+    }
+
+    /// The sharpness at step `k` (0-based): decremented k times.
+    pub fn at(self, k: usize) -> Sharpness {
+        let mut s = self;
+        for _ in 0..k.min(11) {
+            s = s.decremented();
+        }
+        s
+    }
+
+    /// Whether sharp at step `k` (0-based) of the refinement: its vertices count it.
+    pub fn sharp_at(self, k: usize) -> bool {
+        self.at(k).is_sharp()
+    }
+
+    /// How much of the sharp rule an edge of this sharpness takes at a step: 1 from 1 on,
+    /// the value itself below (`Scheme::ComputeEdgeVertexMask`), 0 when smooth.
+    pub fn weight(self) -> f64 {
+        f64::from(self.0.min(1.0))
+    }
+
+    /// The number of steps at which it is sharp (none infinite).
+    fn sharp_steps(self) -> usize {
+        (0..=10).take_while(|&k| self.sharp_at(k)).count()
     }
 }
 
@@ -365,6 +409,56 @@ impl Resolved {
         topo.spokes(v).map(|e| self.edge_sharp(e, k)).collect()
     }
 
+    /// How much of the sharp rule edge e takes at step k ([`Sharpness::weight`]).
+    pub fn edge_weight(&self, e: u32, k: usize) -> f64 {
+        self.edge[e as usize].at(k).weight()
+    }
+
+    /// The spokes of v fully sharp at step k (weight 1), in the order of
+    /// [`Resolved::sharp_spokes`]: the lines the corners' diagonals are reflected across.
+    fn full_spokes(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> Vec<bool> {
+        topo.spokes(v).map(|e| self.edge_weight(e, k) >= 1.0).collect()
+    }
+
+    /// Where v's rule at step k is not smooth and differs from its rule at step k + 1 (a
+    /// sharpness reaching 0): the rule of step k + 1 and the weight it takes, 1 − p with p
+    /// OpenSubdiv's `ComputeFractionalWeightAtVertex` (uniform creasing: the mean of the
+    /// sharpness of the vertex, if it becomes smooth, and of its edges of sharpness ≤ 1,
+    /// clamped to 1). None where p is 1 (every integer sharpness): the rule of step k alone.
+    pub fn transition(
+        &self,
+        topo: &crate::topology::Topology,
+        v: u32,
+        k: usize,
+    ) -> Option<(VertexRule, f64)> {
+        let parent = self.vertex_rule(topo, v, k);
+        if parent == VertexRule::Smooth {
+            return None;
+        }
+        let child = self.vertex_rule(topo, v, k + 1);
+        if child == parent {
+            return None;
+        }
+        let vertex = self.vertex[v as usize];
+        let (mut count, mut sum) = (0u32, 0.0f32);
+        if vertex.at(k).is_sharp() && !vertex.at(k + 1).is_sharp() {
+            (count, sum) = (1, vertex.at(k).value());
+        }
+        for e in topo.spokes(v) {
+            let s = self.edge[e as usize].at(k);
+            if s.is_sharp() && s.value() <= 1.0 {
+                sum += s.value();
+                count += 1;
+            }
+        }
+        let p = if count == 0 {
+            0.0
+        } else {
+            (sum / count as f32).min(1.0)
+        };
+        (p < 1.0).then(|| (child, 1.0 - f64::from(p)))
+    }
+
     /// The vertex rule of v at step k.
     pub fn vertex_rule(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> VertexRule {
         let sharp = self.sharp_spokes(topo, v, k).iter().filter(|&&s| s).count();
@@ -403,6 +497,9 @@ impl Resolved {
         let sharp = self.sharp_spokes(topo, v, k);
         let n = topo.valence(v);
         let sectors_of = |len: usize| (0..n).all(|w| self.sector_len(&sharp, n, w) == len);
+        if self.transition(topo, v, k).is_some() {
+            return true;
+        }
         match self.vertex_rule(topo, v, k) {
             VertexRule::Smooth => sharp.contains(&true) || n != 4 || topo.is_boundary(v),
             VertexRule::Crease => !sectors_of(2),
@@ -411,7 +508,8 @@ impl Resolved {
     }
 
     /// The kind of the ring point diagonal to each wedge's face corner, for every wedge of v's
-    /// rotation at step k, in its order (the sharp spokes read once for all of them).
+    /// rotation at step k, in its order (the fully sharp spokes read once for all of them: an
+    /// edge that blends two rules at step k has a real ring beside it).
     pub fn corner_kinds(
         &self,
         topo: &crate::topology::Topology,
@@ -420,7 +518,7 @@ impl Resolved {
     ) -> Vec<CornerKind> {
         let rot = topo.rotation(v);
         let n = rot.len();
-        let sharp = self.sharp_spokes(topo, v, k);
+        let sharp = self.full_spokes(topo, v, k);
         let interior4 = n == 4 && !topo.is_boundary(v);
         rot.iter()
             .enumerate()
@@ -447,7 +545,7 @@ impl Resolved {
             .iter()
             .chain(&self.vertex)
             .filter(|s| !s.is_infinite())
-            .map(|s| usize::from(s.0))
+            .map(|s| s.sharp_steps())
             .max()
             .unwrap_or(0)
     }

@@ -17,7 +17,7 @@
 //! sharpness, so the rules are those of the current sharpness). Holes are refined like every
 //! face; their children are holes.
 
-use crate::features::{FeatureError, Features};
+use crate::features::{FeatureError, Features, Sharpness, VertexRule};
 use crate::mesh::QuadMesh;
 use crate::topology::{check_corners, TopologyError};
 use std::collections::{HashMap, HashSet};
@@ -282,16 +282,35 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     features.validate(nv, nf, |e| edges.index.contains_key(&e))?;
     edges.check_fans(m)?;
     let edge_of = |[a, b]: [u32; 2]| edges.index[&[a.min(b), a.max(b)]];
-    // Sharp at this step: boundary edges, creases of sharpness ≥ 1, corner tags.
-    let mut sharp: Vec<bool> = edges.faces.iter().map(|f| f.len() == 1).collect();
+    // Sharpness: boundary edges infinitely sharp, creases and corners by their tags, and
+    // under edge-and-corner a boundary vertex with one face (not a fin) a corner.
+    let mut sharpness: Vec<Sharpness> = (edges.faces.iter())
+        .map(|f| if f.len() == 1 { Sharpness::INFINITE } else { Sharpness::SMOOTH })
+        .collect();
     for &(e, s) in &features.creases {
-        sharp[edge_of(e) as usize] |= s.is_sharp();
+        let e = &mut sharpness[edge_of(e) as usize];
+        if !e.is_infinite() {
+            *e = s;
+        }
     }
-    let mut corner = vec![false; nv];
+    let mut corner = vec![Sharpness::SMOOTH; nv];
     for &(v, s) in &features.corners {
-        corner[v as usize] = s.is_sharp();
+        corner[v as usize] = s;
     }
-
+    let mut faces_at = vec![0usize; nv];
+    for &v in &m.corners {
+        faces_at[v as usize] += 1;
+    }
+    if features.boundary.one_face_corners() {
+        let fin: HashSet<u32> = features.fins.iter().copied().collect();
+        for &[a, b] in edges.ends.iter().zip(&edges.faces).filter(|e| e.1.len() == 1).map(|e| e.0) {
+            for v in [a, b] {
+                if faces_at[v as usize] == 1 && !fin.contains(&v) {
+                    corner[v as usize] = Sharpness::INFINITE;
+                }
+            }
+        }
+    }
     let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
     let scale = |a: [f64; 3], s: f64| [a[0] * s, a[1] * s, a[2] * s];
     let face_points: Vec<[f64; 3]> = m
@@ -303,17 +322,20 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             scale(sum, 1.0 / face.len() as f64)
         })
         .collect();
-    let edge_points: Vec<[f64; 3]> = (edges.ends.iter().zip(&edges.faces).zip(&sharp))
-        .map(|((&[a, b], faces), &sharp)| {
+    let edge_points: Vec<[f64; 3]> = (edges.ends.iter().zip(&edges.faces).zip(&sharpness))
+        .map(|((&[a, b], faces), s)| {
             let ends = add(m.positions[a as usize], m.positions[b as usize]);
-            if sharp {
+            let w = s.weight();
+            if w >= 1.0 {
                 return scale(ends, 0.5);
             }
             let sides = add(
                 face_points[faces[0] as usize],
                 face_points[faces[1] as usize],
             );
-            scale(add(ends, sides), 0.25)
+            let smooth = scale(add(ends, sides), 0.25);
+            // Sharpness below 1: w of the crease rule (`ComputeEdgeVertexMask`).
+            add(scale(ends, 0.5 * w), scale(smooth, 1.0 - w))
         })
         .collect();
     // Per vertex: the sum of its faces' points, of its edges' midpoints, and the counts.
@@ -332,37 +354,65 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             *s = (add(s.0, mid), s.1 + 1);
         }
     }
-    // Per vertex: its number of sharp edges and the other ends of the first two.
-    let mut sharp_ends = vec![(0usize, [0u32; 2]); nv];
-    for (&[a, b], _) in edges.ends.iter().zip(&sharp).filter(|e| *e.1) {
+    // Per vertex and level (this step's sharpness, the children's): its sharp edges' count
+    // and the other ends of the first two; the transition weight's sum and count.
+    let mut sharp_ends = vec![[(0usize, [0u32; 2]); 2]; nv];
+    let mut transition: Vec<(f32, u32)> = (corner.iter())
+        .map(|c| match c.is_sharp() && !c.decremented().is_sharp() {
+            true => (c.value(), 1),
+            false => (0.0, 0),
+        })
+        .collect();
+    for (&[a, b], s) in edges.ends.iter().zip(&sharpness) {
         for (v, other) in [(a, b), (b, a)] {
-            let s = &mut sharp_ends[v as usize];
-            if s.0 < 2 {
-                s.1[s.0] = other;
+            for (level, s) in [*s, s.decremented()].into_iter().enumerate() {
+                let e = &mut sharp_ends[v as usize][level];
+                if s.is_sharp() {
+                    if e.0 < 2 {
+                        e.1[e.0] = other;
+                    }
+                    e.0 += 1;
+                }
             }
-            s.0 += 1;
+            if s.is_sharp() && s.value() <= 1.0 {
+                let t = &mut transition[v as usize];
+                *t = (t.0 + s.value(), t.1 + 1);
+            }
         }
     }
-    let one_face_corners = features.boundary.one_face_corners();
-    let fin: HashSet<u32> = features.fins.iter().copied().collect();
     let mut positions: Vec<[f64; 3]> = (0..nv)
         .map(|v| {
             let (p, (qs, nq), (rs, n)) = (m.positions[v], q[v], r[v]);
-            match sharp_ends[v] {
-                _ if corner[v] || (one_face_corners && nq == 1 && !fin.contains(&(v as u32))) => p,
-                (3.., _) => p,
-                (2, [a, b]) => {
+            // The vertex's rule at a level (0: this step, 1: its child's), OpenSubdiv's
+            // `Sdc::Crease::DetermineVertexVertexRule`.
+            let rule = |level: usize| match sharp_ends[v][level] {
+                _ if [corner[v], corner[v].decremented()][level].is_sharp() => VertexRule::Corner,
+                (3.., _) => VertexRule::Corner,
+                (2, _) => VertexRule::Crease,
+                _ => VertexRule::Smooth,
+            };
+            let child = |level: usize| match (rule(level), sharp_ends[v][level]) {
+                (VertexRule::Corner, _) => p,
+                (VertexRule::Crease, (_, [a, b])) => {
                     let ends = add(m.positions[a as usize], m.positions[b as usize]);
                     scale(add(ends, scale(p, 6.0)), 0.125)
                 }
-                _ if n == 0 => p, // an isolated vertex: the topology check reports it
+                _ if n == 0 => p,
                 _ => {
                     let n_f = n as f64;
                     let qm = scale(qs, 1.0 / nq as f64);
                     let rm = scale(rs, 1.0 / n_f);
                     scale(add(add(qm, scale(rm, 2.0)), scale(p, n_f - 3.0)), 1.0 / n_f)
                 }
+            };
+            let (parent, next) = (rule(0), rule(1));
+            if parent == VertexRule::Smooth || parent == next {
+                return child(0);
             }
+            // The rule changes: `ComputeFractionalWeightAtVertex` of the two.
+            let (sum, count) = transition[v];
+            let w = if count == 0 { 0.0 } else { f64::from((sum / count as f32).min(1.0)) };
+            add(scale(child(0), w), scale(child(1), 1.0 - w))
         })
         .collect();
     positions.extend(edge_points);

@@ -13,7 +13,8 @@
 // Taint marks what lsubdiv's L-system rule may change: at each level taken by the scheme (every
 // level of an all-quad base, every level after the first otherwise: the first step of a mesh
 // with other polygons is Catmull-Clark's in lsubdiv too), the child of a vertex whose rule is
-// smooth or dart and whose valence is not 4 ([G] §3's extraordinary-vertex rule, not
+// smooth or dart, or blends into smooth or dart across the step (a rule transition of weight
+// below 1), and whose valence is not 4 ([G] §3's extraordinary-vertex rule, not
 // Catmull-Clark's) is tainted 1, and every vertex's taint is carried to the next level by the
 // absolute values of its weights: taint 0 means the vertex depends on no such child.
 
@@ -158,13 +159,37 @@ int main(int argc, char **argv) {
         std::vector<Point> next(refiner->GetLevel(l).GetNumVertices());
         primvar.Interpolate(l, level, next);
         if (quads || l > 1) {
+            Far::TopologyLevel const &children = refiner->GetLevel(l);
+            auto smooth = [](Sdc::Crease::Rule r) {
+                return r == Sdc::Crease::RULE_SMOOTH || r == Sdc::Crease::RULE_DART;
+            };
             for (int v = 0; v < parent.GetNumVertices(); ++v) {
-                Sdc::Crease::Rule rule = parent.GetVertexRule(v);
-                bool smooth = rule == Sdc::Crease::RULE_SMOOTH || rule == Sdc::Crease::RULE_DART;
                 int child = parent.GetVertexChildVertex(v);
-                if (smooth && parent.GetVertexFaces(v).size() != 4 && child >= 0) {
-                    next[child].taint = 1.0;
+                if (child < 0 || parent.GetVertexFaces(v).size() == 4) continue;
+                Sdc::Crease::Rule rule = parent.GetVertexRule(v);
+                Sdc::Crease::Rule next_rule = children.GetVertexRule(child);
+                // The smooth rule, alone or in a rule transition of weight below 1
+                // (Sdc::Crease::ComputeFractionalWeightAtVertex, uniform creasing).
+                bool blends = false;
+                if (!smooth(rule) && smooth(next_rule)) {
+                    float sum = 0.0f;
+                    int count = 0;
+                    float pv = parent.GetVertexSharpness(v);
+                    if (pv > 0.0f && children.GetVertexSharpness(child) <= 0.0f) {
+                        sum = pv;
+                        count = 1;
+                    }
+                    Far::ConstIndexArray edges = parent.GetVertexEdges(v);
+                    for (int i = 0; i < edges.size(); ++i) {
+                        float s = parent.GetEdgeSharpness(edges[i]);
+                        if (s > 0.0f && s <= 1.0f) {
+                            sum += s;
+                            ++count;
+                        }
+                    }
+                    blends = count == 0 || sum / count < 1.0f;
                 }
+                if (smooth(rule) || blends) next[child].taint = 1.0;
             }
         }
         level.swap(next);

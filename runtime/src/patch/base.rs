@@ -35,14 +35,20 @@ pub(super) struct Base<'t> {
     /// Per step k < `decided`, per special vertex (at `k · special.len() + i`): its vertex
     /// rule if its child needs it after step k.
     pub(super) vertex_rules: Vec<Option<VertexRule>>,
+    /// Per (special vertex, step) where its rule changes with a fractional weight: the next
+    /// rule and its weight ([`Base::transition`]).
+    transitions: std::collections::HashMap<(u32, usize), (VertexRule, f64)>,
     decided: usize,
 }
 
 /// What a face's phantom points at a step are made from: which of its edges are sharp, and
 /// what holds the ring point diagonal to each corner.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct FaceRules {
     sharp: [bool; 4],
+    /// Per sharp edge, how much of the sharp rule it takes ([`Resolved::edge_weight`]): its
+    /// ring row is w·(2P − Q) + (1 − w)·R, R the real row (1: the odd reflection alone).
+    weight: [f32; 4],
     pub(super) corners: [CornerKind; 4],
 }
 
@@ -50,6 +56,12 @@ impl FaceRules {
     /// No phantom: no edge sharp, every diagonal a real point.
     fn is_plain(&self) -> bool {
         self.sharp == [false; 4] && self.corners == [CornerKind::Real; 4]
+    }
+
+    /// Whether the ring across local edge l is the odd reflection alone (nothing of the
+    /// real ring across it is read).
+    pub(super) fn reflects(&self, l: u8) -> bool {
+        self.sharp[l as usize] && self.weight[l as usize] >= 1.0
     }
 
     /// A phantom other than an EV corner's missing diagonal: an edge sharp, or a corner set
@@ -108,9 +120,13 @@ impl<'t> Base<'t> {
         let faces = topo.face_count();
         let mut rules = Vec::with_capacity(decided * faces);
         for k in 0..decided {
-            rules.extend((0..faces as u32).map(|f| FaceRules {
-                sharp: [0, 1, 2, 3].map(|l| features.edge_sharp(topo.edge_of(f, l), k)),
-                corners: [CornerKind::Real; 4],
+            rules.extend((0..faces as u32).map(|f| {
+                let weight = [0, 1, 2, 3].map(|l| features.edge_weight(topo.edge_of(f, l), k));
+                FaceRules {
+                    sharp: weight.map(|w| w > 0.0),
+                    weight: weight.map(|w| w as f32),
+                    corners: [CornerKind::Real; 4],
+                }
             }));
             let step = &mut rules[k * faces..];
             for v in 0..nv {
@@ -133,6 +149,16 @@ impl<'t> Base<'t> {
                 })
             })
             .collect();
+        // Where a vertex's rule changes across a step with a fractional weight.
+        let transitions = (0..decided)
+            .flat_map(|k| {
+                let features = &features;
+                special.iter().filter_map(move |&v| {
+                    let t = features.transition(topo, v, k)?;
+                    Some(((v, k), t))
+                })
+            })
+            .collect();
         // A plain mesh's corners lack their diagonal exactly at its EVs.
         let needs_containment = if plain {
             !special.is_empty()
@@ -149,8 +175,18 @@ impl<'t> Base<'t> {
             needs_containment,
             rules,
             vertex_rules,
+            transitions,
             decided,
         })
+    }
+
+    /// Where special vertex v's rule changes across step k with a fractional weight: the
+    /// rule of step k + 1 and its weight ([`Resolved::transition`]).
+    pub(super) fn transition(&self, v: u32, k: usize) -> Option<(VertexRule, f64)> {
+        if self.transitions.is_empty() {
+            return None;
+        }
+        self.transitions.get(&(v, k)).copied()
     }
 
     /// The rule of each special vertex whose child needs it after step k.
@@ -286,10 +322,15 @@ impl<'t> Base<'t> {
                 continue;
             }
             let (ix, iy) = TOWARD_PREV[l as usize];
+            let w = f64::from(rules.weight[l as usize]);
             for ((x, y), _) in self.ring(f, l, n) {
                 let on = (x + ix, y + iy);
                 let inside = (on.0 + ix, on.1 + iy);
-                each(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
+                if w < 1.0 {
+                    each(Phantom::new((x, y), &[(on, 2.0 * w), (inside, -w), ((x, y), 1.0 - w)]));
+                } else {
+                    each(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
+                }
             }
         }
         for c in 0..4u8 {
@@ -354,7 +395,7 @@ impl Base<'_> {
         let plain = self.features.is_plain() || !self.rules(f, k - 1).has_phantoms_beside_evs();
         let ev = |c: u8| self.lockstep[self.topo.vertex(f, c % 4) as usize];
         for l in 0..4u8 {
-            let Some((g, gl, back)) = self.across(f, l).filter(|_| !rules.sharp[l as usize]) else {
+            let Some((g, gl, back)) = self.across(f, l).filter(|_| !rules.reflects(l)) else {
                 continue;
             };
             let (cx, cy) = corner_at(l, n, n);

@@ -13,13 +13,32 @@ use crate::topology::Topology;
 /// The child of special vertex v by its rule after step k (`plan`, the EVs' 1-ring weights
 /// `ring`), from the old level (side N) as `point(face, x, y)` reads it: a corner stays, a
 /// crease takes its curve rule ([`crease_child`]), a smooth vertex its 1-ring rule (the
-/// tensor vertex mask at valence 4, α's elsewhere, \[G\] §3).
+/// tensor vertex mask at valence 4, α's elsewhere, \[G\] §3). Where the rule changes across
+/// the step with a fractional weight (OpenSubdiv's rule transition), the blend of the two.
 pub(super) fn vertex_child<T: Real>(
     base: &Base<'_>,
     (v, rule, alpha): (u32, VertexRule, f64),
     (plan, ring, k): (&Plan, [f64; 2], usize),
     n: i64,
     point: impl Fn(u32, i64, i64) -> [T; 3],
+) -> [T; 3] {
+    let child = |rule, sharp_at| rule_child(base, (v, rule, alpha), (plan, ring, sharp_at), n, &point);
+    match base.transition(v, k) {
+        None => child(rule, k),
+        Some((next, w)) => {
+            let (a, b) = (child(rule, k), child(next, k + 1));
+            std::array::from_fn(|i| T::from_f64((1.0 - w) * a[i].to_f64() + w * b[i].to_f64()))
+        }
+    }
+}
+
+/// The child of v by one rule, a crease's along the edges sharp at step `sharp_at`.
+fn rule_child<T: Real>(
+    base: &Base<'_>,
+    (v, rule, alpha): (u32, VertexRule, f64),
+    (plan, ring, sharp_at): (&Plan, [f64; 2], usize),
+    n: i64,
+    point: &impl Fn(u32, i64, i64) -> [T; 3],
 ) -> [T; 3] {
     let topo = base.topo;
     let spot = |_, w: crate::topology::Wedge, spot| {
@@ -32,7 +51,7 @@ pub(super) fn vertex_child<T: Real>(
             let (cx, cy) = corner_at(w.corner, n, n);
             point(w.face, cx, cy)
         }
-        VertexRule::Crease => crease_child(base, plan, (v, k), n, point),
+        VertexRule::Crease => crease_child(base, plan, (v, sharp_at), n, point),
         VertexRule::Smooth if topo.valence(v) == 4 => {
             ev_child(topo, v, vertex_rule_weights(plan), spot)
         }
@@ -49,7 +68,7 @@ fn crease_child<T: Real>(
     plan: &Plan,
     (v, k): (u32, usize),
     n: i64,
-    point: impl Fn(u32, i64, i64) -> [T; 3],
+    point: &impl Fn(u32, i64, i64) -> [T; 3],
 ) -> [T; 3] {
     let rot = base.topo.rotation(v);
     let sharp = base.features.sharp_spokes(base.topo, v, k);
