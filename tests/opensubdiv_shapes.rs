@@ -26,7 +26,10 @@ fn shapes() -> Option<PathBuf> {
     if dir.join("shapes.json").is_file() {
         Some(dir)
     } else {
-        eprintln!("note: {} absent: OpenSubdiv comparison skipped", dir.display());
+        eprintln!(
+            "note: {} absent: OpenSubdiv comparison skipped",
+            dir.display()
+        );
         None
     }
 }
@@ -76,7 +79,8 @@ fn parse(text: &str, one_based: bool) -> Mesh {
         match t.next() {
             Some("v") => {
                 let x: Vec<f64> = t.map(|s| s.parse().unwrap()).collect();
-                m.points.push(([x[0], x[1], x[2]], x.get(3).copied().unwrap_or(0.0)));
+                m.points
+                    .push(([x[0], x[1], x[2]], x.get(3).copied().unwrap_or(0.0)));
             }
             Some("f") => m.faces.push(
                 t.map(|s| {
@@ -108,13 +112,19 @@ fn compare(osd: &Mesh, ours: &Mesh) -> Option<String> {
             ours.faces.len()
         ));
     }
-    let (lo, hi) = osd.points.iter().fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), (p, _)| {
-        (
-            std::array::from_fn(|i| lo[i].min(p[i])),
-            std::array::from_fn(|i| hi[i].max(p[i])),
-        )
-    });
-    let size = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max).max(1e-300);
+    let (lo, hi) = osd
+        .points
+        .iter()
+        .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), (p, _)| {
+            (
+                std::array::from_fn(|i| lo[i].min(p[i])),
+                std::array::from_fn(|i| hi[i].max(p[i])),
+            )
+        });
+    let size = (0..3)
+        .map(|i| hi[i] - lo[i])
+        .fold(0.0, f64::max)
+        .max(1e-300);
     let tol = 1e-9 * size;
     let mut sorted: Vec<[f64; 3]> = ours.points.iter().map(|p| p.0).collect();
     sorted.sort_by(|a, b| a[0].total_cmp(&b[0]));

@@ -322,8 +322,12 @@ impl Parsed {
         if let Some(uv) = &uv {
             uv.check(&mesh).map_err(uv_error)?;
         }
-        check_features(mesh.positions.len(), (0..mesh.face_count()).map(|f| mesh.face(f)), &features)
-            .map_err(|e| places.locate_feature(file, &e))?;
+        check_features(
+            mesh.positions.len(),
+            (0..mesh.face_count()).map(|f| mesh.face(f)),
+            &features,
+        )
+        .map_err(|e| places.locate_feature(file, &e))?;
         let separated = separate(&mesh, &features).map_err(|e| places.locate(file, &e))?;
         let (mesh, features) = match separated {
             None => (mesh, features),

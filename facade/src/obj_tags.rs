@@ -15,7 +15,7 @@
 //!   the boundary are holes), 1 edge-and-corner, 2 edge-only.
 //!
 //! The count field may omit its string count (`2/1`). Sharpness is read by
-//! [`Sharpness::from_f64`] (`inf` and 10 or more: infinitely sharp; fractional refused). A value
+//! [`Sharpness::from_f64`] (`inf` and 10 or more: infinitely sharp; fractions as OpenSubdiv). A value
 //! repeated with the same sharpness is merged (OpenSubdiv's own shapes repeat creases), with
 //! another refused. Other tags are skipped with a warning. That an edge, vertex or face exists
 //! is checked with the faces ([`crate::mesh_file::Parsed::check`]).
@@ -316,6 +316,16 @@ mod tests {
             ),
             ("t crease 2/1 0 1 2.0", creases(&[([0, 1], s(2))]), vec![6]),
             (
+                "t crease 2/1/0 0 1 2.5",
+                creases(&[([0, 1], Sharpness::from_f64(2.5).unwrap())]),
+                vec![6],
+            ),
+            (
+                "t corner 1/1/0 0 0.7",
+                corners(&[(0, Sharpness::from_f64(0.7).unwrap())]),
+                vec![6],
+            ),
+            (
                 "t  crease  2/1/0  0 1  0",
                 creases(&[([0, 1], s(0))]),
                 vec![6],
@@ -518,13 +528,6 @@ mod tests {
                 "sharpness NaN is not ≥ 0".into(),
             ),
             ("t crease 2/1/0 0 1 x", 6, "`x` is not a number".into()),
-            (
-                "t corner 1/1/0 0 0.5",
-                6,
-                "sharpness 0.5 is fractional; only whole steps 0..9 (sharp for that many steps) \
-                 and 10 or more (infinitely sharp) are supported"
-                    .into(),
-            ),
             (
                 "t crease 2/1/0 0 1 2\nt crease 2/1/0 1 0 3",
                 7,

@@ -349,7 +349,11 @@ impl Resolved {
         // OpenSubdiv sharpens a boundary vertex with one face under edge-and-corner
         // (`isSharpenedCorner`), not a vertex separated from a non-manifold crease.
         if features.boundary.one_face_corners() {
-            let fin = features.fins.iter().copied().collect::<std::collections::HashSet<_>>();
+            let fin = features
+                .fins
+                .iter()
+                .copied()
+                .collect::<std::collections::HashSet<_>>();
             for v in 0..topo.vertex_count() as u32 {
                 if topo.is_boundary(v) && topo.valence(v) == 1 && !fin.contains(&v) {
                     vertex[v as usize] = Sharpness::INFINITE;
@@ -417,7 +421,9 @@ impl Resolved {
     /// The spokes of v fully sharp at step k (weight 1), in the order of
     /// [`Resolved::sharp_spokes`]: the lines the corners' diagonals are reflected across.
     fn full_spokes(&self, topo: &crate::topology::Topology, v: u32, k: usize) -> Vec<bool> {
-        topo.spokes(v).map(|e| self.edge_weight(e, k) >= 1.0).collect()
+        topo.spokes(v)
+            .map(|e| self.edge_weight(e, k) >= 1.0)
+            .collect()
     }
 
     /// Where v's rule at step k is not smooth and differs from its rule at step k + 1 (a

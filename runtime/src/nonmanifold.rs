@@ -208,7 +208,8 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         return Ok(None);
     }
     // Far's sharpening: every non-manifold vertex but one on a non-manifold crease.
-    let crease = |v: usize| nonmanifold_at[v] == 2 && boundary_at[v] == 0 && faces_at[v] > edges_at[v];
+    let crease =
+        |v: usize| nonmanifold_at[v] == 2 && boundary_at[v] == 0 && faces_at[v] > edges_at[v];
     let sharpened = |v: usize| nonmanifold_vertex[v] && !crease(v);
     let mut copies: Vec<Vec<u32>> = vec![Vec::new(); nv];
     for (k, &v) in origin.iter().enumerate() {
@@ -233,7 +234,8 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             }
         }
     }
-    let mut sharp_copies: Vec<[u32; 2]> = degenerate.iter().map(|&c| copy_ends(c as usize)).collect();
+    let mut sharp_copies: Vec<[u32; 2]> =
+        degenerate.iter().map(|&c| copy_ends(c as usize)).collect();
     for hs in half.values().filter(|hs| hs.len() > 1 && !manifold(hs)) {
         sharp_copies.extend(hs.iter().map(|&c| copy_ends(c as usize)));
     }
@@ -332,7 +334,8 @@ impl Weld {
     /// point for itself.
     pub fn after_split(origin: &[u32], split: &Split) -> Weld {
         let mut point = origin.to_vec();
-        let mut next = (origin.len()).max(origin.iter().map(|&v| v as usize + 1).max().unwrap_or(0)) as u32;
+        let mut next =
+            (origin.len()).max(origin.iter().map(|&v| v as usize + 1).max().unwrap_or(0)) as u32;
         let mut edge_point: HashMap<[u32; 2], u32> = HashMap::new();
         for &[a, b] in &split.edges {
             let (a, b) = (origin[a as usize], origin[b as usize]);
@@ -416,7 +419,11 @@ impl Weld {
                 }
                 if self.shared[a] && self.shared[b] && pa != pb {
                     for t in 1..n {
-                        let key = if pa < pb { (pa, pb, t) } else { (pb, pa, n - t) };
+                        let key = if pa < pb {
+                            (pa, pb, t)
+                        } else {
+                            (pb, pa, n - t)
+                        };
                         name(key, along(t));
                     }
                 }
@@ -450,7 +457,11 @@ impl Weld {
         approximate.sort_unstable();
         approximate.dedup();
         Refined {
-            normals: if normals.is_empty() { normals } else { pick(&normals) },
+            normals: if normals.is_empty() {
+                normals
+            } else {
+                pick(&normals)
+            },
             mesh: QuadMesh {
                 positions: pick(&mesh.positions),
                 faces: (mesh.faces.iter())

@@ -285,7 +285,13 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     // Sharpness: boundary edges infinitely sharp, creases and corners by their tags, and
     // under edge-and-corner a boundary vertex with one face (not a fin) a corner.
     let mut sharpness: Vec<Sharpness> = (edges.faces.iter())
-        .map(|f| if f.len() == 1 { Sharpness::INFINITE } else { Sharpness::SMOOTH })
+        .map(|f| {
+            if f.len() == 1 {
+                Sharpness::INFINITE
+            } else {
+                Sharpness::SMOOTH
+            }
+        })
         .collect();
     for &(e, s) in &features.creases {
         let e = &mut sharpness[edge_of(e) as usize];
@@ -303,7 +309,13 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     }
     if features.boundary.one_face_corners() {
         let fin: HashSet<u32> = features.fins.iter().copied().collect();
-        for &[a, b] in edges.ends.iter().zip(&edges.faces).filter(|e| e.1.len() == 1).map(|e| e.0) {
+        for &[a, b] in edges
+            .ends
+            .iter()
+            .zip(&edges.faces)
+            .filter(|e| e.1.len() == 1)
+            .map(|e| e.0)
+        {
             for v in [a, b] {
                 if faces_at[v as usize] == 1 && !fin.contains(&v) {
                     corner[v as usize] = Sharpness::INFINITE;
@@ -411,7 +423,11 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             }
             // The rule changes: `ComputeFractionalWeightAtVertex` of the two.
             let (sum, count) = transition[v];
-            let w = if count == 0 { 0.0 } else { f64::from((sum / count as f32).min(1.0)) };
+            let w = if count == 0 {
+                0.0
+            } else {
+                f64::from((sum / count as f32).min(1.0))
+            };
             add(scale(child(0), w), scale(child(1), 1.0 - w))
         })
         .collect();

@@ -327,7 +327,10 @@ impl<'t> Base<'t> {
                 let on = (x + ix, y + iy);
                 let inside = (on.0 + ix, on.1 + iy);
                 if w < 1.0 {
-                    each(Phantom::new((x, y), &[(on, 2.0 * w), (inside, -w), ((x, y), 1.0 - w)]));
+                    each(Phantom::new(
+                        (x, y),
+                        &[(on, 2.0 * w), (inside, -w), ((x, y), 1.0 - w)],
+                    ));
                 } else {
                     each(Phantom::new((x, y), &[(on, 2.0), (inside, -1.0)]));
                 }

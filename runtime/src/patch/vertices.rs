@@ -22,7 +22,8 @@ pub(super) fn vertex_child<T: Real>(
     n: i64,
     point: impl Fn(u32, i64, i64) -> [T; 3],
 ) -> [T; 3] {
-    let child = |rule, sharp_at| rule_child(base, (v, rule, alpha), (plan, ring, sharp_at), n, &point);
+    let child =
+        |rule, sharp_at| rule_child(base, (v, rule, alpha), (plan, ring, sharp_at), n, &point);
     match base.transition(v, k) {
         None => child(rule, k),
         Some((next, w)) => {

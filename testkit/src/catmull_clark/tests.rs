@@ -158,9 +158,7 @@ fn one_open_quad_numbering_and_both_boundary_modes() {
                 // One face: an interpolated corner.
                 Boundary::EdgeAndCorner => p[i],
                 // Two sharp (boundary) edges: a crease vertex.
-                Boundary::EdgeOnly | Boundary::None => {
-                    crease(p[(i + 3) % 4], p[i], p[(i + 1) % 4])
-                }
+                Boundary::EdgeOnly | Boundary::None => crease(p[(i + 3) % 4], p[i], p[(i + 1) % 4]),
             };
             assert_close(m.positions[i], want, "vertex");
         }

@@ -1,0 +1,334 @@
+//! Meshes as people have them (issue 39), every surface scheme: non-manifold edges and
+//! vertices, faces that repeat a vertex, vertices no face uses, boundary interpolation none,
+//! fractional sharpness. Each is checked against the same surface reached another way: a
+//! non-manifold mesh against its manifold pieces refined alone with OpenSubdiv's tags, unused
+//! vertices against the mesh without them, `none` against its holes tagged by hand, a
+//! fractional crease against the blend of the two integer ones around it.
+
+mod common;
+
+use common::cli::{lsubdiv, stderr, write};
+
+/// The shipped schemes that refine surfaces.
+const SCHEMES: [&str; 7] = [
+    "uniform-binary",
+    "fibonacci",
+    "fibonacci-alt",
+    "binary-ternary",
+    "found-cubic",
+    "low-ratio",
+    "remark-5-3",
+];
+
+const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+/// A refined mesh as written: positions and faces (0-based).
+struct Obj {
+    v: Vec<[f64; 3]>,
+    f: Vec<[usize; 4]>,
+}
+
+/// Refines `text` (written as `name` in `dir`) by `scheme`, `steps` steps, with `extra`
+/// arguments; the output and the warnings.
+fn refine(
+    dir: &std::path::Path,
+    (name, text): (&str, &str),
+    scheme: &str,
+    steps: usize,
+    extra: &[&str],
+) -> (Obj, String) {
+    let input = write(dir, name, text);
+    let out = dir.join(format!("{name}.{scheme}.out.obj"));
+    let steps = steps.to_string();
+    let mut args = vec![
+        "subdivide",
+        scheme,
+        "--steps",
+        &steps,
+        &input,
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let o = lsubdiv(&args);
+    assert!(o.status.success(), "{name} {scheme}: {}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut obj = Obj {
+        v: Vec::new(),
+        f: Vec::new(),
+    };
+    for line in text.lines() {
+        let t: Vec<&str> = line.split_ascii_whitespace().collect();
+        match t.first() {
+            Some(&"v") => obj.v.push([1, 2, 3].map(|i| t[i].parse().unwrap())),
+            Some(&"f") => obj.f.push(
+                [1, 2, 3, 4].map(|i| t[i].split('/').next().unwrap().parse::<usize>().unwrap() - 1),
+            ),
+            _ => {}
+        }
+    }
+    (obj, stderr(&o))
+}
+
+/// The points sorted, for comparing meshes numbered differently.
+fn sorted(mut v: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
+    v.sort_by(|a, b| {
+        (a[0].total_cmp(&b[0]))
+            .then(a[1].total_cmp(&b[1]))
+            .then(a[2].total_cmp(&b[2]))
+    });
+    v
+}
+
+/// Whether two point sets are the same to `tol`, point by point once sorted; points closer
+/// than that to each other are joined first (the copies of one point).
+fn same_points(a: Vec<[f64; 3]>, b: Vec<[f64; 3]>, tol: f64) -> Result<(), String> {
+    let dedup = |v: Vec<[f64; 3]>| {
+        let mut out: Vec<[f64; 3]> = Vec::new();
+        for p in sorted(v) {
+            if !out
+                .iter()
+                .any(|q| (0..3).all(|i| (p[i] - q[i]).abs() <= tol))
+            {
+                out.push(p);
+            }
+        }
+        sorted(out)
+    };
+    let (a, b) = (dedup(a), dedup(b));
+    if a.len() != b.len() {
+        return Err(format!("{} distinct points against {}", a.len(), b.len()));
+    }
+    for p in &a {
+        if !b.iter().any(|q| (0..3).all(|i| (p[i] - q[i]).abs() <= tol)) {
+            return Err(format!("{p:?} has no match"));
+        }
+    }
+    Ok(())
+}
+
+/// The cube and a second cube touching it at its vertex 7: the second cube's other vertex
+/// lines follow the first's.
+fn bow_tie() -> String {
+    let mut text = CUBE.to_string();
+    // The second cube: the first moved by (2, 2, 2), so that its vertex 1 lands on the
+    // first's vertex 7 (1, 1, 1), which it shares.
+    for (i, line) in CUBE.lines().filter(|l| l.starts_with("v ")).enumerate() {
+        if i == 0 {
+            continue;
+        }
+        let p: Vec<f64> = line[2..].split(' ').map(|t| t.parse().unwrap()).collect();
+        text += &format!("v {} {} {}\n", p[0] + 2.0, p[1] + 2.0, p[2] + 2.0);
+    }
+    // Second cube vertex i (1-based): 1 is the first cube's 7, i > 1 is 8 + i − 1.
+    let second = |i: usize| if i == 1 { 7 } else { 7 + i };
+    for line in CUBE.lines().filter(|l| l.starts_with("f ")) {
+        let idx: Vec<String> = line[2..]
+            .split(' ')
+            .map(|t| second(t.parse().unwrap()).to_string())
+            .collect();
+        text += &format!("f {}\n", idx.join(" "));
+    }
+    text
+}
+
+#[test]
+fn a_bow_tie_vertex_is_a_corner_of_each_fan() {
+    // Two cubes touching at one vertex: each refined as the cube alone with that vertex an
+    // infinitely sharp corner (OpenSubdiv sharpens a non-manifold vertex).
+    let dir = tempfile::tempdir().unwrap();
+    let tie = bow_tie();
+    // The second cube alone: the cube moved by (2, 2, 2), its vertex 1 on (1, 1, 1).
+    let mut second = String::new();
+    for line in CUBE.lines() {
+        match line.strip_prefix("v ") {
+            Some(xyz) => {
+                let p: Vec<f64> = xyz.split(' ').map(|t| t.parse().unwrap()).collect();
+                second += &format!("v {} {} {}\n", p[0] + 2.0, p[1] + 2.0, p[2] + 2.0);
+            }
+            None => second += &format!("{line}\n"),
+        }
+    }
+    second += "t corner 1/1/0 0 10\n";
+    let first = format!("{CUBE}t corner 1/1/0 6 10\n");
+    for scheme in SCHEMES {
+        let (whole, warnings) = refine(dir.path(), ("tie.obj", &tie), scheme, 2, &[]);
+        assert!(warnings.contains("1 non-manifold vertex"), "{warnings}");
+        let (a, _) = refine(dir.path(), ("a.obj", &first), scheme, 2, &[]);
+        let (b, _) = refine(dir.path(), ("b.obj", &second), scheme, 2, &[]);
+        assert_eq!(
+            whole.v.len(),
+            a.v.len() + b.v.len() - 1,
+            "{scheme}: one shared vertex"
+        );
+        assert_eq!(whole.f.len(), a.f.len() + b.f.len(), "{scheme}");
+        let pieces = [a.v, b.v].concat();
+        same_points(whole.v.clone(), pieces, 1e-12).unwrap_or_else(|e| panic!("{scheme}: {e}"));
+        assert!(
+            whole.v.contains(&[1.0, 1.0, 1.0]),
+            "{scheme}: the shared vertex stays"
+        );
+    }
+}
+
+#[test]
+fn a_fin_on_an_edge_is_refined_on_its_own_with_the_edge_sharp() {
+    // A quad standing on the cube's edge 1–2 (three faces on it): the cube with the edge
+    // infinitely sharp and its ends corners, and the fin alone (an open quad whose corners
+    // are interpolated), share the edge's points.
+    let dir = tempfile::tempdir().unwrap();
+    let fin = format!("{CUBE}v 1 -3 -1\nv -1 -3 -1\nf 2 1 10 9\n");
+    let cube = format!("{CUBE}t crease 2/1/0 0 1 10\nt corner 2/1/0 0 1 10\n");
+    let alone = "v -1 -1 -1\nv 1 -1 -1\nv 1 -3 -1\nv -1 -3 -1\nf 2 1 4 3\n";
+    for scheme in SCHEMES {
+        let (whole, warnings) = refine(dir.path(), ("fin.obj", &fin), scheme, 2, &[]);
+        assert!(
+            warnings.contains("2 non-manifold vertices and 1 non-manifold edge"),
+            "{warnings}"
+        );
+        let (a, _) = refine(dir.path(), ("cube.obj", &cube), scheme, 2, &[]);
+        let (b, _) = refine(dir.path(), ("alone.obj", alone), scheme, 2, &[]);
+        let n = ((b.f.len()) as f64).sqrt() as usize;
+        assert_eq!(
+            whole.v.len(),
+            a.v.len() + b.v.len() - (n + 1),
+            "{scheme}: the edge once"
+        );
+        assert_eq!(whole.f.len(), a.f.len() + b.f.len(), "{scheme}");
+        same_points(whole.v.clone(), [a.v, b.v].concat(), 1e-12)
+            .unwrap_or_else(|e| panic!("{scheme}: {e}"));
+        // The edge is refined as a segment between corners: its points on it.
+        let on_edge = whole
+            .v
+            .iter()
+            .filter(|p| (p[1] + 1.0).abs() < 1e-12 && (p[2] + 1.0).abs() < 1e-12)
+            .count();
+        assert_eq!(on_edge, n + 1, "{scheme}");
+    }
+}
+
+#[test]
+fn faces_that_repeat_a_vertex_refine_as_opensubdiv_counts_them() {
+    // A pyramid whose four sides are quads with the apex twice (a degenerate edge each): the
+    // apex is non-manifold (a corner), each degenerate edge its own edge, as in Far.
+    let dir = tempfile::tempdir().unwrap();
+    let pyramid = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 0 1\nf 4 3 2 1\nf 1 2 5 5\nf 2 3 5 5\nf 3 4 5 5\nf 4 1 5 5\n";
+    for scheme in SCHEMES {
+        let (m, warnings) = refine(dir.path(), ("pyramid.obj", pyramid), scheme, 1, &[]);
+        assert!(warnings.contains("non-manifold"), "{warnings}");
+        let n = ((m.f.len() / 5) as f64).sqrt() as usize;
+        // 5 vertices, 12 edges (8 and 4 degenerate), 5 faces.
+        assert_eq!(
+            m.v.len(),
+            5 + 12 * (n - 1) + 5 * (n - 1) * (n - 1),
+            "{scheme}"
+        );
+        assert!(m.v.contains(&[0.0, 0.0, 1.0]), "{scheme}: the apex stays");
+        for f in &m.f {
+            assert!(f.iter().all(|&v| v < m.v.len()), "{scheme}");
+        }
+    }
+}
+
+#[test]
+fn unused_vertices_are_dropped_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let extra = format!("{CUBE}v 5 5 5\nv 6 6 6\n");
+    for scheme in ["uniform-binary", "binary-ternary"] {
+        let (with, warnings) = refine(dir.path(), ("extra.obj", &extra), scheme, 2, &[]);
+        assert!(
+            warnings.contains("2 vertices used by no face: dropped"),
+            "{warnings}"
+        );
+        let (without, _) = refine(dir.path(), ("cube.obj", CUBE), scheme, 2, &[]);
+        assert_eq!(with.v, without.v, "{scheme}");
+        assert_eq!(with.f, without.f, "{scheme}");
+    }
+}
+
+/// An open 3 × 3 grid, bumped.
+fn grid() -> String {
+    let mut t = String::new();
+    for i in 0..4 {
+        for j in 0..4 {
+            t += &format!("v {j} {i} {}\n", 0.1 * (i * j) as f64);
+        }
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            let v = |i: usize, j: usize| i * 4 + j + 1;
+            t += &format!(
+                "f {} {} {} {}\n",
+                v(i, j),
+                v(i, j + 1),
+                v(i + 1, j + 1),
+                v(i + 1, j)
+            );
+        }
+    }
+    t
+}
+
+#[test]
+fn boundary_none_drops_the_faces_at_the_boundary() {
+    // OpenSubdiv's VTX_BOUNDARY_NONE: every face at a boundary vertex is a hole; the middle
+    // face stays, refined edge-only.
+    let dir = tempfile::tempdir().unwrap();
+    let none = format!("{}t interpolateboundary 1/0/0 0\n", grid());
+    let holes = format!("{}t hole 8/0/0 0 1 2 3 5 6 7 8\n", grid());
+    for scheme in SCHEMES {
+        let (a, _) = refine(dir.path(), ("none.obj", &none), scheme, 2, &[]);
+        let (b, _) = refine(
+            dir.path(),
+            ("holes.obj", &holes),
+            scheme,
+            2,
+            &["--boundary", "edge-only"],
+        );
+        let (c, _) = refine(
+            dir.path(),
+            ("cli.obj", &grid()),
+            scheme,
+            2,
+            &["--boundary", "none"],
+        );
+        assert_eq!(a.v, b.v, "{scheme}");
+        assert_eq!(a.f, b.f, "{scheme}");
+        assert_eq!((&a.v, &a.f), (&c.v, &c.f), "{scheme}: --boundary none");
+        let n = ((a.f.len()) as f64).sqrt() as usize;
+        assert_eq!(a.f.len(), n * n, "{scheme}: one face kept");
+    }
+}
+
+#[test]
+fn a_fractional_crease_blends_the_two_integer_ones() {
+    // A crease loop of sharpness 0.5 around the cube: at the first step every point on it is
+    // half the crease's and half the smooth rule's (OpenSubdiv's `ComputeEdgeVertexMask`, and
+    // `ComputeFractionalWeightAtVertex` = 0.5 at each of its vertices), and the steps after
+    // are linear and the same: the refinement is the mean of sharpness 1's and sharpness 0's.
+    let dir = tempfile::tempdir().unwrap();
+    let tagged = |s: &str| format!("{CUBE}t crease 8/1/0 0 1 1 2 2 3 3 0 {s}\n");
+    for scheme in SCHEMES {
+        let (half, _) = refine(dir.path(), ("half.obj", &tagged("0.5")), scheme, 3, &[]);
+        let (one, _) = refine(dir.path(), ("one.obj", &tagged("1")), scheme, 3, &[]);
+        let (zero, _) = refine(dir.path(), ("zero.obj", &tagged("0")), scheme, 3, &[]);
+        assert_eq!(half.f, one.f, "{scheme}");
+        for (i, p) in half.v.iter().enumerate() {
+            for c in 0..3 {
+                let mean = 0.5 * (one.v[i][c] + zero.v[i][c]);
+                assert!(
+                    (p[c] - mean).abs() < 1e-12,
+                    "{scheme}: vertex {i}: {p:?}, mean {mean}"
+                );
+            }
+        }
+        let (point_seven, _) = refine(dir.path(), ("p7.obj", &tagged("1.7")), scheme, 3, &[]);
+        assert!(
+            point_seven
+                .v
+                .iter()
+                .all(|p| p.iter().all(|x| x.is_finite())),
+            "{scheme}"
+        );
+    }
+}
