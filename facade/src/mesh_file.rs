@@ -288,7 +288,7 @@ impl Places {
             TopologyError::LowValence { vertex: v, valence } => (
                 vertex(v),
                 format!(
-                    "vertex {} has valence {valence}; extraordinary vertices need valence ≥ 3",
+                    "vertex {} has valence {valence}; an interior vertex has two faces at least",
                     num(v)
                 ),
             ),

@@ -88,7 +88,7 @@ impl EvLimit {
 /// Why no α could be found.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EvError {
-    /// Valence below 3.
+    /// Valence below 2.
     Valence(usize),
     /// μ0(α) − λ1² does not change sign on the searched range.
     NoRoot {
@@ -108,7 +108,7 @@ impl fmt::Display for EvError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             EvError::Valence(n) => {
-                write!(f, "valence {n}: extraordinary vertices have valence ≥ 3")
+                write!(f, "valence {n}: an interior vertex has two faces at least")
             }
             EvError::NoRoot { n } => write!(f, "valence {n}: no α in [0, 64n] gives μ0 = λ1²"),
             EvError::Complex { n, index } => write!(
@@ -214,9 +214,15 @@ impl EvCoefficients {
     }
 
     /// α with μ0(α) = λ1², by scanning [0, 64n] for a sign change and bisecting to f64 precision.
+    /// At valence 2 (two faces sharing both edges at the vertex) no α meets it: α there gives
+    /// the vertex itself Catmull–Clark's weight at valence 2, 1 − 7/(4·2) = 1/8, as OpenSubdiv
+    /// refines it (for uniform binary, whose ring weights are Catmull–Clark's, its rule exactly).
     pub fn alpha(&self, n: usize) -> Result<f64, EvError> {
-        if n < 3 {
+        if n < 2 {
             return Err(EvError::Valence(n));
+        }
+        if n == 2 {
+            return Ok(self.normalisation(2, 0.0) / 7.0);
         }
         let target = self.block(n, 1)?.0.powi(2);
         let f = |a: f64| self.mu0(n, a).map(|m| m - target);
@@ -290,6 +296,11 @@ impl EvCoefficients {
     /// (D_k between R_k and R_{k+1}); the EV itself has weight 0. Refining the 1-ring scales
     /// both by λ1. Numeric (f64), as α is.
     pub fn tangent_weight(&self, n: usize) -> Result<f64, EvError> {
+        // At valence 2 the diagonals' cosines cos θ(k + ½) vanish, and so does the second
+        // tangent: the limit has no tangent plane there (the patch limit takes the faces' mean).
+        if n == 2 {
+            return Ok(0.0);
+        }
         let theta = TAU / n as f64;
         let lambda = self.block(n, 1)?.0;
         let a = self.radial_to_radial + 2.0 * self.side_to_radial * theta.cos();

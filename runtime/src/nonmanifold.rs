@@ -1,8 +1,9 @@
 //! Meshes that are not 2-manifolds, refined as OpenSubdiv refines them, by every scheme.
 //!
 //! OpenSubdiv's Vtr (`Level::completeTopologyFromFaceVertices`, `orderVertexFacesAndEdges`)
-//! tags an edge non-manifold when it has more than two faces, when one face uses it twice, or
-//! when it is degenerate (a face repeats a vertex in consecutive corners), and a vertex when it
+//! tags an edge non-manifold when it has more than two faces, when one face uses it twice, when
+//! its two faces use it in the same direction, or when it is degenerate (a face repeats a
+//! vertex in consecutive corners), and a vertex when it
 //! ends such an edge or its faces form more than one fan. Far
 //! (`TopologyRefinerFactoryBase::prepareComponentTagsAndSharpness`) then makes every
 //! non-manifold edge infinitely sharp and every non-manifold vertex an infinitely sharp corner,
@@ -17,9 +18,10 @@
 //! face uses. The result is a 2-manifold with boundaries that every scheme refines with its own
 //! boundary and crease rules; [`Weld`] joins the refined copies of one point again.
 //!
-//! Two faces that use an edge in the same direction (inconsistent orientation) are joined
-//! across it like any other pair: the topology is orientation-agnostic, so a mesh whose faces
-//! are not consistently oriented is refined smoothly where OpenSubdiv makes such edges sharp.
+//! Two faces that use an edge in the same direction (opposite orientations) make it
+//! non-manifold too, as in Vtr: a file's faces are taken as oriented. (The topology itself is
+//! orientation-agnostic: a mesh built in memory, a Klein bottle, is refined smoothly across
+//! such edges.)
 //!
 //! [`Boundary::None`] (OpenSubdiv's `VTX_BOUNDARY_NONE`) is applied here too: the faces at a
 //! vertex with a boundary edge that is not tagged infinitely sharp become holes, and the
@@ -122,7 +124,12 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             }
         }
     }
-    let manifold = |hs: &[u32]| hs.len() == 2 && face_of[hs[0] as usize] != face_of[hs[1] as usize];
+    // Two half-edges of different faces, in opposite directions.
+    let manifold = |hs: &[u32]| {
+        hs.len() == 2
+            && face_of[hs[0] as usize] != face_of[hs[1] as usize]
+            && m.corners[hs[0] as usize] != m.corners[hs[1] as usize]
+    };
     let mut fans = Corners((0..m.corners.len() as u32).collect());
     let mut nonmanifold_vertex = vec![false; nv];
     // Per vertex: faces (corners), edges, boundary and non-manifold edges, as Far counts them.
@@ -149,13 +156,8 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         if manifold(hs) {
             let (c, d) = (hs[0] as usize, hs[1] as usize);
             let after = |c: usize| next(m, face_of[c] as usize, c) as u32;
-            if m.corners[c] == m.corners[d] {
-                fans.join(c as u32, d as u32);
-                fans.join(after(c), after(d));
-            } else {
-                fans.join(c as u32, after(d));
-                fans.join(after(c), d as u32);
-            }
+            fans.join(c as u32, after(d));
+            fans.join(after(c), d as u32);
         } else if hs.len() > 1 {
             nonmanifold_edges += 1;
             for v in [a, b] {

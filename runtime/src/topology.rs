@@ -76,8 +76,7 @@ pub enum TopologyError {
         /// The vertex.
         vertex: u32,
     },
-    /// An interior vertex where only two faces meet: a manifold, but no extraordinary-vertex
-    /// rule applies (\[G\] §2.2.2 needs valence ≥ 3).
+    /// An interior vertex with fewer than two faces.
     LowValence {
         /// The vertex.
         vertex: u32,
@@ -136,7 +135,7 @@ impl fmt::Display for TopologyError {
             }
             TopologyError::LowValence { vertex, valence } => write!(
                 f,
-                "vertex {vertex} has valence {valence}; extraordinary vertices need valence ≥ 3"
+                "vertex {vertex} has valence {valence}; an interior vertex has two faces at least"
             ),
         }
     }
@@ -370,11 +369,11 @@ impl Topology {
         })
     }
 
-    /// Refuses the first interior vertex of valence below 3: a manifold may have one (two
-    /// faces sharing two consecutive edges), but no extraordinary-vertex rule applies there.
+    /// Refuses the first interior vertex of valence below 2 (a face meeting itself; valence 2,
+    /// two faces sharing two consecutive edges, is refined: `EvCoefficients::alpha`).
     /// Boundary vertices may have any number of faces.
     pub fn check_valences(&self) -> Result<(), TopologyError> {
-        match (0..self.vertex_count as u32).find(|&v| self.valence(v) < 3 && !self.is_boundary(v)) {
+        match (0..self.vertex_count as u32).find(|&v| self.valence(v) < 2 && !self.is_boundary(v)) {
             Some(v) => Err(TopologyError::LowValence {
                 vertex: v,
                 valence: self.valence(v),
@@ -970,14 +969,8 @@ mod tests {
         let t = build(&quad_split(&pos, &polys));
         assert_eq!(t.valence(8), 2);
         assert_eq!(euler(&t), 2);
-        // A valid manifold, but no EV rule applies at valence 2.
-        assert_eq!(
-            t.check_valences(),
-            Err(TopologyError::LowValence {
-                vertex: 8,
-                valence: 2
-            })
-        );
+        // A valid manifold, refined with the valence-2 rule.
+        assert_eq!(t.check_valences(), Ok(()));
         assert_eq!(build(&c).check_valences(), Ok(()));
     }
 

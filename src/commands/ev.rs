@@ -45,7 +45,7 @@ const MAX_VALENCE: usize = 10_000;
 fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Error> {
     let bad_range = || {
         Error::input(format!(
-            "--valence `{text}`: expected `n` or `a..b` with 3 ≤ a ≤ b ≤ {MAX_VALENCE}"
+            "--valence `{text}`: expected `n` or `a..b` with 2 ≤ a ≤ b ≤ {MAX_VALENCE}"
         ))
     };
     let parse = |s: &str| s.trim().parse::<usize>().map_err(|_| bad_range());
@@ -56,7 +56,7 @@ fn valences(text: &str) -> Result<std::ops::RangeInclusive<usize>, Error> {
             (n, n)
         }
     };
-    if a < 3 || b < a || b > MAX_VALENCE {
+    if a < 2 || b < a || b > MAX_VALENCE {
         return Err(bad_range());
     }
     Ok(a..=b)

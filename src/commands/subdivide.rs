@@ -147,7 +147,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
 /// The note for a limit with vertices not derived in closed form, if it has any.
 pub fn approximate_note(name: &str, fine: &Refined) -> Option<String> {
     (!fine.approximate.is_empty()).then(|| format!(
-        "{name}: note: {} vertices (darts, creases with a sector other than two faces, corners with a sector of more than one face) have no derived limit normal: theirs is the mean of their limit 1-ring faces' (a dart's limit point is the smooth rule's, as OpenSubdiv's; docs/surfaces.md)",
+        "{name}: note: {} vertices have no derived limit normal (darts, creases with a sector other than two faces, corners with a sector of more than one face, interior vertices of valence 2): theirs is the mean of their limit 1-ring faces' (a dart's limit point is the smooth rule's, as OpenSubdiv's; docs/surfaces.md)",
         fine.approximate.len()
     ))
 }

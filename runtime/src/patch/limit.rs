@@ -278,6 +278,11 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                     if topo.spokes(v).any(|e| features.edge_sharp(e, k)) {
                         approximate.push(v);
                     }
+                    // Valence 2: no tangent plane from the 1-ring (EvCoefficients::tangent_weight).
+                    if rot.len() == 2 {
+                        approximate.push(v);
+                        fallback.push(v);
+                    }
                 }
                 VertexRule::Crease => {
                     let (pw, _) = masks[0];
