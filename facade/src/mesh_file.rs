@@ -329,21 +329,21 @@ impl Parsed {
         )
         .map_err(|e| places.locate_feature(file, &e))?;
         let separated = separate(&mesh, &features).map_err(|e| places.locate(file, &e))?;
-        let (mesh, features) = match separated {
-            None => (mesh, features),
+        let (mesh, features, edge_origin) = match separated {
+            None => (mesh, features, None),
             Some(s) => {
                 warnings.extend(separation_notes(&s));
                 places.origin = s.origin;
-                (s.mesh, s.features)
+                (s.mesh, s.features, Some(s.edge_origin))
             }
         };
-        let origin = (!places.origin.is_empty()).then_some(&places.origin[..]);
+        let origin = edge_origin.as_ref().map(|e| (&places.origin[..], e));
         let topology_of =
             |q: &QuadMesh| Topology::build(q).and_then(|t| t.check_valences().map(|()| t));
         let (quads, features, topology, uv, split, weld) = match mesh.into_quads() {
             Ok(q) => {
                 let topology = topology_of(&q).map_err(|e| places.locate(file, &e))?;
-                let weld = origin.map(Weld::new);
+                let weld = origin.map(|(o, e)| Weld::new(o, e));
                 (q, features, topology, uv.map(|uv| uv.quads()), false, weld)
             }
             Err(mesh) => {
@@ -355,7 +355,7 @@ impl Parsed {
                     topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
                 let uv = (uv.map(|uv| uv.split(&mesh, &features, uv_rule)).transpose())
                     .map_err(uv_error)?;
-                let weld = origin.map(|o| Weld::after_split(o, &s));
+                let weld = origin.map(|(o, e)| Weld::after_split(o, e, &s));
                 (s.mesh, s.features, topology, uv, true, weld)
             }
         };

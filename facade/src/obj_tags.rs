@@ -12,7 +12,11 @@
 //!   one per vertex;
 //! - `t hole 1/0/0 f`: face f (counted from 0) is a hole; several faces;
 //! - `t interpolateboundary 1/0/0 k`: 0 none (OpenSubdiv's `VTX_BOUNDARY_NONE`: the faces at
-//!   the boundary are holes), 1 edge-and-corner, 2 edge-only.
+//!   the boundary are holes), 1 edge-and-corner, 2 edge-only;
+//! - `t smoothtriangles 0/0/1 r`: `catmark` or `smooth` (the smooth-triangle rule of the first
+//!   step, [`Triangles`]);
+//! - `t creasemethod 0/0/1 m`: `normal` (OpenSubdiv's uniform creasing, lsubdiv's); `chaikin`
+//!   is refused (Chaikin's sharpness varies along an edge).
 //!
 //! The count field may omit its string count (`2/1`). Sharpness is read by
 //! [`Sharpness::from_f64`] (`inf` and 10 or more: infinitely sharp; fractions as OpenSubdiv). A value
@@ -22,7 +26,7 @@
 
 use crate::mesh_file::{shorten, FeatureLines};
 use crate::obj::{is_integer, Token};
-use lsubdiv_runtime::features::{Boundary, Features, Sharpness};
+use lsubdiv_runtime::features::{Boundary, Features, Sharpness, Triangles};
 use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
 
@@ -48,14 +52,16 @@ enum Tag {
     Corner,
     Hole,
     Boundary,
+    CreaseMethod,
+    Triangles,
 }
 
-/// A tag's name and the counts it takes: (ints, floats) are allowed when `shape(ints, floats)`
-/// holds, and `forms` says which in the error message.
+/// A tag's name and the counts it takes: (ints, floats, strings) are allowed when
+/// `shape(ints, floats, strings)` holds, and `forms` says which in the error message.
 struct Kind {
     tag: Tag,
     name: &'static str,
-    shape: fn(usize, usize) -> bool,
+    shape: fn(usize, usize, usize) -> bool,
     forms: &'static str,
 }
 
@@ -63,26 +69,38 @@ const KINDS: &[Kind] = &[
     Kind {
         tag: Tag::Crease,
         name: "crease",
-        shape: |n, m| n >= 2 && n % 2 == 0 && (m == 1 || m == n / 2),
+        shape: |n, m, k| n >= 2 && n % 2 == 0 && (m == 1 || m == n / 2) && k == 0,
         forms: "vertex pairs, then one sharpness for all or one per pair (2/1/0, 4/1/0, 4/2/0, …)",
     },
     Kind {
         tag: Tag::Corner,
         name: "corner",
-        shape: |n, m| n >= 1 && (m == 1 || m == n),
+        shape: |n, m, k| n >= 1 && (m == 1 || m == n) && k == 0,
         forms: "vertices, then one sharpness for all or one per vertex (1/1/0, 2/1/0, 2/2/0, …)",
     },
     Kind {
         tag: Tag::Hole,
         name: "hole",
-        shape: |n, m| n >= 1 && m == 0,
+        shape: |n, m, k| n >= 1 && m == 0 && k == 0,
         forms: "faces and nothing else (1/0/0, 2/0/0, …)",
     },
     Kind {
         tag: Tag::Boundary,
         name: "interpolateboundary",
-        shape: |n, m| n == 1 && m == 0,
+        shape: |n, m, k| n == 1 && m == 0 && k == 0,
         forms: "one integer, the mode (1/0/0)",
+    },
+    Kind {
+        tag: Tag::CreaseMethod,
+        name: "creasemethod",
+        shape: |n, m, k| n == 0 && m == 0 && k == 1,
+        forms: "one string, the method (0/0/1)",
+    },
+    Kind {
+        tag: Tag::Triangles,
+        name: "smoothtriangles",
+        shape: |n, m, k| n == 0 && m == 0 && k == 1,
+        forms: "one string, the rule (0/0/1)",
     },
 ];
 
@@ -185,7 +203,7 @@ impl Tags {
                 ),
             ));
         }
-        if k != 0 || !(kind.shape)(n, m) {
+        if !(kind.shape)(n, m, k) {
             return Err((
                 field_line,
                 format!(
@@ -195,9 +213,15 @@ impl Tags {
                 ),
             ));
         }
-        let (ints, floats) = args.split_at(n);
+        let (ints, rest) = args.split_at(n);
+        let (floats, strings) = rest.split_at(m);
         match kind.tag {
             Tag::Boundary => self.boundary(ints[0]),
+            Tag::CreaseMethod => creasing(strings[0]),
+            Tag::Triangles => {
+                self.features.triangles = triangles(strings[0])?;
+                Ok(())
+            }
             Tag::Hole => ints.iter().try_for_each(|&tok| {
                 let face = parse_index(tok)?;
                 if self.holes.insert(face) {
@@ -258,6 +282,45 @@ impl Tags {
                 Ok(())
             }
         }
+    }
+}
+
+/// `t creasemethod 0/0/1 m`: OpenSubdiv's `normal` (uniform) creasing is lsubdiv's;
+/// `chaikin` is refused: its sharpness varies along an edge from step to step (each child
+/// averaged with the sharp edges at its end), and lsubdiv's is one value per file edge and
+/// step.
+fn creasing((tok, line): Token<'_>) -> Result<(), Failure> {
+    match tok {
+        "normal" | "uniform" => Ok(()),
+        "chaikin" => Err((
+            line,
+            "Chaikin creasing is not supported: lsubdiv keeps one sharpness per edge of the file \
+             and step (OpenSubdiv's uniform creasing), and Chaikin's varies along each edge; \
+             remove the tag for uniform creasing"
+                .into(),
+        )),
+        _ => Err((
+            line,
+            format!(
+                "`{}` is not a creasing method (normal, chaikin)",
+                shorten(tok)
+            ),
+        )),
+    }
+}
+
+/// `t smoothtriangles 0/0/1 r`: `catmark` or `smooth` ([`Triangles`]).
+fn triangles((tok, line): Token<'_>) -> Result<Triangles, Failure> {
+    match tok {
+        "catmark" => Ok(Triangles::Catmark),
+        "smooth" => Ok(Triangles::Smooth),
+        _ => Err((
+            line,
+            format!(
+                "`{}` is not a triangle rule (catmark, smooth)",
+                shorten(tok)
+            ),
+        )),
     }
 }
 
@@ -634,7 +697,7 @@ mod tests {
             creases: vec![([0, 4], s(2)), ([4, 1], s(2))],
             corners: vec![],
             holes: vec![3, 4, 5],
-            fins: vec![],
+            ..Features::default()
         };
         assert_eq!(c.features, want);
         assert_eq!(c.mesh.positions[3], [1.0, -1.0, -1.0]); // the corner, held

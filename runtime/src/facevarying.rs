@@ -169,6 +169,7 @@ fn layout_features<'a>(
             .flat_map(|v| at.get(v).map_or(&[][..], Vec::as_slice))
             .copied()
             .collect(),
+        triangles: features.triangles,
     }
 }
 

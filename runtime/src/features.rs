@@ -154,6 +154,18 @@ impl Boundary {
     }
 }
 
+/// How the first Catmull–Clark step of a polygon mesh weighs triangles: OpenSubdiv's
+/// `Sdc::Options::TriangleSubdivision`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Triangles {
+    /// Catmull–Clark's rule for every face.
+    #[default]
+    Catmark,
+    /// The smooth-triangle rule (`TRI_SUB_SMOOTH`): a smooth edge beside a triangle weighs the
+    /// triangle's face point 0.47 instead of 0.25 (`Scheme<CATMARK>::assignSmoothMaskForEdge`).
+    Smooth,
+}
+
 /// The sharp features of a mesh, named by its vertices and faces (0-based, as OpenSubdiv's
 /// shape files write them in OBJ `t` tags).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -169,6 +181,8 @@ pub struct Features {
     /// Vertices on a non-manifold crease ([`crate::nonmanifold`]): never made corners by the
     /// boundary rule, though separated into fans with one face.
     pub fins: Vec<u32>,
+    /// The triangle rule of the first step of a mesh that is not all quads.
+    pub triangles: Triangles,
 }
 
 impl Features {

@@ -49,6 +49,9 @@ pub struct Separated {
     pub features: Features,
     /// Per vertex of `mesh`, the input's vertex it stands for.
     pub origin: Vec<u32>,
+    /// Per edge of `mesh` (its ends, smaller first), the input's edge it stands for, numbered
+    /// as Vtr makes them (an edge a face uses again is another edge).
+    pub edge_origin: HashMap<[u32; 2], u32>,
     /// How many input vertices no face uses (dropped).
     pub isolated: usize,
     /// How many input vertices are non-manifold.
@@ -109,18 +112,34 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             });
         }
     }
-    // Each corner c is the start of the half-edge from its vertex to the next corner's.
+    // Each corner c is the start of the half-edge from its vertex to the next corner's. The
+    // edges as Vtr makes them: a half-edge joins the first edge of its two vertices, unless
+    // that edge's last half-edge is of the same face (a face using the edge again) or the
+    // half-edge is degenerate: then it is an edge of its own.
     let mut face_of = vec![0u32; m.corners.len()];
-    let mut half: HashMap<[u32; 2], Vec<u32>> = HashMap::new();
-    let mut degenerate = Vec::new();
+    let mut edges: Vec<Vec<u32>> = Vec::new();
+    let mut first: HashMap<[u32; 2], u32> = HashMap::new();
+    let mut degenerate = vec![false; 0];
     for f in 0..m.face_count() {
         for c in m.offsets[f]..m.offsets[f + 1] {
             face_of[c] = f as u32;
             let (a, b) = (m.corners[c], m.corners[next(m, f, c)]);
-            if a == b {
-                degenerate.push(c as u32);
-            } else {
-                half.entry([a.min(b), a.max(b)]).or_default().push(c as u32);
+            let found = (a != b)
+                .then(|| first.get(&[a.min(b), a.max(b)]).copied())
+                .flatten();
+            match found {
+                Some(e) if face_of[*edges[e as usize].last().unwrap() as usize] != f as u32 => {
+                    edges[e as usize].push(c as u32);
+                }
+                _ => {
+                    if a != b {
+                        first
+                            .entry([a.min(b), a.max(b)])
+                            .or_insert(edges.len() as u32);
+                    }
+                    edges.push(vec![c as u32]);
+                    degenerate.push(a == b);
+                }
             }
         }
     }
@@ -130,6 +149,29 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             && face_of[hs[0] as usize] != face_of[hs[1] as usize]
             && m.corners[hs[0] as usize] != m.corners[hs[1] as usize]
     };
+    let ends = |hs: &[u32]| {
+        let c = hs[0] as usize;
+        [m.corners[c], m.corners[next(m, face_of[c] as usize, c)]]
+    };
+    // An edge whose vertices have more than one edge (a face used it again): all of them are
+    // non-manifold, as Vtr tags them.
+    let mut instances: HashMap<[u32; 2], u32> = HashMap::new();
+    for (e, hs) in edges.iter().enumerate() {
+        let [a, b] = ends(hs);
+        if !degenerate[e] {
+            *instances.entry([a.min(b), a.max(b)]).or_insert(0) += 1;
+        }
+    }
+    let is_manifold = |e: usize| {
+        let [a, b] = ends(&edges[e]);
+        manifold(&edges[e]) && instances[&[a.min(b), a.max(b)]] == 1
+    };
+    let is_nonmanifold = |e: usize| {
+        let [a, b] = ends(&edges[e]);
+        degenerate[e]
+            || (!manifold(&edges[e])
+                && (edges[e].len() > 1 || instances[&[a.min(b), a.max(b)]] > 1))
+    };
     let mut fans = Corners((0..m.corners.len() as u32).collect());
     let mut nonmanifold_vertex = vec![false; nv];
     // Per vertex: faces (corners), edges, boundary and non-manifold edges, as Far counts them.
@@ -137,28 +179,23 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
     let mut edges_at = vec![0u32; nv];
     let mut boundary_at = vec![0u32; nv];
     let mut nonmanifold_at = vec![0u32; nv];
-    let mut nonmanifold_edges = degenerate.len();
+    let mut nonmanifold_edges = 0;
     for &v in &m.corners {
         faces_at[v as usize] += 1;
     }
-    for &c in &degenerate {
-        let v = m.corners[c as usize] as usize;
-        nonmanifold_vertex[v] = true;
-        edges_at[v] += 1;
-        boundary_at[v] += 1;
-        nonmanifold_at[v] += 1;
-    }
-    for (&[a, b], hs) in &half {
+    for (e, hs) in edges.iter().enumerate() {
+        let [a, b] = ends(hs);
+        // A degenerate edge is met once at its vertex by each of its two ends.
         for v in [a, b] {
             edges_at[v as usize] += 1;
             boundary_at[v as usize] += u32::from(hs.len() == 1);
         }
-        if manifold(hs) {
+        if is_manifold(e) {
             let (c, d) = (hs[0] as usize, hs[1] as usize);
             let after = |c: usize| next(m, face_of[c] as usize, c) as u32;
             fans.join(c as u32, after(d));
             fans.join(after(c), d as u32);
-        } else if hs.len() > 1 {
+        } else if is_nonmanifold(e) {
             nonmanifold_edges += 1;
             for v in [a, b] {
                 nonmanifold_vertex[v as usize] = true;
@@ -220,6 +257,7 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
     let mut out = Features {
         boundary: features.boundary,
         holes: features.holes.clone(),
+        triangles: features.triangles,
         ..Features::default()
     };
     // Creases: a manifold edge's tag moves to its copy; every copy of a non-manifold edge is
@@ -230,16 +268,17 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         [a.min(b), a.max(b)]
     };
     for &([a, b], s) in &features.creases {
-        if let Some(hs) = half.get(&[a.min(b), a.max(b)]) {
-            if manifold(hs) {
-                out.creases.push((copy_ends(hs[0] as usize), s));
+        // A tag names the first edge of its two vertices, as Far's `findEdge` does.
+        if let Some(&e) = first.get(&[a.min(b), a.max(b)]) {
+            if !is_nonmanifold(e as usize) {
+                out.creases
+                    .push((copy_ends(edges[e as usize][0] as usize), s));
             }
         }
     }
-    let mut sharp_copies: Vec<[u32; 2]> =
-        degenerate.iter().map(|&c| copy_ends(c as usize)).collect();
-    for hs in half.values().filter(|hs| hs.len() > 1 && !manifold(hs)) {
-        sharp_copies.extend(hs.iter().map(|&c| copy_ends(c as usize)));
+    let mut sharp_copies: Vec<[u32; 2]> = Vec::new();
+    for e in (0..edges.len()).filter(|&e| is_nonmanifold(e)) {
+        sharp_copies.extend(edges[e].iter().map(|&c| copy_ends(c as usize)));
     }
     sharp_copies.sort_unstable();
     sharp_copies.dedup();
@@ -279,14 +318,12 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             .map(|&([a, b], _)| [a.min(b), a.max(b)])
             .collect();
         let mut open = vec![false; nv];
-        for (&e, hs) in &half {
-            if hs.len() == 1 && !inf.contains(&e) {
-                open[e[0] as usize] = true;
-                open[e[1] as usize] = true;
+        for hs in edges.iter().filter(|hs| hs.len() == 1) {
+            let [a, b] = ends(hs);
+            if a == b || !inf.contains(&[a.min(b), a.max(b)]) {
+                open[a as usize] = true;
+                open[b as usize] = true;
             }
-        }
-        for &c in &degenerate {
-            open[m.corners[c as usize] as usize] = true;
         }
         let mut hole = vec![false; m.face_count()];
         for &h in &features.holes {
@@ -300,6 +337,13 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             .collect();
         out.boundary = Boundary::EdgeOnly;
     }
+    // Each edge of the separated mesh: the input edge it copies.
+    let mut edge_origin = HashMap::new();
+    for (e, hs) in edges.iter().enumerate() {
+        for &c in hs {
+            edge_origin.entry(copy_ends(c as usize)).or_insert(e as u32);
+        }
+    }
     let positions = origin.iter().map(|&v| m.positions[v as usize]).collect();
     Ok(Some(Separated {
         mesh: PolyMesh {
@@ -309,6 +353,7 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         },
         features: out,
         origin,
+        edge_origin,
         isolated,
         vertices,
         edges: nonmanifold_edges,
@@ -323,42 +368,54 @@ pub struct Weld {
     point: Vec<u32>,
     /// Whether more than one vertex stands for the point.
     shared: Vec<bool>,
+    /// Per edge of the quad mesh (ends smaller first) that copies an input edge: that edge.
+    edge: HashMap<[u32; 2], u32>,
 }
 
 impl Weld {
-    /// For the separated mesh itself (all quads), from [`Separated::origin`].
-    pub fn new(origin: &[u32]) -> Weld {
-        Weld::of(origin.to_vec())
+    /// For the separated mesh itself (all quads), from [`Separated::origin`] and
+    /// [`Separated::edge_origin`].
+    pub fn new(origin: &[u32], edge_origin: &HashMap<[u32; 2], u32>) -> Weld {
+        Weld::of(origin.to_vec(), edge_origin.clone())
     }
 
     /// For the first Catmull–Clark step of the separated mesh: its vertices stand for their
-    /// origins ([`Separated::origin`]), each edge point for its edge's ends' origins, each face
-    /// point for itself.
-    pub fn after_split(origin: &[u32], split: &Split) -> Weld {
+    /// origins ([`Separated::origin`]), each edge point for its edge's input edge
+    /// ([`Separated::edge_origin`]), each face point for itself.
+    pub fn after_split(
+        origin: &[u32],
+        edge_origin: &HashMap<[u32; 2], u32>,
+        split: &Split,
+    ) -> Weld {
         let mut point = origin.to_vec();
-        let mut next =
-            (origin.len()).max(origin.iter().map(|&v| v as usize + 1).max().unwrap_or(0)) as u32;
-        let mut edge_point: HashMap<[u32; 2], u32> = HashMap::new();
-        for &[a, b] in &split.edges {
-            let (a, b) = (origin[a as usize], origin[b as usize]);
-            let id = *edge_point.entry([a.min(b), a.max(b)]).or_insert_with(|| {
-                next += 1;
-                next - 1
+        let base = (origin.iter().map(|&v| v + 1).max().unwrap_or(0)).max(origin.len() as u32);
+        let edges = edge_origin.values().map(|&e| e + 1).max().unwrap_or(0);
+        let mut next = base + edges;
+        for e in &split.edges {
+            point.push(match edge_origin.get(e) {
+                Some(&input) => base + input,
+                None => {
+                    next += 1;
+                    next - 1
+                }
             });
-            point.push(id);
         }
         let rest = split.mesh.positions.len() - point.len();
         point.extend((0..rest as u32).map(|k| next + k));
-        Weld::of(point)
+        Weld::of(point, HashMap::new())
     }
 
-    fn of(point: Vec<u32>) -> Weld {
+    fn of(point: Vec<u32>, edge: HashMap<[u32; 2], u32>) -> Weld {
         let mut count: HashMap<u32, u32> = HashMap::new();
         for &p in &point {
             *count.entry(p).or_insert(0) += 1;
         }
         let shared = point.iter().map(|p| count[p] > 1).collect();
-        Weld { point, shared }
+        Weld {
+            point,
+            shared,
+            edge,
+        }
     }
 
     /// Joins the copies in a refinement of the quad mesh whose faces are `base` and whose hole
@@ -420,13 +477,14 @@ impl Weld {
                     name((pa, u32::MAX, 0), along(0));
                 }
                 if self.shared[a] && self.shared[b] && pa != pb {
+                    // An edge is named by the input edge it copies, else by its ends.
+                    let ends = match self.edge.get(&[a.min(b) as u32, a.max(b) as u32]) {
+                        Some(&e) => (u32::MAX - 1, e),
+                        None => (pa.min(pb), pa.max(pb)),
+                    };
                     for t in 1..n {
-                        let key = if pa < pb {
-                            (pa, pb, t)
-                        } else {
-                            (pb, pa, n - t)
-                        };
-                        name(key, along(t));
+                        let from_smaller = if pa < pb { t } else { n - t };
+                        name((ends.0, ends.1, from_smaller), along(t));
                     }
                 }
             }

@@ -17,7 +17,7 @@
 //! sharpness, so the rules are those of the current sharpness). Holes are refined like every
 //! face; their children are holes.
 
-use crate::features::{FeatureError, Features, Sharpness, VertexRule};
+use crate::features::{FeatureError, Features, Sharpness, Triangles, VertexRule};
 use crate::mesh::QuadMesh;
 use crate::topology::{check_corners, TopologyError};
 use std::collections::{HashMap, HashSet};
@@ -334,6 +334,13 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             scale(sum, 1.0 / face.len() as f64)
         })
         .collect();
+    // With the smooth-triangle rule, the face weight of an edge beside a triangle.
+    let triangle_weight = |faces: &[u32]| {
+        let tri = |f: u32| m.offsets[f as usize + 1] - m.offsets[f as usize] == 3;
+        let weight = |f: u32| if tri(f) { 0.47 } else { 0.25 };
+        (features.triangles == Triangles::Smooth && faces.iter().any(|&f| tri(f)))
+            .then(|| 0.5 * (weight(faces[0]) + weight(faces[1])))
+    };
     let edge_points: Vec<[f64; 3]> = (edges.ends.iter().zip(&edges.faces).zip(&sharpness))
         .map(|((&[a, b], faces), s)| {
             let ends = add(m.positions[a as usize], m.positions[b as usize]);
@@ -345,7 +352,11 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
                 face_points[faces[0] as usize],
                 face_points[faces[1] as usize],
             );
-            let smooth = scale(add(ends, sides), 0.25);
+            let smooth = match triangle_weight(faces) {
+                None => scale(add(ends, sides), 0.25),
+                // `assignSmoothMaskForEdge` with TRI_SUB_SMOOTH: both faces weigh the mean.
+                Some(fw) => add(scale(ends, 0.5 * (1.0 - 2.0 * fw)), scale(sides, fw)),
+            };
             // Sharpness below 1: w of the crease rule (`ComputeEdgeVertexMask`).
             add(scale(ends, 0.5 * w), scale(smooth, 1.0 - w))
         })
@@ -462,6 +473,7 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             .map(|q| q as u32)
             .collect(),
         fins: features.fins.clone(),
+        triangles: features.triangles,
     };
     Ok(Split {
         mesh: QuadMesh { positions, faces },
