@@ -543,6 +543,7 @@ impl std::fmt::Display for Text<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use lsubdiv_runtime::features::Triangles;
     use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
     use lsubdiv_runtime::topology::Topology;
 
@@ -815,24 +816,37 @@ mod tests {
                 "skipped 2 lines with unknown directive `foo` (first at line 15)",
             ]
         );
-        // OpenSubdiv's sharp-feature tags are read, without a warning; other tags are skipped
-        // with one warning per tag.
+        // OpenSubdiv's tags are read, without a warning; other tags are skipped with one
+        // warning per tag.
         let p = parse(
             "t.obj",
             &format!(
-                "{SQUARE_V}f 1 2 3 4\nt crease 2/1/0 0 1 10\nt creasemethod 0/0/1 chaikin\n\
-                 t corner 1/1/0 0 5\nt smoothtriangles 0/0/1 smooth\nt creasemethod 0/0/1 normal\n"
+                "{SQUARE_V}f 1 2 3 4\nt crease 2/1/0 0 1 10\nt vertexedit 0/0/1 x\n\
+                 t corner 1/1/0 0 5\nt smoothtriangles 0/0/1 smooth\nt creasemethod 0/0/1 normal\n\
+                 t vertexedit 0/0/1 y\nt faceedit 0/0/1 z\n"
             ),
         )
         .unwrap();
         assert_eq!(p.features.creases.len(), 1);
         assert_eq!(p.features.corners.len(), 1);
+        assert_eq!(p.features.triangles, Triangles::Smooth);
         assert_eq!(
             p.warnings,
             vec![
-                "skipped 2 lines with unknown tag `t creasemethod` (first at line 7)",
-                "skipped 1 line with unknown tag `t smoothtriangles` (line 9)",
+                "skipped 2 lines with unknown tag `t vertexedit` (first at line 7)",
+                "skipped 1 line with unknown tag `t faceedit` (line 12)",
             ]
+        );
+        // Chaikin's creasing is refused at its line.
+        let e = parse(
+            "t.obj",
+            &format!("{SQUARE_V}f 1 2 3 4\nt creasemethod 0/0/1 chaikin\n"),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("t.obj:6"), "{e}");
+        assert!(
+            e.to_string().contains("Chaikin creasing is not supported"),
+            "{e}"
         );
     }
 
