@@ -269,8 +269,16 @@ fn ev_json_per_valence() {
         (rows[1]["normalisation"].as_f64().unwrap() - 1.0).abs() < 1e-12,
         "n = 4"
     );
-    let o = lsubdiv(&["ev", "binary-ternary", "--valence", "2..5"]);
+    let o = lsubdiv(&["ev", "binary-ternary", "--valence", "1..5"]);
     assert_eq!(o.status.code(), Some(2));
+    // Valence 2: OpenSubdiv's weight on the vertex, said so.
+    let o = lsubdiv(&["ev", "uniform-binary", "--valence", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("valence 2: no alpha gives mu0"), "{text}");
+    let row = json(&["ev", "uniform-binary", "--valence", "2", "--json"]);
+    // Catmull-Clark at valence 2: alpha / normalisation = 1/8, alpha = 1/32.
+    assert!((row[0]["alpha"].as_f64().unwrap() - 1.0 / 32.0).abs() < 1e-15);
 }
 
 #[test]

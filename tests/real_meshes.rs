@@ -309,6 +309,24 @@ fn a_fractional_crease_blends_the_two_integer_ones() {
     let dir = tempfile::tempdir().unwrap();
     let tagged = |s: &str| format!("{CUBE}t crease 8/1/0 0 1 1 2 2 3 3 0 {s}\n");
     for scheme in SCHEMES {
+        if scheme == "binary-ternary" {
+            // Its first step runs the reference driver on the mesh cut along sharp lines,
+            // which has no blend: refused with that reason (docs/real-meshes.md).
+            let input = write(dir.path(), "half.obj", &tagged("0.5"));
+            let out = dir.path().join("bt.obj");
+            let o = lsubdiv(&[
+                "subdivide",
+                scheme,
+                "--steps",
+                "2",
+                &input,
+                "-o",
+                out.to_str().unwrap(),
+            ]);
+            assert_eq!(o.status.code(), Some(2));
+            assert!(stderr(&o).contains("sharpness below 1"), "{}", stderr(&o));
+            continue;
+        }
         let (half, _) = refine(dir.path(), ("half.obj", &tagged("0.5")), scheme, 3, &[]);
         let (one, _) = refine(dir.path(), ("one.obj", &tagged("1")), scheme, 3, &[]);
         let (zero, _) = refine(dir.path(), ("zero.obj", &tagged("0")), scheme, 3, &[]);

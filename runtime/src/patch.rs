@@ -438,6 +438,21 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         } else {
             None
         };
+        // The cut is along whole lines: an edge that blends the sharp and the smooth rule
+        // at the step (sharpness below 1) has no place in it.
+        if cut.is_some()
+            && (0..topo.edge_count() as u32).any(|e| {
+                let w = base.features.edge_weight(e, 0);
+                w > 0.0 && w < 1.0
+            })
+        {
+            return Err(SurfaceError::Unsupported(format!(
+                "the first step of scheme `{}` runs the reference driver on the mesh cut open \
+                 along its sharp edges, and an edge here has sharpness below 1 at that step \
+                 (a blend of the sharp and the smooth rule), which that cut cannot make",
+                t.name
+            )));
+        }
         if first > 0 && !plain && cut.is_none() {
             return Err(SurfaceError::Unsupported(format!(
                 "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \

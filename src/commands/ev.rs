@@ -69,6 +69,7 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Error> {
     let a = lsubdiv::compiler::exact::ev::analyse(&s)?;
     let c = a.coefficients_f64();
     let mut rows = Vec::new();
+    let two = *range.start() == 2;
     for n in range {
         let sp = c.spectrum(n).map_err(input_error)?;
         rows.push(sp);
@@ -86,6 +87,13 @@ fn ev_report(scheme: &str, valence: &str, json: bool) -> Result<(), Error> {
         println!("{}", serde_json::Value::Array(v));
     } else {
         print!("{}", report::ev_text(&s, &a, &rows));
+        if two {
+            println!(
+                "valence 2: no alpha gives mu0 = lambda1^2 (two faces share both edges at the vertex; \
+                 Fourier index 2 is index 0 there): alpha gives the vertex Catmull-Clark's weight \
+                 1/8, as OpenSubdiv refines it"
+            );
+        }
     }
     Ok(())
 }
@@ -107,6 +115,12 @@ fn charmap(a: &EvArgs, output: &std::path::Path) -> Result<(), Error> {
     // The power iteration's net grows with n (about 0.4 s per valence unit in debug builds);
     // beyond this the picture's n-fold sectors are thinner than its lines anyway.
     const MAX_MAP_VALENCE: usize = 100;
+    if n < 3 {
+        return Err(Error::input(format!(
+            "--characteristic-map draws valences 3 to {MAX_MAP_VALENCE}: at valence 2 the limit \
+             has no tangent plane"
+        )));
+    }
     if n > MAX_MAP_VALENCE {
         return Err(Error::input(format!(
             "--characteristic-map draws valences 3 to {MAX_MAP_VALENCE}; --valence {n} is beyond"
