@@ -496,7 +496,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .special
             .iter()
             .map(|&v| match base.topo.valence(v) {
-                n if n < 3 || n == 4 || base.topo.is_boundary(v) => Ok(0.0),
+                n if n < 2 || n == 4 || base.topo.is_boundary(v) => Ok(0.0),
                 n => st.alpha(n).map_err(SurfaceError::Ev),
             })
             .collect::<Result<_, _>>()?;

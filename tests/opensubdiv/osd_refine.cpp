@@ -14,8 +14,8 @@
 // level of an all-quad base, every level after the first otherwise: the first step of a mesh
 // with other polygons is Catmull-Clark's in lsubdiv too), the child of a vertex whose rule is
 // smooth or dart, or blends into smooth or dart across the step (a rule transition of weight
-// below 1), and whose valence is not 4 ([G] §3's extraordinary-vertex rule, not
-// Catmull-Clark's) is tainted 1, and every vertex's taint is carried to the next level by the
+// below 1), and whose valence is neither 4 nor 2 ([G] §3's extraordinary-vertex rule, not
+// Catmull-Clark's; at valence 2 lsubdiv takes Catmull-Clark's weights) is tainted 1, and every vertex's taint is carried to the next level by the
 // absolute values of its weights: taint 0 means the vertex depends on no such child.
 
 #include <opensubdiv/far/primvarRefiner.h>
@@ -165,7 +165,10 @@ int main(int argc, char **argv) {
             };
             for (int v = 0; v < parent.GetNumVertices(); ++v) {
                 int child = parent.GetVertexChildVertex(v);
-                if (child < 0 || parent.GetVertexFaces(v).size() == 4) continue;
+                // Valence 4 is the regular rule; at valence 2 lsubdiv's alpha is
+                // Catmull-Clark's (EvCoefficients::alpha): neither is tainted.
+                int valence = parent.GetVertexFaces(v).size();
+                if (child < 0 || valence == 4 || valence == 2) continue;
                 Sdc::Crease::Rule rule = parent.GetVertexRule(v);
                 Sdc::Crease::Rule next_rule = children.GetVertexRule(child);
                 // The smooth rule, alone or in a rule transition of weight below 1
