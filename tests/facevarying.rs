@@ -258,8 +258,8 @@ fn the_first_step_of_polygons_splits_uvs_linearly() {
 
 /// `lsubdiv subdivide` carries texture coordinates through: OBJ `vt` in, `vt` and `v/vt` out
 /// (`v/vt/vn` with `--limit`), the input's `vn` ignored with one warning; linear values are
-/// the library's `refine_uv`; `--uv smooth` on a layout that is not a 2-manifold is refused
-/// (exit 2) with the hint to use `--uv linear`.
+/// the library's `refine_uv`; `--uv smooth` on a layout that is not a 2-manifold refines it
+/// as OpenSubdiv does.
 #[test]
 fn subdivide_refines_texture_coordinates() {
     use common::cli::{lsubdiv, stderr, write};
@@ -334,8 +334,63 @@ fn subdivide_refines_texture_coordinates() {
             .all(|c| c.split('/').count() == 3),
         "{face}"
     );
-    // The smooth rule needs a 2-manifold layout.
+    // The smooth rule on that layout: its edges non-manifold (both faces use them in the same
+    // direction), so sharp, its values corners, as OpenSubdiv's FVAR_LINEAR_NONE makes them:
+    // one quad with straight sharp sides and fixed corners, which uniform binary refines
+    // bilinearly, the linear rule's values.
     let o = run(&["--uv", "smooth"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("--uv linear"), "{}", stderr(&o));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let smooth: Vec<[f64; 2]> = (text.lines().filter_map(|l| l.strip_prefix("vt ")))
+        .map(|l| {
+            let x: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [x[0], x[1]]
+        })
+        .collect();
+    for w in &want.values {
+        let near = |v: &[f64; 2]| (v[0] - w[0]).abs() < 1e-12 && (v[1] - w[1]).abs() < 1e-12;
+        assert!(smooth.iter().any(near), "{w:?}");
+    }
+}
+
+/// A layout that is not a 2-manifold (issue 39; the spot models have such): on a 2 × 2 grid,
+/// the two diagonal faces share the middle value and the other two each have their own, so
+/// the middle value's faces form two fans. The smooth rule refines it as OpenSubdiv's
+/// `FVAR_LINEAR_NONE` does: the value is a corner of each fan (it stays).
+#[test]
+fn a_bow_tie_in_the_layout_is_a_corner_of_each_fan() {
+    let mesh = open_grid(2, 2);
+    // Grid vertex i·3 + j at (j, i); the faces (i, j) in row order, corners from (i, j).
+    let mut values: Vec<[f64; 2]> = (0..9)
+        .map(|k| {
+            [
+                0.1 + 0.4 * (k % 3) as f64,
+                0.1 + 0.4 * (k / 3) as f64 + 0.01 * k as f64,
+            ]
+        })
+        .collect();
+    values.push(values[4]); // 9: face (0, 1)'s own middle
+    values.push(values[4]); // 10: face (1, 0)'s own middle
+    let mut faces = mesh.faces.clone();
+    for (f, own) in [(1, 9), (2, 10)] {
+        for c in faces[f].iter_mut().filter(|c| **c == 4) {
+            *c = own;
+        }
+    }
+    let uv = QuadUv { values, faces };
+    for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
+        let s = surface(name);
+        let fine = refine(&s, &mesh, &uv, UvRule::Smooth, 2);
+        let n = (fine.faces.len() / 4) as f64;
+        assert_eq!(fine.faces.len(), 4 * (n.sqrt() as usize).pow(2), "{name}");
+        assert!(
+            fine.values.iter().flatten().all(|x| x.is_finite()),
+            "{name}"
+        );
+        // The middle value stays where it is, one value for both fans (the faces' own copies
+        // 9 and 10 are edge-only boundary vertices of the layout: they move).
+        let middle = uv.values[4];
+        let at_middle = fine.values.iter().filter(|v| **v == middle).count();
+        assert_eq!(at_middle, 1, "{name}");
+    }
 }

@@ -11,7 +11,10 @@
 //!   edge midpoints and centroids.
 //! - [`UvRule::Smooth`] (`FVAR_LINEAR_NONE`): the scheme refines the layout itself, the quad
 //!   mesh whose vertices are the values, with its seams and chart boundaries as edge-only
-//!   boundaries and the mesh's creases, corners and holes carried onto it.
+//!   boundaries and the mesh's creases, corners and holes carried onto it; where the layout
+//!   is not a 2-manifold (values whose faces form several fans, edges of more than two faces
+//!   or of two in the same direction) its fans are separated and those places made sharp, as
+//!   OpenSubdiv's face-varying level makes them ([`crate::nonmanifold`]).
 //!
 //! Either way the refined channel's faces are parallel to the refined mesh's faces
 //! ([`crate::patch::Refiner::faces`]) and seams stay seams.
@@ -19,7 +22,8 @@
 use crate::features::{Boundary, FeatureError, Features};
 use crate::grid::{site, Site};
 use crate::mesh::QuadMesh;
-use crate::patch::{limit_with, renumbering, subdivide_with};
+use crate::nonmanifold::{separate, Weld};
+use crate::patch::{limit_with, renumbering, subdivide_with, Refined};
 use crate::polygon::{catmull_clark, PolyMesh, SplitError};
 use crate::real::Real;
 use crate::surface::{SurfaceError, SurfaceScheme};
@@ -75,8 +79,8 @@ pub enum UvError {
         /// How many values there are.
         values: usize,
     },
-    /// The layout (faces over their value indices, whose vertices are the values) is not a
-    /// 2-manifold the topology accepts: the smooth rule needs one.
+    /// The layout (faces over their value indices, whose vertices are the values) is refused
+    /// by the topology (after its non-manifold places are separated).
     Layout(TopologyError),
     /// The mesh's features carried onto the layout are refused there.
     Features(FeatureError),
@@ -101,8 +105,8 @@ impl fmt::Display for UvError {
             ),
             UvError::Layout(e) => write!(
                 f,
-                "the texture layout (its vertices are the texture coordinates) is not a \
-                 2-manifold, which the smooth rule needs: {e}; the linear rule takes any layout"
+                "the texture layout (its vertices are the texture coordinates): {e}; the linear \
+                 rule takes any layout"
             ),
             UvError::Features(e) => write!(f, "the texture layout's features: {e}"),
             UvError::Surface(e) => write!(f, "the texture layout: {e}"),
@@ -173,6 +177,11 @@ fn layout_features<'a>(
     }
 }
 
+/// Quads' corners one after the other.
+fn flat_corners(faces: &[[u32; 4]]) -> Vec<u32> {
+    faces.iter().flatten().copied().collect()
+}
+
 /// The layout as a mesh in the plane z = 0, without the values no corner uses (the topology
 /// refuses unused vertices; the others keep their order), and the corners renumbered to match.
 fn plane(values: &[[f64; 2]], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
@@ -236,15 +245,31 @@ impl PolyUv {
                 .offsets
                 .windows(2)
                 .map(|w| (&mesh.corners[w[0]..w[1]], &layout.corners[w[0]..w[1]]));
-            let split = catmull_clark(&layout, &layout_features(renumbered, features)).map_err(
-                |e| match e {
-                    SplitError::Topology(e) => UvError::Layout(e),
-                    SplitError::Feature(e) => UvError::Features(e),
-                },
-            )?;
+            let lf = layout_features(renumbered, features);
+            // A layout that is not a 2-manifold is separated ([`separate`]) and joined after.
+            let separated = separate(&layout, &lf).map_err(UvError::Layout)?;
+            let (layout, lf) = match &separated {
+                Some(s) => (&s.mesh, &s.features),
+                None => (&layout, &lf),
+            };
+            let split = catmull_clark(layout, lf).map_err(|e| match e {
+                SplitError::Topology(e) => UvError::Layout(e),
+                SplitError::Feature(e) => UvError::Features(e),
+            })?;
+            let mut quads = split.mesh.clone();
+            if let Some(s) = &separated {
+                let weld = Weld::after_split(&s.origin, &s.edge_origin, &split);
+                let faces = &split.mesh.faces;
+                let (index, kept) = weld.join(faces, &[], split.mesh.positions.len(), faces);
+                quads.positions = kept
+                    .iter()
+                    .map(|&v| split.mesh.positions[v as usize])
+                    .collect();
+                quads.faces = faces.iter().map(|q| q.map(|v| index[v as usize])).collect();
+            }
             return Ok(QuadUv {
-                values: split.mesh.positions.iter().map(|p| [p[0], p[1]]).collect(),
-                faces: split.mesh.faces,
+                values: quads.positions.iter().map(|p| [p[0], p[1]]).collect(),
+                faces: quads.faces,
             });
         }
         let mut values = self.values.clone();
@@ -310,8 +335,7 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
 ) -> Result<QuadUv<T>, UvError> {
     uv.check(mesh)?;
     if rule == UvRule::Smooth {
-        let flat: Vec<u32> = uv.faces.iter().flatten().copied().collect();
-        let (positions, corners) = plane(&uv.values, &flat);
+        let (positions, corners) = plane(&uv.values, &flat_corners(&uv.faces));
         let layout = QuadMesh {
             positions,
             faces: corners
@@ -319,20 +343,40 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
                 .map(|c| [c[0], c[1], c[2], c[3]])
                 .collect(),
         };
-        let lt = Topology::build(&layout).map_err(UvError::Layout)?;
         let pairs = (mesh.faces.iter())
             .zip(&layout.faces)
             .map(|(p, u)| (&p[..], &u[..]));
         let lf = layout_features(pairs, features);
-        let fine: QuadMesh<T> = if limit {
-            limit_with(scheme, &layout, &lt, &lf, steps, threads).map(|r| r.mesh)
+        // A layout that is not a 2-manifold is separated ([`separate`]) and joined after.
+        let poly = PolyMesh {
+            positions: layout.positions.clone(),
+            offsets: (0..=layout.faces.len()).map(|f| 4 * f).collect(),
+            corners: flat_corners(&layout.faces),
+        };
+        let separated = separate(&poly, &lf).map_err(UvError::Layout)?;
+        let (layout, lf) = match separated.clone() {
+            Some(s) => (s.mesh.into_quads().expect("quads stay quads"), s.features),
+            None => (layout, lf),
+        };
+        let lt = Topology::build(&layout).map_err(UvError::Layout)?;
+        let fine = if limit {
+            limit_with(scheme, &layout, &lt, &lf, steps, threads)
         } else {
-            subdivide_with(scheme, &layout, &lt, &lf, steps, threads)
+            subdivide_with(scheme, &layout, &lt, &lf, steps, threads).map(|mesh| Refined {
+                mesh,
+                normals: Vec::new(),
+                approximate: Vec::new(),
+            })
         }
         .map_err(|e| match e {
             SurfaceError::Features(e) => UvError::Features(e),
             e => UvError::Surface(e),
         })?;
+        let fine = match &separated {
+            Some(s) => Weld::new(&s.origin, &s.edge_origin).apply(&layout.faces, &lf.holes, fine),
+            None => fine,
+        }
+        .mesh;
         return Ok(QuadUv {
             values: fine.positions.iter().map(|p| [p[0], p[1]]).collect(),
             faces: fine.faces,
