@@ -85,21 +85,30 @@ fn linear_uvs_are_bilinear_at_the_knots() {
 }
 
 /// Smooth on a seamless chart (one value per vertex; the chart's boundary is the mesh's):
-/// exactly the scheme refining (u, v, 0) as positions with edge-only boundaries, and the
-/// refined channel shares a value wherever the refined mesh shares a vertex.
+/// exactly the scheme refining (u, v, 0) as positions with the mesh's boundary rule (under
+/// edge-and-corner the chart's corners are the mesh's corners, sharp as OpenSubdiv makes
+/// their values), and the refined channel shares a value wherever the refined mesh shares a
+/// vertex.
 #[test]
 fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
     let (mesh, uv) = grid_with_uv();
-    for name in ["uniform-binary", "fibonacci", "binary-ternary"] {
+    for (name, boundary) in [
+        ("uniform-binary", Boundary::EdgeAndCorner),
+        ("uniform-binary", Boundary::EdgeOnly),
+        ("fibonacci", Boundary::EdgeAndCorner),
+        ("binary-ternary", Boundary::EdgeOnly),
+    ] {
         let s = surface(name);
-        let fine = refine(&s, &mesh, &uv, UvRule::Smooth, 2);
+        let f = Features::with_boundary(boundary);
+        let topo = Topology::build(&mesh).unwrap();
+        let fine: QuadUv =
+            refine_uv(&s, &mesh, &topo, &f, &uv, (UvRule::Smooth, false), 2, 2).unwrap();
         let layout = QuadMesh {
             positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
             faces: mesh.faces.clone(),
         };
         let topo = Topology::build(&layout).unwrap();
-        let edge_only = Features::with_boundary(Boundary::EdgeOnly);
-        let want = subdivide_with::<_, f64>(&s, &layout, &topo, &edge_only, 2, 1).unwrap();
+        let want = subdivide_with::<_, f64>(&s, &layout, &topo, &f, 2, 1).unwrap();
         let positions = subdivide_with::<_, f64>(
             &s,
             &mesh,
@@ -125,15 +134,14 @@ fn smooth_uvs_go_to_the_layouts_limit() {
     let (mesh, uv) = grid_with_uv();
     let s = surface("fibonacci");
     let topo = Topology::build(&mesh).unwrap();
-    let f = Features::default();
+    let f = Features::with_boundary(Boundary::EdgeOnly);
     let fine: QuadUv = refine_uv(&s, &mesh, &topo, &f, &uv, (UvRule::Smooth, true), 3, 2).unwrap();
     let layout = QuadMesh {
         positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
         faces: mesh.faces.clone(),
     };
     let lt = Topology::build(&layout).unwrap();
-    let edge_only = Features::with_boundary(Boundary::EdgeOnly);
-    let want = limit_with::<_, f64>(&s, &layout, &lt, &edge_only, 3, 1).unwrap();
+    let want = limit_with::<_, f64>(&s, &layout, &lt, &f, 3, 1).unwrap();
     assert_eq!(fine.faces, want.mesh.faces);
     for (got, w) in fine.values.iter().zip(&want.mesh.positions) {
         assert_eq!(*got, [w[0], w[1]]);

@@ -19,7 +19,7 @@
 //! Either way the refined channel's faces are parallel to the refined mesh's faces
 //! ([`crate::patch::Refiner::faces`]) and seams stay seams.
 
-use crate::features::{Boundary, FeatureError, Features};
+use crate::features::{Boundary, FeatureError, Features, Sharpness};
 use crate::grid::{site, Site};
 use crate::mesh::QuadMesh;
 use crate::nonmanifold::{separate, Weld};
@@ -130,8 +130,9 @@ fn check_indices<'a>(values: usize, faces: impl Iterator<Item = &'a [u32]>) -> R
 }
 
 /// The mesh's creases, corners and holes on the layout: a crease on every layout edge whose
-/// corners sit on the crease's vertices, a corner on every value its vertex's corners use; the
-/// boundary edge-only (seams and chart boundaries are not corners).
+/// corners sit on the crease's vertices, a corner on every value its vertex's corners use (the
+/// mesh's one-face corners under edge-and-corner too); the boundary edge-only (seams and chart
+/// boundaries are not corners).
 fn layout_features<'a>(
     faces: impl Iterator<Item = (&'a [u32], &'a [u32])> + Clone,
     features: &Features,
@@ -139,9 +140,11 @@ fn layout_features<'a>(
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
     let mut edges: HashMap<[u32; 2], Vec<[u32; 2]>> = HashMap::new();
     let mut at: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut faces_at: HashMap<u32, u32> = HashMap::new();
     for (pos, uv) in faces {
         let n = pos.len();
         for c in 0..n {
+            *faces_at.entry(pos[c]).or_insert(0) += 1;
             let d = (c + 1) % n;
             let e = edges.entry(key(pos[c], pos[d])).or_default();
             let k = key(uv[c], uv[d]);
@@ -154,6 +157,18 @@ fn layout_features<'a>(
             }
         }
     }
+    // Under edge-and-corner a vertex with one face is a corner (OpenSubdiv sharpens it, and
+    // with it its values), unless it is a fin.
+    let mut corners = features.corners.clone();
+    if features.boundary.one_face_corners() {
+        let tagged: std::collections::HashSet<u32> = corners.iter().map(|c| c.0).collect();
+        let mut one: Vec<u32> = (faces_at.iter())
+            .filter(|&(v, &k)| k == 1 && !tagged.contains(v) && !features.fins.contains(v))
+            .map(|(&v, _)| v)
+            .collect();
+        one.sort_unstable();
+        corners.extend(one.into_iter().map(|v| (v, Sharpness::INFINITE)));
+    }
     Features {
         boundary: Boundary::EdgeOnly,
         creases: (features.creases.iter())
@@ -162,7 +177,7 @@ fn layout_features<'a>(
                 uv.iter().map(move |&e| (e, s))
             })
             .collect(),
-        corners: (features.corners.iter())
+        corners: (corners.iter())
             .flat_map(|&(v, s)| {
                 let uv = at.get(&v).map_or(&[][..], Vec::as_slice);
                 uv.iter().map(move |&u| (u, s))
