@@ -350,3 +350,96 @@ fn a_fractional_crease_blends_the_two_integer_ones() {
         );
     }
 }
+
+/// Per number of faces k, the edges of `mesh` with k faces (distinct vertex pairs; a face's
+/// degenerate edges left out).
+fn edges_by_faces(
+    mesh: &lsubdiv::runtime::polygon::PolyMesh,
+) -> std::collections::BTreeMap<usize, usize> {
+    let mut faces: std::collections::HashMap<[u32; 2], usize> = std::collections::HashMap::new();
+    for f in mesh.faces() {
+        for (i, &a) in f.iter().enumerate() {
+            let b = f[(i + 1) % f.len()];
+            if a != b {
+                *faces.entry([a.min(b), a.max(b)]).or_insert(0) += 1;
+            }
+        }
+    }
+    let mut hist = std::collections::BTreeMap::new();
+    for k in faces.into_values() {
+        *hist.entry(k).or_insert(0) += 1;
+    }
+    hist
+}
+
+/// The public models of `../shared/models/` (issue 39's acceptance): every one refines with
+/// every surface scheme (the largest by two of them), two steps, and without cracks: each boundary edge (one face) and each
+/// non-manifold edge (three or more) of the file becomes a run of as many refined edges with
+/// the same number of faces, and no other edge has other than two. The ones with texture
+/// coordinates refine them with `--uv smooth` too.
+#[test]
+fn every_public_model_refines_with_every_scheme_without_cracks() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        eprintln!(
+            "note: {} absent: the public models are not refined",
+            dir.display()
+        );
+        return;
+    };
+    let mut models: Vec<_> = (entries.map(|e| e.unwrap().path()))
+        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("obj" | "ply")))
+        .collect();
+    models.sort();
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out.ply");
+    for model in &models {
+        let name = model.display().to_string();
+        let input = lsubdiv::mesh_file::read_faces(&name, std::fs::read(model).unwrap()).unwrap();
+        let before = edges_by_faces(&input.mesh);
+        let corners = input.mesh.corners.len();
+        let quads = input.mesh.all_quads();
+        let textured = input.uv.is_some();
+        // Models of more than 20,000 faces (a debug build takes seconds a run) by the uniform
+        // scheme and the one whose first step runs the reference driver.
+        let schemes: &[&str] = if input.mesh.face_count() > 20_000 {
+            &["uniform-binary", "binary-ternary"]
+        } else {
+            &SCHEMES
+        };
+        for scheme in schemes {
+            let mut args = vec!["subdivide", scheme, "--steps", "2", &name, "-o"];
+            args.extend([out.to_str().unwrap(), "--binary"]);
+            if textured {
+                args.extend(["--uv", "smooth"]);
+            }
+            let o = lsubdiv(&args);
+            assert!(o.status.success(), "{name} {scheme}: {}", stderr(&o));
+            let fine = lsubdiv::ply::parse("out.ply", &std::fs::read(&out).unwrap()).unwrap();
+            let faces = fine.mesh.face_count();
+            // Refined edges per file edge: N for a quad mesh (N² quads a face), 2N' for a
+            // polygon mesh (a quad per corner, then N'² each).
+            let (per, refined) = if quads {
+                (input.mesh.face_count(), 1)
+            } else {
+                (corners, 2)
+            };
+            let n = (faces as f64 / per as f64).sqrt().round() as usize;
+            assert_eq!(n * n * per, faces, "{name} {scheme}");
+            let after = edges_by_faces(&fine.mesh);
+            for (&k, &count) in before.iter().filter(|(&k, _)| k != 2) {
+                assert_eq!(
+                    after.get(&k).copied().unwrap_or(0),
+                    count * n * refined,
+                    "{name} {scheme}: edges of {k} faces"
+                );
+            }
+            for (&k, &count) in after.iter().filter(|(&k, _)| k != 2) {
+                assert!(
+                    before.contains_key(&k),
+                    "{name} {scheme}: {count} new edges of {k} faces"
+                );
+            }
+        }
+    }
+}
