@@ -4,7 +4,8 @@
 //! with normals and texture coordinates.
 //!
 //! The reader takes a `vertex` element with scalar `x`, `y`, `z` of any type and a `face`
-//! element with a `vertex_indices` (or `vertex_index`) list of integers; texture coordinates
+//! element with a `vertex_indices` (or `vertex_index`) list of integers, or a `tristrips`
+//! element with such a list (triangle strips, −1 restarting a strip); texture coordinates
 //! from vertex properties `u v`, `s t` or `texture_u texture_v` (any type), or from a face list
 //! `texcoord` (u v per corner, as MeshLab writes it; it takes precedence); other properties,
 //! lists and elements are skipped in order. Nothing is allocated from a count in the header:
@@ -430,6 +431,8 @@ struct Roles {
     uv: Option<[usize; 2]>,
     face: Option<(usize, usize)>,
     texcoord: Option<usize>,
+    /// A `tristrips` element and its index list (strips, −1 restarting one).
+    strips: Option<(usize, usize)>,
 }
 
 impl Roles {
@@ -440,7 +443,40 @@ impl Roles {
         let face = self
             .face
             .is_some_and(|(f, p)| f == e && (p == i || self.texcoord == Some(i)));
-        vertex || face
+        vertex || face || self.strips == Some((e, i))
+    }
+}
+
+/// The index list of element `e` (`vertex_indices` or `vertex_index`), refused unless a list of
+/// integers.
+fn index_list(file: &str, element: &Element) -> Result<usize, Error> {
+    let Some(i) = element
+        .properties
+        .iter()
+        .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
+    else {
+        return Err(Error::at(
+            Location::line(file, element.line),
+            format!(
+                "the `{}` element has no `vertex_indices` list",
+                element.name
+            ),
+        ));
+    };
+    let p = &element.properties[i];
+    match p.kind {
+        Kind::List { item, .. } if item.is_integer() => Ok(i),
+        Kind::List { item, .. } => Err(Error::at(
+            Location::line(file, p.line),
+            format!(
+                "vertex indices of type `{}`; expected an integer type",
+                item.name()
+            ),
+        )),
+        Kind::Scalar(_) => Err(Error::at(
+            Location::line(file, p.line),
+            format!("`{}` is not a list", p.name),
+        )),
     }
 }
 
@@ -488,35 +524,7 @@ fn roles(file: &str, h: &Header) -> Result<Roles, Error> {
         None => None,
         Some(f) => {
             let fe = &h.elements[f];
-            let Some(i) = fe
-                .properties
-                .iter()
-                .position(|p| p.name == "vertex_indices" || p.name == "vertex_index")
-            else {
-                return Err(Error::at(
-                    Location::line(file, fe.line),
-                    "the `face` element has no `vertex_indices` list",
-                ));
-            };
-            let p = &fe.properties[i];
-            match p.kind {
-                Kind::List { item, .. } if item.is_integer() => {}
-                Kind::List { item, .. } => {
-                    return Err(Error::at(
-                        Location::line(file, p.line),
-                        format!(
-                            "vertex indices of type `{}`; expected an integer type",
-                            item.name()
-                        ),
-                    ))
-                }
-                Kind::Scalar(_) => {
-                    return Err(Error::at(
-                        Location::line(file, p.line),
-                        format!("`{}` is not a list", p.name),
-                    ))
-                }
-            }
+            let i = index_list(file, fe)?;
             if let Some(t) = fe.properties.iter().position(|p| p.name == "texcoord") {
                 let p = &fe.properties[t];
                 if let Kind::Scalar(_) = p.kind {
@@ -531,12 +539,17 @@ fn roles(file: &str, h: &Header) -> Result<Roles, Error> {
             Some((f, i))
         }
     };
+    let strips = match find("tristrips") {
+        Some(t) => Some((t, index_list(file, &h.elements[t])?)),
+        None => None,
+    };
     Ok(Roles {
         vertex,
         xyz,
         uv,
         face,
         texcoord,
+        strips,
     })
 }
 
@@ -833,11 +846,12 @@ fn body(
         let role_uv = roles.uv.filter(|_| e == roles.vertex);
         let role_face = roles.face.filter(|&(f, _)| f == e).map(|(_, p)| p);
         let role_texcoord = roles.texcoord.filter(|_| role_face.is_some());
+        let role_strip = roles.strips.filter(|&(t, _)| t == e).map(|(_, p)| p);
         let skipped: Vec<&str> = (element.properties.iter().enumerate())
             .filter(|&(i, _)| !roles.reads(e, i))
             .map(|(_, p)| p.name.as_str())
             .collect();
-        if role_xyz.is_none() && role_face.is_none() {
+        if role_xyz.is_none() && role_face.is_none() && role_strip.is_none() {
             if element.count > 0 {
                 warnings.push(format!(
                     "skipped {} `{}` elements (header line {})",
@@ -869,6 +883,7 @@ fn body(
             let mut p = [0.0; 3];
             let mut t = [0.0; 2];
             let mut face = None;
+            let mut strip = None;
             let mut corner_uv = None;
             for (i, prop) in element.properties.iter().enumerate() {
                 cx.property = Some(&prop.name);
@@ -891,6 +906,8 @@ fn body(
                         };
                         if role_face == Some(i) {
                             face = Some(indices(src, item, n, cx)?);
+                        } else if role_strip == Some(i) {
+                            strip = Some(strip_triangles(src, item, n, cx)?);
                         } else if role_texcoord == Some(i) {
                             for _ in 0..n / 2 {
                                 let u = src.value(item, cx, true)?.to_f64();
@@ -931,11 +948,20 @@ fn body(
                 mesh.push_face(&f);
                 places.faces.push(place);
             }
+            for t in strip.iter().flatten() {
+                mesh.push_face(t);
+                places.faces.push(place);
+            }
         }
     }
     warnings.extend(src.rest());
     if mesh.face_count() == 0 {
-        return Err(places.locate(file, &TopologyError::NoFaces));
+        let e = places.locate(file, &TopologyError::NoFaces);
+        // What was skipped may be where the faces are.
+        return Err(match warnings.is_empty() {
+            true => e,
+            false => e.with_hint(warnings.join("; ")),
+        });
     }
     let uv = if roles.texcoord.is_some() {
         Some(shared(&mesh, uv_values))
@@ -1007,6 +1033,40 @@ fn indices(src: &mut dyn Source, item: Scalar, n: u64, cx: Context<'_>) -> Resul
         );
     }
     Ok(face)
+}
+
+/// A triangle strip's triangles: each three consecutive indices, every second one turned to
+/// keep the strip's orientation, −1 starting a new strip; triangles that repeat an index (the
+/// degenerate ones strips use to turn or join) left out.
+fn strip_triangles(
+    src: &mut dyn Source,
+    item: Scalar,
+    n: u64,
+    cx: Context<'_>,
+) -> Result<Vec<[u32; 3]>, Error> {
+    let mut triangles = Vec::new();
+    let mut run: Vec<u32> = Vec::new();
+    for _ in 0..n {
+        let v = src.value(item, cx, false)?;
+        match v {
+            Value::Int(-1) => run.clear(),
+            Value::Int(i) if (0..=i64::from(u32::MAX)).contains(&i) => {
+                run.push(i as u32);
+                if let [.., a, b, c] = run[..] {
+                    let t = if run.len() % 2 == 1 {
+                        [a, b, c]
+                    } else {
+                        [b, a, c]
+                    };
+                    if a != b && b != c && a != c {
+                        triangles.push(t);
+                    }
+                }
+            }
+            v => return Err(src.fail(cx, &format!("vertex index {v} out of range"))),
+        }
+    }
+    Ok(triangles)
 }
 
 /// Parses PLY bytes (`file` names it in errors): the header, then the data as it declares,
@@ -1724,5 +1784,48 @@ mod tests {
             let xs: Vec<f64> = line.split(' ').map(|t| t.parse().unwrap()).collect();
             assert_eq!(xs, p.to_vec());
         }
+    }
+
+    #[test]
+    fn triangle_strips_are_read_as_triangles() {
+        // A 3 × 2 grid of vertices as one strip 0 3 1 4 2 5, then -1 and a second strip over
+        // the same row (repeating an index: its degenerate triangle is left out).
+        let header = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\n\
+                      property float y\nproperty float z\nelement tristrips 2\n\
+                      property list int int vertex_indices\nend_header\n";
+        let vertices = "0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0.5\n";
+        let text = format!("{header}{vertices}6 0 3 1 4 2 5\n5 0 3 3 -1 1\n");
+        let p = parse("t.ply", text.as_bytes()).unwrap();
+        let faces: Vec<&[u32]> = p.mesh.faces().collect();
+        // Orientation alternates along a strip: (0 3 1), (1 3 4), (1 4 2), (2 4 5).
+        let want: [&[u32]; 4] = [&[0, 3, 1], &[1, 3, 4], &[1, 4, 2], &[2, 4, 5]];
+        assert_eq!(faces, want);
+        assert!(p.warnings.is_empty(), "{:?}", p.warnings);
+        assert_eq!(p.places.faces, vec![16, 16, 16, 16]);
+        // The strips alone make a mesh lsubdiv refines (split into quads first).
+        let text = format!("{header}{vertices}6 0 3 1 4 2 5\n0\n");
+        assert!(read(text.as_bytes()).unwrap().split);
+        // A negative index other than -1 is refused at its line.
+        let text = format!("{header}{vertices}6 0 3 1 4 2 5\n3 0 -2 1\n");
+        let e = parse("t.ply", text.as_bytes()).unwrap_err().to_string();
+        assert!(
+            e.contains("t.ply:17") && e.contains("vertex index -2 out of range"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_file_without_faces_says_what_was_skipped() {
+        let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n\
+                    property float y\nproperty float z\nelement polygons 1\n\
+                    property list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n\
+                    3 0 1 2\n";
+        let e = parse("t.ply", text.as_bytes()).unwrap_err();
+        let hint = e.hint.clone().unwrap_or_default();
+        assert!(e.to_string().contains("no faces"), "{e}");
+        assert!(
+            hint.contains("skipped 1 `polygons` elements (header line 7)"),
+            "{hint}"
+        );
     }
 }
