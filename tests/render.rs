@@ -407,3 +407,39 @@ fn limit_normals_draw_truer_reflection_lines_and_need_a_limit() {
         assert!(!Path::new(out).exists(), "{args:?} wrote {out}");
     }
 }
+
+/// A mesh file is drawn +y up (OBJ's convention), a built-in mesh +z up; `--up` names another
+/// axis. A box 4 high along y, 2 wide along x and z, seen from the side: tall by default and
+/// with `--up -y`, lying with `--up z`.
+#[test]
+fn mesh_files_are_drawn_y_up_unless_told() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = lsubdiv::runtime::generators::cube();
+    for p in &mut m.positions {
+        p[1] *= 2.0;
+    }
+    let file = write_obj(dir.path(), "tall.obj", &m);
+    let extent = |p: &Picture| {
+        let o = p.object();
+        let (xs, ys): (Vec<usize>, Vec<usize>) = o.into_iter().unzip();
+        let span = |v: &[usize]| v.iter().max().unwrap() - v.iter().min().unwrap();
+        (span(&xs), span(&ys))
+    };
+    let side = ["--camera", "0,0"];
+    let (w, h) = extent(&render(dir.path(), "y.png", &[&file, side[0], side[1]]));
+    assert!(h > 2 * w, "+y up: {w} × {h}");
+    let (w, h) = extent(&render(
+        dir.path(),
+        "z.png",
+        &[&file, "--up", "z", side[0], side[1]],
+    ));
+    assert!(w > 2 * h, "--up z: {w} × {h}");
+    let (w, h) = extent(&render(
+        dir.path(),
+        "m.png",
+        &[&file, "--up", "-y", side[0], side[1]],
+    ));
+    assert!(h > 2 * w, "--up -y: {w} × {h}");
+    let o = lsubdiv(&["render", "cube", "--up", "w", "-o", "x.png"]);
+    assert_eq!(o.status.code(), Some(2));
+}

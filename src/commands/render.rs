@@ -38,10 +38,15 @@ pub struct RenderArgs {
     /// Draw the quad edges on top.
     #[arg(long)]
     wireframe: bool,
-    /// `azimuth,elevation[,distance]`: degrees about +z from +x, degrees above the xy-plane,
-    /// distance in bounding-sphere radii (default 35,25 and the whole mesh in view).
+    /// `azimuth,elevation[,distance]`: degrees about the up axis (`--up`), degrees above the
+    /// plane across it, distance in bounding-sphere radii (default 35,25 and the whole mesh in
+    /// view).
     #[arg(long, allow_hyphen_values = true, conflicts_with = "eye")]
     camera: Option<String>,
+    /// Which axis of the mesh points up in the picture: `y` (default for mesh files, OBJ's and
+    /// PLY's usual convention), `z` (default for the built-in meshes), `x`, or `-x`, `-y`, `-z`.
+    #[arg(long, value_enum, allow_hyphen_values = true)]
+    up: Option<Up>,
     /// Camera position `x,y,z` instead of --camera.
     #[arg(long, allow_hyphen_values = true)]
     eye: Option<String>,
@@ -70,6 +75,34 @@ pub struct RenderArgs {
     boundary: crate::commands::args::BoundaryArgs,
     #[command(flatten)]
     limit: MemoryLimit,
+}
+
+/// `--up`: the mesh's axis drawn upward.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Up {
+    X,
+    Y,
+    Z,
+    #[value(name = "-x")]
+    MinusX,
+    #[value(name = "-y")]
+    MinusY,
+    #[value(name = "-z")]
+    MinusZ,
+}
+
+impl Up {
+    /// A rotation taking this axis to +z (the renderer's up), as a map of points.
+    fn to_z(self) -> impl Fn([f64; 3]) -> [f64; 3] {
+        move |[x, y, z]| match self {
+            Up::X => [y, z, x],
+            Up::Y => [z, x, y],
+            Up::Z => [x, y, z],
+            Up::MinusX => [-y, z, -x],
+            Up::MinusY => [z, -x, -y],
+            Up::MinusZ => [-x, y, -z],
+        }
+    }
 }
 
 /// `lsubdiv render`: reads or builds the mesh, refines it if asked, draws it, writes the image
@@ -132,7 +165,16 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
     image_limit(0, 0)?;
     let stages = lsubdiv_cli::progress::Stages::new(if a.scheme.is_some() { 4 } else { 3 });
     stages.next(format!("reading {}", a.mesh));
-    let input = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes(), a.boundary.rule())?;
+    let mut input = lsubdiv_cli::bench::mesh(&a.mesh, a.limit.bytes(), a.boundary.rule())?;
+    // Mesh files are drawn +y up, the built-in meshes +z up, unless --up says otherwise.
+    let file = a.mesh == "-" || std::path::Path::new(&a.mesh).is_file();
+    let up = a.up.unwrap_or(if file { Up::Y } else { Up::Z });
+    if up != Up::Z {
+        let rotate = up.to_z();
+        for p in &mut input.mesh.positions {
+            *p = rotate(*p);
+        }
+    }
     let (mesh, topology, limit_normals) = match (&a.scheme, a.steps) {
         (Some(scheme), Some(steps)) => {
             stages.next(format!("refining: {steps} steps of {scheme}"));
@@ -144,6 +186,8 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 max_memory: a.limit.bytes(),
                 limit,
                 uv: None,
+                // Drawn as the 2-manifold pieces a non-manifold mesh is refined as.
+                join: false,
             };
             let RefinedMesh { fine, refused, .. } =
                 refine_mesh(&load(scheme, None)?, &input, &job)?;
@@ -156,7 +200,8 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
             if let Some(note) = approximate_note(&a.mesh, &fine) {
                 stages.note(&note);
             }
-            // The refined mesh's own connectivity (a closed manifold by construction).
+            // The refined mesh's own connectivity (a 2-manifold by construction: a non-manifold
+            // mesh's pieces are not joined).
             let t =
                 Topology::build(&fine.mesh).map_err(|e| Error::internal(None, e.to_string()))?;
             let normals = (!fine.normals.is_empty()).then_some(fine.normals);

@@ -112,6 +112,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         max_memory: refine.limit.bytes(),
         limit: if limit { Limit::On } else { Limit::Off },
         uv: Some(uv.rule()),
+        join: true,
     };
     let RefinedMesh { fine, uv, .. } = refine_mesh(&r, &mesh, &job)?;
     if let Some(note) = approximate_note(&in_name, &fine) {
@@ -165,6 +166,9 @@ pub struct MeshJob<'a> {
     /// Whether to refine the input's texture coordinates, and by which rule (the one they
     /// were read with).
     pub uv: Option<UvRule>,
+    /// Whether the refined copies of a non-manifold mesh's points are joined (a file's
+    /// vertices, as OpenSubdiv's), or kept apart (each fan its own 2-manifold, for drawing).
+    pub join: bool,
 }
 
 /// Whether [`refine_mesh`] takes the vertices to the limit surface.
@@ -311,8 +315,8 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
     };
     // A mesh that was not a 2-manifold: the refined copies of each point joined again.
     let fine = match &input.weld {
-        Some(weld) => weld.apply(&m.faces, &input.features.holes, fine),
-        None => fine,
+        Some(weld) if job.join => weld.apply(&m.faces, &input.features.holes, fine),
+        _ => fine,
     };
     Ok(RefinedMesh { fine, uv, refused })
 }
