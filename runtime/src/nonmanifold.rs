@@ -91,7 +91,8 @@ fn next(m: &PolyMesh, f: usize, c: usize) -> usize {
 /// Separates the non-manifold vertices and edges of `m` (the rules of the [module](self)),
 /// drops the vertices no face uses and applies [`Boundary::None`]; `None` when the mesh needs
 /// none of it. `features` must fit `m` ([`crate::polygon::check_features`]). Errors: a corner
-/// index out of range, a face of fewer than three corners.
+/// index out of range. A face may repeat its vertices as it likes (degenerate edges, as Vtr
+/// takes them, even a face of one distinct vertex).
 pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, TopologyError> {
     let nv = m.positions.len();
     if m.face_count() == 0 {
