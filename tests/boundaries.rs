@@ -16,16 +16,7 @@ use lsubdiv::runtime::topology::Topology;
 use lsubdiv::{refine_ends, CurveScheme, EndCurve};
 use lsubdiv_cli::resolve;
 
-/// The shipped schemes that refine surfaces (every one symmetric).
-const SCHEMES: [&str; 7] = [
-    "uniform-binary",
-    "fibonacci",
-    "fibonacci-alt",
-    "binary-ternary",
-    "found-cubic",
-    "low-ratio",
-    "remark-5-3",
-];
+use common::SURFACE_SCHEMES as SCHEMES;
 
 fn surface(name: &str) -> GenericSurface {
     let r = resolve(name).expect("shipped scheme");

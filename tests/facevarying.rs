@@ -264,6 +264,16 @@ fn the_first_step_of_polygons_splits_uvs_linearly() {
     assert_eq!(split.values[m as usize], mid(1, 2));
 }
 
+/// The texture coordinates of an OBJ text, its `vt` lines.
+fn vt_lines(text: &str) -> Vec<[f64; 2]> {
+    (text.lines().filter_map(|l| l.strip_prefix("vt ")))
+        .map(|l| {
+            let x: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            [x[0], x[1]]
+        })
+        .collect()
+}
+
 /// `lsubdiv subdivide` carries texture coordinates through: OBJ `vt` in, `vt` and `v/vt` out
 /// (`v/vt/vn` with `--limit`), the input's `vn` ignored with one warning; linear values are
 /// the library's `refine_uv`; `--uv smooth` on a layout that is not a 2-manifold refines it
@@ -296,12 +306,7 @@ fn subdivide_refines_texture_coordinates() {
     let warnings = stderr(&o).lines().filter(|l| l.contains("normals")).count();
     assert_eq!(warnings, 1, "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    let vt: Vec<[f64; 2]> = (text.lines().filter_map(|l| l.strip_prefix("vt ")))
-        .map(|l| {
-            let x: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
-            [x[0], x[1]]
-        })
-        .collect();
+    let vt = vt_lines(&text);
     let faces: Vec<[u32; 4]> = (text.lines().filter_map(|l| l.strip_prefix("f ")))
         .map(|l| {
             let c: Vec<u32> = (l.split_whitespace())
@@ -348,13 +353,7 @@ fn subdivide_refines_texture_coordinates() {
     // bilinearly, the linear rule's values.
     let o = run(&["--uv", "smooth"]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&out).unwrap();
-    let smooth: Vec<[f64; 2]> = (text.lines().filter_map(|l| l.strip_prefix("vt ")))
-        .map(|l| {
-            let x: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
-            [x[0], x[1]]
-        })
-        .collect();
+    let smooth = vt_lines(&std::fs::read_to_string(&out).unwrap());
     for w in &want.values {
         let near = |v: &[f64; 2]| (v[0] - w[0]).abs() < 1e-12 && (v[1] - w[1]).abs() < 1e-12;
         assert!(smooth.iter().any(near), "{w:?}");

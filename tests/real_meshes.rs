@@ -9,16 +9,7 @@ mod common;
 
 use common::cli::{lsubdiv, stderr, write};
 
-/// The shipped schemes that refine surfaces.
-const SCHEMES: [&str; 7] = [
-    "uniform-binary",
-    "fibonacci",
-    "fibonacci-alt",
-    "binary-ternary",
-    "found-cubic",
-    "low-ratio",
-    "remark-5-3",
-];
+use common::SURFACE_SCHEMES as SCHEMES;
 
 const CUBE: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
 

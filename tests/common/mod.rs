@@ -8,6 +8,17 @@ use lsubdiv_testkit::fuzzing::{involution, SmallSystem};
 use proptest::collection::vec;
 use proptest::prelude::*;
 
+/// The shipped schemes that refine surfaces (every one symmetric).
+pub const SURFACE_SCHEMES: [&str; 7] = [
+    "uniform-binary",
+    "fibonacci",
+    "fibonacci-alt",
+    "binary-ternary",
+    "found-cubic",
+    "low-ratio",
+    "remark-5-3",
+];
+
 /// Deterministic pseudo-random numbers in [-1, 1).
 pub struct Lcg(pub u64);
 
