@@ -79,6 +79,102 @@ impl Corners {
     }
 }
 
+/// A polygon mesh's edges as Vtr makes them, flat: half-edges (a corner stands for the one
+/// from its vertex to the next corner's) grouped by their two vertices; a half-edge joins the
+/// first edge of its two vertices unless that edge's last half-edge is of the same face (the
+/// face uses the edge again: an edge of its own), and each degenerate half-edge (a face
+/// repeating a vertex in consecutive corners) is an edge of its own.
+struct Edges {
+    /// The half-edges, edge after edge.
+    half: Vec<u32>,
+    /// Where each edge's half-edges start in `half`; one more than the edges.
+    start: Vec<u32>,
+    /// Per edge: degenerate.
+    degenerate: Vec<bool>,
+    /// Per edge: its two vertices have another edge.
+    multi: Vec<bool>,
+    /// The first edge of each pair of vertices (smaller in the high half), sorted.
+    first: Vec<(u64, u32)>,
+}
+
+impl Edges {
+    fn of(m: &PolyMesh, face_of: &[u32]) -> Edges {
+        let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+        let mut keyed = Vec::with_capacity(m.corners.len());
+        let mut degenerate_half = Vec::new();
+        for f in 0..m.face_count() {
+            for c in m.offsets[f]..m.offsets[f + 1] {
+                let (a, b) = (m.corners[c], m.corners[next(m, f, c)]);
+                if a == b {
+                    degenerate_half.push(c as u32);
+                } else {
+                    keyed.push((key(a, b), c as u32));
+                }
+            }
+        }
+        // By vertex pair, then in face order.
+        keyed.sort_unstable();
+        let mut e = Edges {
+            half: Vec::with_capacity(m.corners.len()),
+            start: vec![0],
+            degenerate: Vec::new(),
+            multi: Vec::new(),
+            first: Vec::new(),
+        };
+        let mut again = Vec::new();
+        for group in keyed.chunk_by(|x, y| x.0 == y.0) {
+            let (from, mut last) = (e.half.len(), u32::MAX);
+            again.clear();
+            for &(_, c) in group {
+                if face_of[c as usize] == last {
+                    again.push(c);
+                } else {
+                    e.half.push(c);
+                    last = face_of[c as usize];
+                }
+            }
+            e.first.push((group[0].0, e.degenerate.len() as u32));
+            let multi = !again.is_empty();
+            e.push(from, false, multi);
+            for &c in &again {
+                let from = e.half.len();
+                e.half.push(c);
+                e.push(from, false, true);
+            }
+        }
+        for c in degenerate_half {
+            let from = e.half.len();
+            e.half.push(c);
+            e.push(from, true, false);
+        }
+        e
+    }
+
+    /// Closes the edge whose half-edges start at `from`.
+    fn push(&mut self, from: usize, degenerate: bool, multi: bool) {
+        debug_assert_eq!(self.start.last(), Some(&(from as u32)));
+        self.start.push(self.half.len() as u32);
+        self.degenerate.push(degenerate);
+        self.multi.push(multi);
+    }
+
+    fn len(&self) -> usize {
+        self.degenerate.len()
+    }
+
+    /// The half-edges of edge e.
+    fn get(&self, e: usize) -> &[u32] {
+        &self.half[self.start[e] as usize..self.start[e + 1] as usize]
+    }
+
+    /// The first edge of vertices a and b, if they have one.
+    fn first(&self, a: u32, b: u32) -> Option<usize> {
+        let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+        let i = self.first.binary_search_by_key(&key, |f| f.0).ok()?;
+        Some(self.first[i].1 as usize)
+    }
+}
+
 /// The corner after corner `c` (an index into [`PolyMesh::corners`]) of face f.
 fn next(m: &PolyMesh, f: usize, c: usize) -> usize {
     if c + 1 == m.offsets[f + 1] {
@@ -113,37 +209,11 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             });
         }
     }
-    // Each corner c is the start of the half-edge from its vertex to the next corner's. The
-    // edges as Vtr makes them: a half-edge joins the first edge of its two vertices, unless
-    // that edge's last half-edge is of the same face (a face using the edge again) or the
-    // half-edge is degenerate: then it is an edge of its own.
     let mut face_of = vec![0u32; m.corners.len()];
-    let mut edges: Vec<Vec<u32>> = Vec::new();
-    let mut first: HashMap<[u32; 2], u32> = HashMap::new();
-    let mut degenerate = vec![false; 0];
     for f in 0..m.face_count() {
-        for c in m.offsets[f]..m.offsets[f + 1] {
-            face_of[c] = f as u32;
-            let (a, b) = (m.corners[c], m.corners[next(m, f, c)]);
-            let found = (a != b)
-                .then(|| first.get(&[a.min(b), a.max(b)]).copied())
-                .flatten();
-            match found {
-                Some(e) if face_of[*edges[e as usize].last().unwrap() as usize] != f as u32 => {
-                    edges[e as usize].push(c as u32);
-                }
-                _ => {
-                    if a != b {
-                        first
-                            .entry([a.min(b), a.max(b)])
-                            .or_insert(edges.len() as u32);
-                    }
-                    edges.push(vec![c as u32]);
-                    degenerate.push(a == b);
-                }
-            }
-        }
+        face_of[m.offsets[f]..m.offsets[f + 1]].fill(f as u32);
     }
+    let edges = Edges::of(m, &face_of);
     // Two half-edges of different faces, in opposite directions.
     let manifold = |hs: &[u32]| {
         hs.len() == 2
@@ -154,24 +224,12 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         let c = hs[0] as usize;
         [m.corners[c], m.corners[next(m, face_of[c] as usize, c)]]
     };
-    // An edge whose vertices have more than one edge (a face used it again): all of them are
-    // non-manifold, as Vtr tags them.
-    let mut instances: HashMap<[u32; 2], u32> = HashMap::new();
-    for (e, hs) in edges.iter().enumerate() {
-        let [a, b] = ends(hs);
-        if !degenerate[e] {
-            *instances.entry([a.min(b), a.max(b)]).or_insert(0) += 1;
-        }
-    }
-    let is_manifold = |e: usize| {
-        let [a, b] = ends(&edges[e]);
-        manifold(&edges[e]) && instances[&[a.min(b), a.max(b)]] == 1
-    };
+    // An edge whose vertices have another edge (a face used it again) is non-manifold, as
+    // every degenerate one, as Vtr tags them.
+    let is_manifold = |e: usize| !edges.multi[e] && manifold(edges.get(e));
     let is_nonmanifold = |e: usize| {
-        let [a, b] = ends(&edges[e]);
-        degenerate[e]
-            || (!manifold(&edges[e])
-                && (edges[e].len() > 1 || instances[&[a.min(b), a.max(b)]] > 1))
+        let hs = edges.get(e);
+        edges.degenerate[e] || (!manifold(hs) && (hs.len() > 1 || edges.multi[e]))
     };
     let mut fans = Corners((0..m.corners.len() as u32).collect());
     let mut nonmanifold_vertex = vec![false; nv];
@@ -184,7 +242,8 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
     for &v in &m.corners {
         faces_at[v as usize] += 1;
     }
-    for (e, hs) in edges.iter().enumerate() {
+    for e in 0..edges.len() {
+        let hs = edges.get(e);
         let [a, b] = ends(hs);
         // A degenerate edge is met once at its vertex by each of its two ends.
         for v in [a, b] {
@@ -270,16 +329,15 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
     };
     for &([a, b], s) in &features.creases {
         // A tag names the first edge of its two vertices, as Far's `findEdge` does.
-        if let Some(&e) = first.get(&[a.min(b), a.max(b)]) {
-            if !is_nonmanifold(e as usize) {
-                out.creases
-                    .push((copy_ends(edges[e as usize][0] as usize), s));
+        if let Some(e) = edges.first(a, b) {
+            if !is_nonmanifold(e) {
+                out.creases.push((copy_ends(edges.get(e)[0] as usize), s));
             }
         }
     }
     let mut sharp_copies: Vec<[u32; 2]> = Vec::new();
     for e in (0..edges.len()).filter(|&e| is_nonmanifold(e)) {
-        sharp_copies.extend(edges[e].iter().map(|&c| copy_ends(c as usize)));
+        sharp_copies.extend(edges.get(e).iter().map(|&c| copy_ends(c as usize)));
     }
     sharp_copies.sort_unstable();
     sharp_copies.dedup();
@@ -319,7 +377,10 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
             .map(|&([a, b], _)| [a.min(b), a.max(b)])
             .collect();
         let mut open = vec![false; nv];
-        for hs in edges.iter().filter(|hs| hs.len() == 1) {
+        for hs in (0..edges.len())
+            .map(|e| edges.get(e))
+            .filter(|hs| hs.len() == 1)
+        {
             let [a, b] = ends(hs);
             if a == b || !inf.contains(&[a.min(b), a.max(b)]) {
                 open[a as usize] = true;
@@ -340,8 +401,8 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
     }
     // Each edge of the separated mesh: the input edge it copies.
     let mut edge_origin = HashMap::new();
-    for (e, hs) in edges.iter().enumerate() {
-        for &c in hs {
+    for e in 0..edges.len() {
+        for &c in edges.get(e) {
             edge_origin.entry(copy_ends(c as usize)).or_insert(e as u32);
         }
     }
