@@ -594,3 +594,74 @@ impl Weld {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly(faces: &[&[u32]], vertices: usize) -> PolyMesh {
+        let mut m = PolyMesh::new();
+        m.positions = (0..vertices).map(|i| [i as f64, 0.0, 0.0]).collect();
+        for f in faces {
+            m.push_face(f);
+        }
+        m
+    }
+
+    #[test]
+    fn edges_as_vtr_makes_them() {
+        // Face 0 uses the pair 0–1 twice and 0–2 twice; face 1 shares 0–1 once more.
+        let m = poly(&[&[0, 1, 0, 2], &[1, 0, 3]], 4);
+        let face_of = [0, 0, 0, 0, 1, 1, 1];
+        let e = Edges::of(&m, &face_of);
+        let pair = |i: usize| {
+            let c = e.get(i)[0] as usize;
+            let f = face_of[c] as usize;
+            let (a, b) = (m.corners[c], m.corners[next(&m, f, c)]);
+            [a.min(b), a.max(b)]
+        };
+        let of = |p: [u32; 2]| (0..e.len()).filter(|&i| pair(i) == p).collect::<Vec<_>>();
+        // 0–1: the first edge holds face 0's first use and face 1's; face 0's second use is
+        // an edge of its own; both are non-manifold (multi).
+        let zero_one = of([0, 1]);
+        assert_eq!(zero_one.len(), 2);
+        assert_eq!(e.get(zero_one[0]), &[0, 4]);
+        assert_eq!(e.get(zero_one[1]), &[1]);
+        assert!(zero_one.iter().all(|&i| e.multi[i]));
+        assert_eq!(e.first(1, 0), Some(zero_one[0]));
+        assert_eq!(of([0, 2]).len(), 2);
+        assert_eq!(of([1, 3]).len(), 1);
+        assert!(!e.multi[of([1, 3])[0]]);
+    }
+
+    #[test]
+    fn separated_faces_never_repeat_a_vertex_and_welds_name_the_copies() {
+        // A bow-tie (two triangles sharing vertex 0) and a face repeating vertex 5.
+        let m = poly(&[&[0, 1, 2], &[0, 3, 4], &[5, 6, 5, 7]], 8);
+        let s = separate(&m, &Features::default()).unwrap().unwrap();
+        for f in s.mesh.faces() {
+            let mut v = f.to_vec();
+            v.sort_unstable();
+            v.dedup();
+            assert_eq!(v.len(), f.len(), "{f:?}");
+        }
+        // Vertices 0 and 5 have copies. Non-manifold, so corners: 0 (two fans), and 5, 6, 7,
+        // the ends of the edges face 2 uses twice.
+        let copies = |v: u32| s.origin.iter().filter(|&&o| o == v).count();
+        assert_eq!((copies(0), copies(5)), (2, 2));
+        for (k, &o) in s.origin.iter().enumerate() {
+            let corner = s.features.corners.iter().any(|c| c.0 == k as u32);
+            assert_eq!(corner, [0, 5, 6, 7].contains(&o), "copy {k} of {o}");
+        }
+        assert_eq!((s.vertices, s.edges), (4, 4));
+        // A manifold mesh needs nothing.
+        let quad = poly(&[&[0, 1, 2, 3]], 4);
+        assert_eq!(separate(&quad, &Features::default()).unwrap(), None);
+        // An index out of range is refused.
+        let bad = poly(&[&[0, 1, 9]], 4);
+        assert!(matches!(
+            separate(&bad, &Features::default()),
+            Err(TopologyError::FaceIndexOutOfRange { index: 9, .. })
+        ));
+    }
+}
