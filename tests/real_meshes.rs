@@ -434,3 +434,34 @@ fn every_public_model_refines_with_every_scheme_without_cracks() {
         }
     }
 }
+
+/// OpenSubdiv's regression shapes with texture coordinates (`../shared/osd_shapes/`) refine
+/// them by the smooth rule (`FVAR_LINEAR_NONE`'s), every layout however it is cut, non-manifold
+/// ones included; only Chaikin's creasing is refused.
+#[test]
+fn regression_shapes_refine_their_texture_coordinates_smoothly() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/osd_shapes");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        eprintln!(
+            "note: {} absent: the regression shapes are not refined",
+            dir.display()
+        );
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out.ply");
+    let mut textured = 0;
+    for path in entries.map(|e| e.unwrap().path()) {
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        if !text.lines().any(|l| l.starts_with("vt ")) {
+            continue;
+        }
+        textured += 1;
+        let name = path.display().to_string();
+        let args = ["subdivide", "fibonacci", "--steps", "2", &name, "-o"];
+        let o = lsubdiv(&[&args[..], &[out.to_str().unwrap(), "--uv", "smooth"]].concat());
+        let chaikin = text.contains("creasemethod 0/0/1 chaikin");
+        assert_eq!(o.status.success(), !chaikin, "{name}: {}", stderr(&o));
+    }
+    assert!(textured > 10, "{textured} shapes with texture coordinates");
+}

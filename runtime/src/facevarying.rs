@@ -169,27 +169,48 @@ fn layout_features<'a>(
         one.sort_unstable();
         corners.extend(one.into_iter().map(|v| (v, Sharpness::INFINITE)));
     }
+    // Several edges or vertices of the mesh (the copies of a non-manifold one) may share a
+    // layout edge or value: it takes the sharpest.
+    let creases = (features.creases.iter()).flat_map(|&([a, b], s)| {
+        let uv = edges.get(&key(a, b)).map_or(&[][..], Vec::as_slice);
+        uv.iter().map(move |&e| (e, s))
+    });
+    let corners = (corners.iter()).flat_map(|&(v, s)| {
+        let uv = at.get(&v).map_or(&[][..], Vec::as_slice);
+        uv.iter().map(move |&u| ([u, u], s))
+    });
+    let mut fins: Vec<u32> = (features.fins.iter())
+        .flat_map(|v| at.get(v).map_or(&[][..], Vec::as_slice))
+        .copied()
+        .collect();
+    fins.sort_unstable();
+    fins.dedup();
     Features {
         boundary: Boundary::EdgeOnly,
-        creases: (features.creases.iter())
-            .flat_map(|&([a, b], s)| {
-                let uv = edges.get(&key(a, b)).map_or(&[][..], Vec::as_slice);
-                uv.iter().map(move |&e| (e, s))
-            })
-            .collect(),
-        corners: (corners.iter())
-            .flat_map(|&(v, s)| {
-                let uv = at.get(&v).map_or(&[][..], Vec::as_slice);
-                uv.iter().map(move |&u| (u, s))
-            })
+        creases: sharpest(creases),
+        corners: (sharpest(corners).into_iter())
+            .map(|([u, _], s)| (u, s))
             .collect(),
         holes: features.holes.clone(),
-        fins: (features.fins.iter())
-            .flat_map(|v| at.get(v).map_or(&[][..], Vec::as_slice))
-            .copied()
-            .collect(),
+        fins,
         triangles: features.triangles,
     }
+}
+
+/// One entry per key (in order of first appearance), the sharpest of those given for it.
+fn sharpest(entries: impl Iterator<Item = ([u32; 2], Sharpness)>) -> Vec<([u32; 2], Sharpness)> {
+    let mut out: Vec<([u32; 2], Sharpness)> = Vec::new();
+    let mut at: HashMap<[u32; 2], usize> = HashMap::new();
+    for (k, s) in entries {
+        match at.get(&k) {
+            Some(&i) => out[i].1 = out[i].1.max(s),
+            None => {
+                at.insert(k, out.len());
+                out.push((k, s));
+            }
+        }
+    }
+    out
 }
 
 /// Quads' corners one after the other.
