@@ -93,13 +93,17 @@ struct Edges {
     degenerate: Vec<bool>,
     /// Per edge: its two vertices have another edge.
     multi: Vec<bool>,
-    /// The first edge of each pair of vertices (smaller in the high half), sorted.
+    /// The first edge of each pair of vertices ([`pair_key`]), sorted.
     first: Vec<(u64, u32)>,
+}
+
+/// Two vertices as one sortable key, the smaller in the high half.
+fn pair_key(a: u32, b: u32) -> u64 {
+    (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
 }
 
 impl Edges {
     fn of(m: &PolyMesh, face_of: &[u32]) -> Edges {
-        let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
         let mut keyed = Vec::with_capacity(m.corners.len());
         let mut degenerate_half = Vec::new();
         for f in 0..m.face_count() {
@@ -108,7 +112,7 @@ impl Edges {
                 if a == b {
                     degenerate_half.push(c as u32);
                 } else {
-                    keyed.push((key(a, b), c as u32));
+                    keyed.push((pair_key(a, b), c as u32));
                 }
             }
         }
@@ -169,8 +173,9 @@ impl Edges {
 
     /// The first edge of vertices a and b, if they have one.
     fn first(&self, a: u32, b: u32) -> Option<usize> {
-        let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
-        let i = self.first.binary_search_by_key(&key, |f| f.0).ok()?;
+        let i = (self.first)
+            .binary_search_by_key(&pair_key(a, b), |f| f.0)
+            .ok()?;
         Some(self.first[i].1 as usize)
     }
 }
@@ -289,15 +294,20 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         };
     }
     // A fan that meets one face twice (possible only around non-manifold edges) gives the
-    // later corner a copy of its own, so that no face repeats a vertex.
+    // later corner a copy of its own, so that no face repeats a vertex: each copy is stamped
+    // with the last face met at it (linear in the corners, whatever the polygons' sizes).
+    let mut stamp = vec![u32::MAX; origin.len()];
     for f in 0..m.face_count() {
-        let range = m.offsets[f]..m.offsets[f + 1];
-        for c in range.clone() {
-            if corners[range.start..c].contains(&corners[c]) {
-                let v = origin[corners[c] as usize];
+        for corner in &mut corners[m.offsets[f]..m.offsets[f + 1]] {
+            let k = *corner as usize;
+            if stamp[k] == f as u32 {
+                let v = origin[k];
                 nonmanifold_vertex[v as usize] = true;
                 origin.push(v);
-                corners[c] = (origin.len() - 1) as u32;
+                stamp.push(f as u32);
+                *corner = (origin.len() - 1) as u32;
+            } else {
+                stamp[k] = f as u32;
             }
         }
     }
