@@ -451,6 +451,13 @@ impl Resolved {
         v: u32,
         k: usize,
     ) -> Option<(VertexRule, f64)> {
+        // Only a finite sharpness at v that is sharp at step k can change its rule after it.
+        let changing = |s: Sharpness| s.sharp_at(k) && !s.is_infinite();
+        if !changing(self.vertex[v as usize])
+            && !topo.spokes(v).any(|e| changing(self.edge[e as usize]))
+        {
+            return None;
+        }
         let parent = self.vertex_rule(topo, v, k);
         if parent == VertexRule::Smooth {
             return None;
