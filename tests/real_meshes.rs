@@ -371,18 +371,12 @@ fn edges_by_faces(
 /// coordinates refine them with `--uv smooth` too.
 #[test]
 fn every_public_model_refines_with_every_scheme_without_cracks() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/models");
-    let Ok(entries) = std::fs::read_dir(&dir) else {
-        eprintln!(
-            "note: {} absent: the public models are not refined",
-            dir.display()
-        );
+    let Some(files) = common::shared_files("models", "the public models are not refined") else {
         return;
     };
-    let mut models: Vec<_> = (entries.map(|e| e.unwrap().path()))
+    let models: Vec<_> = (files.into_iter())
         .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("obj" | "ply")))
         .collect();
-    models.sort();
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out.ply");
     for model in &models {
@@ -442,18 +436,14 @@ fn every_public_model_refines_with_every_scheme_without_cracks() {
 /// ones included; only Chaikin's creasing is refused.
 #[test]
 fn regression_shapes_refine_their_texture_coordinates_smoothly() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/osd_shapes");
-    let Ok(entries) = std::fs::read_dir(&dir) else {
-        eprintln!(
-            "note: {} absent: the regression shapes are not refined",
-            dir.display()
-        );
+    let skipped = "the regression shapes are not refined";
+    let Some(files) = common::shared_files("osd_shapes", skipped) else {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out.ply");
     let mut textured = 0;
-    for path in entries.map(|e| e.unwrap().path()) {
+    for path in files {
         let text = std::fs::read_to_string(&path).unwrap_or_default();
         if !text.lines().any(|l| l.starts_with("vt ")) {
             continue;

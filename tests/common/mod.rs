@@ -19,6 +19,21 @@ pub const SURFACE_SCHEMES: [&str; 7] = [
     "remark-5-3",
 ];
 
+/// The files of `../shared/NAME` (public data nobody on the project wrote), sorted; `None`
+/// with a note saying what is `skipped` where the folder is absent.
+pub fn shared_files(name: &str, skipped: &str) -> Option<Vec<std::path::PathBuf>> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared")
+        .join(name);
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        eprintln!("note: {} absent: {skipped}", dir.display());
+        return None;
+    };
+    let mut files: Vec<_> = entries.map(|e| e.unwrap().path()).collect();
+    files.sort();
+    Some(files)
+}
+
 /// Deterministic pseudo-random numbers in [-1, 1).
 pub struct Lcg(pub u64);
 
