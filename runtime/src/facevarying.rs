@@ -160,15 +160,14 @@ fn layout_features<'a>(
     // Under edge-and-corner a vertex with one face is a corner (OpenSubdiv sharpens it, and
     // with it its values), unless it is a fin.
     let mut corners = features.corners.clone();
-    if features.boundary.one_face_corners() {
-        let tagged: std::collections::HashSet<u32> = corners.iter().map(|c| c.0).collect();
-        let mut one: Vec<u32> = (faces_at.iter())
-            .filter(|&(v, &k)| k == 1 && !tagged.contains(v) && !features.fins.contains(v))
-            .map(|(&v, _)| v)
-            .collect();
-        one.sort_unstable();
-        corners.extend(one.into_iter().map(|v| (v, Sharpness::INFINITE)));
-    }
+    let by_boundary = features.corner_by_boundary();
+    let tagged: std::collections::HashSet<u32> = corners.iter().map(|c| c.0).collect();
+    let mut one: Vec<u32> = (faces_at.iter())
+        .filter(|&(&v, &k)| by_boundary(v, k as usize) && !tagged.contains(&v))
+        .map(|(&v, _)| v)
+        .collect();
+    one.sort_unstable();
+    corners.extend(one.into_iter().map(|v| (v, Sharpness::INFINITE)));
     // Several edges or vertices of the mesh (the copies of a non-manifold one) may share a
     // layout edge or value: it takes the sharpest.
     let creases = (features.creases.iter()).flat_map(|&([a, b], s)| {

@@ -147,13 +147,6 @@ pub enum Boundary {
     None,
 }
 
-impl Boundary {
-    /// Whether a boundary vertex with one face is an interpolated corner.
-    pub fn one_face_corners(self) -> bool {
-        self == Boundary::EdgeAndCorner
-    }
-}
-
 /// How the first Catmull–Clark step of a polygon mesh weighs triangles: OpenSubdiv's
 /// `Sdc::Options::TriangleSubdivision`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -192,6 +185,18 @@ impl Features {
             boundary,
             ..Features::default()
         }
+    }
+
+    /// The boundary rule's corners: whether vertex v with `faces` faces is an interpolated
+    /// corner by it. OpenSubdiv sharpens a vertex with one face under edge-and-corner
+    /// (`isSharpenedCorner`), not a vertex separated from a non-manifold crease (a fin).
+    pub fn corner_by_boundary(&self) -> impl Fn(u32, usize) -> bool + '_ {
+        let on = self.boundary == Boundary::EdgeAndCorner;
+        let fins: std::collections::HashSet<u32> = match on {
+            true => self.fins.iter().copied().collect(),
+            false => Default::default(),
+        };
+        move |v, faces| on && faces == 1 && !fins.contains(&v)
     }
 
     /// Whether there are creases, corners or holes (the boundary rule aside).
@@ -360,18 +365,11 @@ impl Resolved {
         for &(v, s) in &features.corners {
             vertex[v as usize] = s;
         }
-        // OpenSubdiv sharpens a boundary vertex with one face under edge-and-corner
-        // (`isSharpenedCorner`), not a vertex separated from a non-manifold crease.
-        if features.boundary.one_face_corners() {
-            let fin = features
-                .fins
-                .iter()
-                .copied()
-                .collect::<std::collections::HashSet<_>>();
-            for v in 0..topo.vertex_count() as u32 {
-                if topo.is_boundary(v) && topo.valence(v) == 1 && !fin.contains(&v) {
-                    vertex[v as usize] = Sharpness::INFINITE;
-                }
+        // A vertex's valence is its faces.
+        let corner = features.corner_by_boundary();
+        for v in 0..topo.vertex_count() as u32 {
+            if corner(v, topo.valence(v)) {
+                vertex[v as usize] = Sharpness::INFINITE;
             }
         }
         for &f in &features.holes {

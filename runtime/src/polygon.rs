@@ -307,20 +307,10 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     for &v in &m.corners {
         faces_at[v as usize] += 1;
     }
-    if features.boundary.one_face_corners() {
-        let fin: HashSet<u32> = features.fins.iter().copied().collect();
-        for &[a, b] in edges
-            .ends
-            .iter()
-            .zip(&edges.faces)
-            .filter(|e| e.1.len() == 1)
-            .map(|e| e.0)
-        {
-            for v in [a, b] {
-                if faces_at[v as usize] == 1 && !fin.contains(&v) {
-                    corner[v as usize] = Sharpness::INFINITE;
-                }
-            }
+    let by_boundary = features.corner_by_boundary();
+    for (v, &faces) in faces_at.iter().enumerate() {
+        if by_boundary(v as u32, faces) {
+            corner[v] = Sharpness::INFINITE;
         }
     }
     let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
