@@ -121,7 +121,7 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
                 std::path::Path::new(spec),
                 max,
                 boundary,
-                Default::default(),
+                None,
             )
         }
     };
@@ -148,6 +148,7 @@ fn checked(spec: &str, mesh: QuadMesh, split: bool, features: Features) -> Resul
         topology,
         features,
         uv: None,
+        uv_rule: Default::default(),
         warnings: Vec::new(),
     })
 }

@@ -318,7 +318,7 @@ pub fn read_mesh(
     path: &std::path::Path,
     max: u64,
     boundary: Option<lsubdiv::runtime::features::Boundary>,
-    uv_rule: lsubdiv::runtime::facevarying::UvRule,
+    uv_rule: Option<lsubdiv::runtime::facevarying::UvRule>,
 ) -> Result<Checked, Error> {
     let (path, bytes) = read_input(path, max)?;
     let name = path.display().to_string();
@@ -330,7 +330,9 @@ pub fn read_mesh(
     if let Some(b) = boundary {
         parsed.features.boundary = b;
     }
-    parsed.uv_rule = uv_rule;
+    if let Some(rule) = uv_rule {
+        parsed.uv_rule = rule;
+    }
     if !parsed.mesh.all_quads() {
         // The Catmull–Clark split holds, per corner, a quad (16 bytes), its face (4) and half
         // an edge point (12), per face a face point (24), with its topology (the refiner's

@@ -63,30 +63,44 @@ fn driver(dir: &Path) -> Option<PathBuf> {
     Some(exe)
 }
 
-/// A refined mesh: positions, each with a taint (OpenSubdiv's; 0 for lsubdiv's), and faces.
+/// A refined mesh: positions and texture coordinates, each with a taint (OpenSubdiv's; 0 for
+/// lsubdiv's), and faces, each corner a position and a texture coordinate (if any).
 struct Mesh {
     points: Vec<([f64; 3], f64)>,
-    faces: Vec<Vec<usize>>,
+    uvs: Vec<([f64; 2], f64)>,
+    faces: Vec<Vec<(usize, Option<usize>)>>,
 }
 
-/// Reads `v x y z [taint]` and `f a b c …` lines (OBJ's 1-based indices when `one_based`).
+/// Reads `v x y z [taint]`, `vt u v [taint]` and `f a[/t] …` lines (OBJ's 1-based indices when
+/// `one_based`).
 fn parse(text: &str, one_based: bool) -> Mesh {
     let mut m = Mesh {
         points: Vec::new(),
+        uvs: Vec::new(),
         faces: Vec::new(),
     };
+    let index = |s: &str| s.parse::<usize>().unwrap() - usize::from(one_based);
     for line in text.lines() {
         let mut t = line.split_ascii_whitespace();
-        match t.next() {
+        let tag = t.next();
+        let x = |t: std::str::SplitAsciiWhitespace<'_>| -> Vec<f64> {
+            t.map(|s| s.parse().unwrap()).collect()
+        };
+        match tag {
             Some("v") => {
-                let x: Vec<f64> = t.map(|s| s.parse().unwrap()).collect();
+                let x = x(t);
                 m.points
                     .push(([x[0], x[1], x[2]], x.get(3).copied().unwrap_or(0.0)));
             }
+            Some("vt") => {
+                let x = x(t);
+                m.uvs.push(([x[0], x[1]], x.get(2).copied().unwrap_or(0.0)));
+            }
             Some("f") => m.faces.push(
                 t.map(|s| {
-                    let i: usize = s.split('/').next().unwrap().parse().unwrap();
-                    i - usize::from(one_based)
+                    let mut parts = s.split('/');
+                    let v = index(parts.next().unwrap());
+                    (v, parts.next().filter(|t| !t.is_empty()).map(index))
                 })
                 .collect(),
             ),
@@ -94,6 +108,17 @@ fn parse(text: &str, one_based: bool) -> Mesh {
         }
     }
     m
+}
+
+/// The largest extent of `points` along an axis (at least 1e-300).
+fn size<const N: usize>(points: impl Iterator<Item = [f64; N]>) -> f64 {
+    let (lo, hi) = points.fold(([f64::MAX; N], [f64::MIN; N]), |(lo, hi), p| {
+        (
+            std::array::from_fn(|i| lo[i].min(p[i])),
+            std::array::from_fn(|i| hi[i].max(p[i])),
+        )
+    });
+    (0..N).map(|i| hi[i] - lo[i]).fold(0.0, f64::max).max(1e-300)
 }
 
 /// Shapes where lsubdiv's vertex count is known to differ from OpenSubdiv's, and why: every
@@ -109,7 +134,7 @@ const GLUED: &[(&str, &str)] = &[(
 fn compare(osd: &Mesh, ours: &Mesh, glued: bool) -> Option<String> {
     let mut used = vec![false; osd.points.len()];
     for f in &osd.faces {
-        for &v in f {
+        for &(v, _) in f {
             used[v] = true;
         }
     }
@@ -122,20 +147,7 @@ fn compare(osd: &Mesh, ours: &Mesh, glued: bool) -> Option<String> {
             ours.faces.len()
         ));
     }
-    let (lo, hi) = osd
-        .points
-        .iter()
-        .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), (p, _)| {
-            (
-                std::array::from_fn(|i| lo[i].min(p[i])),
-                std::array::from_fn(|i| hi[i].max(p[i])),
-            )
-        });
-    let size = (0..3)
-        .map(|i| hi[i] - lo[i])
-        .fold(0.0, f64::max)
-        .max(1e-300);
-    let tol = 1e-9 * size;
+    let tol = 1e-9 * size(osd.points.iter().map(|p| p.0));
     let mut sorted: Vec<[f64; 3]> = ours.points.iter().map(|p| p.0).collect();
     sorted.sort_by(|a, b| a[0].total_cmp(&b[0]));
     let mut missing = Vec::new();
@@ -165,30 +177,95 @@ fn compare(osd: &Mesh, ours: &Mesh, glued: bool) -> Option<String> {
     })
 }
 
-#[test]
-fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
-    let Some(dir) = shapes() else { return };
-    let tmp = tempfile::tempdir().unwrap();
-    let Some(osd) = driver(tmp.path()) else {
-        return;
+/// What differs between OpenSubdiv's texture coordinates and lsubdiv's, or `None`: every face
+/// corner of OpenSubdiv's whose position and value are untainted must be a corner of lsubdiv's
+/// at that position (1e-9 of the shape's size) with that value (1e-9 of the layout's size).
+fn compare_uv(osd: &Mesh, ours: &Mesh) -> Option<String> {
+    let tol = 1e-9 * size(osd.points.iter().map(|p| p.0));
+    let uv_tol = 1e-9 * size(osd.uvs.iter().map(|p| p.0));
+    let corners = |m: &Mesh| -> Vec<([f64; 3], [f64; 2], bool)> {
+        let corners = m.faces.iter().flatten();
+        corners
+            .map(|&(v, t)| {
+                let (p, pt) = m.points[v];
+                let (uv, ut) = m.uvs[t.expect("a texture coordinate")];
+                (p, uv, pt > 0.0 || ut > 0.0)
+            })
+            .collect()
     };
+    let mut mine = corners(ours);
+    mine.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
+    let theirs = corners(osd);
+    let checked: Vec<_> = theirs.iter().filter(|c| !c.2).collect();
+    let missing: Vec<_> = (checked.iter())
+        .filter(|(p, uv, _)| {
+            let from = mine.partition_point(|q| q.0[0] < p[0] - tol);
+            !mine[from..]
+                .iter()
+                .take_while(|q| q.0[0] <= p[0] + tol)
+                .any(|(q, w, _)| {
+                    (0..3).all(|i| (q[i] - p[i]).abs() <= tol)
+                        && (0..2).all(|i| (w[i] - uv[i]).abs() <= uv_tol)
+                })
+        })
+        .collect();
+    (!missing.is_empty()).then(|| {
+        format!(
+            "{} of {} untainted corners of OpenSubdiv's not in lsubdiv's ({} tainted), e.g. at \
+             {:?} with {:?}",
+            missing.len(),
+            checked.len(),
+            theirs.len() - checked.len(),
+            missing[0].0,
+            missing[0].1
+        )
+    })
+}
+
+/// The shapes (name, path, options boundary, crease, triangle rule) and a directory with the
+/// reference driver, or `None` (said why) where either is absent.
+#[allow(clippy::type_complexity)]
+fn setup() -> Option<(Vec<(String, String, [String; 3])>, tempfile::TempDir, PathBuf)> {
+    let dir = shapes()?;
+    let tmp = tempfile::tempdir().unwrap();
+    let osd = driver(tmp.path())?;
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("shapes.json")).unwrap()).unwrap();
+    let list = (json["shapes"].as_object().unwrap().iter())
+        .map(|(name, shape)| {
+            let option = |k: &str| shape["options"][k].as_str().unwrap().to_string();
+            let obj = dir.join(format!("{name}.obj"));
+            let options = [option("boundary"), option("crease"), option("tri")];
+            (name.clone(), obj.to_str().unwrap().to_string(), options)
+        })
+        .collect();
+    Some((list, tmp, osd))
+}
+
+/// OpenSubdiv's refinement of `obj` (`fvar`: with its texture coordinates in that mode).
+fn reference(osd: &Path, obj: &str, level: usize, options: &[String; 3], fvar: &[&str]) -> Mesh {
+    let reference = Command::new(osd)
+        .arg(obj)
+        .arg(level.to_string())
+        .args(options)
+        .args(fvar)
+        .output()
+        .unwrap();
+    assert!(reference.status.success(), "{obj}: {}", stderr(&reference));
+    parse(&String::from_utf8(reference.stdout).unwrap(), false)
+}
+
+#[test]
+fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
+    let Some((shapes, tmp, osd)) = setup() else {
+        return;
+    };
     let mut failures = Vec::new();
     let mut compared = 0;
-    for (name, shape) in json["shapes"].as_object().unwrap() {
-        let opt = &shape["options"];
-        let option = |k: &str| opt[k].as_str().unwrap().to_string();
-        let (boundary, crease, tri) = (option("boundary"), option("crease"), option("tri"));
-        let obj = dir.join(format!("{name}.obj"));
-        let obj = obj.to_str().unwrap();
+    for (name, obj, options) in &shapes {
+        let [boundary, crease, _] = options;
         let out = tmp.path().join("out.obj");
         for level in 1..=2 {
-            let reference = Command::new(&osd)
-                .args([obj, &level.to_string(), &boundary, &crease, &tri])
-                .output()
-                .unwrap();
-            assert!(reference.status.success(), "{name}: {}", stderr(&reference));
             let ours = lsubdiv(&[
                 "subdivide",
                 "uniform-binary",
@@ -198,7 +275,7 @@ fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
                 "-o",
                 out.to_str().unwrap(),
                 "--boundary",
-                &boundary,
+                boundary,
             ]);
             if !ours.status.success() {
                 // Chaikin's creasing is refused, with its reason (docs/real-meshes.md).
@@ -210,7 +287,7 @@ fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
                 break;
             }
             assert_ne!(crease, "chaikin", "{name}: Chaikin creasing is refused");
-            let osd_mesh = parse(&String::from_utf8(reference.stdout).unwrap(), false);
+            let osd_mesh = reference(&osd, obj, level, options, &[]);
             let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
             compared += 1;
             let glued = GLUED.iter().any(|g| g.0 == name);
@@ -223,6 +300,66 @@ fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
     assert!(
         failures.is_empty(),
         "{} of the shapes differ from OpenSubdiv:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// OpenSubdiv's face-varying modes and `--uv`'s names for them.
+const MODES: &[(&str, &str)] = &[
+    ("none", "smooth"),
+    ("corners-only", "corners-only"),
+    ("corners-plus1", "corners-plus1"),
+    ("corners-plus2", "corners-plus2"),
+    ("boundaries", "boundaries"),
+    ("all", "linear"),
+];
+
+#[test]
+fn texture_coordinates_equal_opensubdiv_in_every_face_varying_mode() {
+    let Some((shapes, tmp, osd)) = setup() else {
+        return;
+    };
+    let mut failures = Vec::new();
+    let mut compared = 0;
+    let level = 2;
+    for (name, obj, options) in &shapes {
+        let [boundary, crease, _] = options;
+        let text = std::fs::read_to_string(obj).unwrap();
+        if crease == "chaikin" || !text.lines().any(|l| l.starts_with("vt ")) {
+            continue;
+        }
+        let out = tmp.path().join("out.obj");
+        for (fvar, uv) in MODES {
+            let ours = lsubdiv(&[
+                "subdivide",
+                "uniform-binary",
+                "--steps",
+                &level.to_string(),
+                obj,
+                "-o",
+                out.to_str().unwrap(),
+                "--boundary",
+                boundary,
+                "--uv",
+                uv,
+            ]);
+            if !ours.status.success() {
+                failures.push(format!("{name} {uv}: refused: {}", stderr(&ours)));
+                continue;
+            }
+            let osd_mesh = reference(&osd, obj, level, options, &[fvar]);
+            let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
+            compared += 1;
+            if let Some(why) = compare_uv(&osd_mesh, &our_mesh) {
+                failures.push(format!("{name} {uv}: {why}"));
+            }
+        }
+    }
+    eprintln!("compared {compared} texture refinements with OpenSubdiv's");
+    assert!(
+        failures.is_empty(),
+        "{} refinements differ from OpenSubdiv's:\n{}",
         failures.len(),
         failures.join("\n")
     );

@@ -101,6 +101,8 @@ pub struct Checked {
     /// Its texture coordinates, faces parallel to `mesh`'s: the file's, or their first step
     /// by [`Parsed::uv_rule`] ([`PolyUv::split`]).
     pub uv: Option<QuadUv>,
+    /// The rule `uv` is refined by: [`Parsed::uv_rule`].
+    pub uv_rule: UvRule,
     /// Skipped directives, elements and values, one line of text per kind.
     pub warnings: Vec<String>,
     /// Where the file is not a 2-manifold: which vertices of `mesh` are copies of one point,
@@ -383,6 +385,7 @@ impl Parsed {
             topology,
             features,
             uv,
+            uv_rule,
             warnings,
             weld,
         })

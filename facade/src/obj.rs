@@ -7,7 +7,7 @@
 use crate::mesh_file::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use crate::obj_tags::Tags;
 use lsubdiv_compiler::{Error, Location};
-use lsubdiv_runtime::facevarying::PolyUv;
+use lsubdiv_runtime::facevarying::{PolyUv, UvRule};
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::polygon::PolyMesh;
 use lsubdiv_runtime::topology::TopologyError;
@@ -456,7 +456,7 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
         places,
         features: tags.features,
         uv,
-        uv_rule: Default::default(),
+        uv_rule: tags.uv_rule.map_or(UvRule::default(), |(rule, _)| rule),
         warnings: skipped.warnings(),
     })
 }

@@ -15,6 +15,9 @@
 //!   the boundary are holes), 1 edge-and-corner, 2 edge-only;
 //! - `t smoothtriangles 0/0/1 r`: `catmark` or `smooth` (the smooth-triangle rule of the first
 //!   step, [`Triangles`]);
+//! - `t facevaryinginterpolateboundary 1/0/0 k`: how texture coordinates are refined
+//!   ([`UvRule`]), OpenSubdiv's `FVarLinearInterpolation`: 0 none (smooth), 1 corners-only,
+//!   2 corners-plus1, 3 corners-plus2, 4 boundaries, 5 all (linear); `--uv` overrides it;
 //! - `t creasemethod 0/0/1 m`: `normal` (OpenSubdiv's uniform creasing, lsubdiv's); `chaikin`
 //!   is refused (Chaikin's sharpness varies along an edge).
 //!
@@ -26,6 +29,7 @@
 
 use crate::mesh_file::{shorten, FeatureLines};
 use crate::obj::{is_integer, Token};
+use lsubdiv_runtime::facevarying::UvRule;
 use lsubdiv_runtime::features::{Boundary, Features, Sharpness, Triangles};
 use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
@@ -37,6 +41,8 @@ pub(crate) struct Tags {
     pub features: Features,
     /// The line of each.
     pub lines: FeatureLines,
+    /// The texture coordinates' rule (`t facevaryinginterpolateboundary`), with its line.
+    pub uv_rule: Option<(UvRule, usize)>,
     creases: HashMap<[u32; 2], usize>,
     corners: HashMap<u32, usize>,
     holes: HashSet<u32>,
@@ -52,6 +58,7 @@ enum Tag {
     Corner,
     Hole,
     Boundary,
+    FaceVarying,
     CreaseMethod,
     Triangles,
 }
@@ -87,6 +94,12 @@ const KINDS: &[Kind] = &[
     Kind {
         tag: Tag::Boundary,
         name: "interpolateboundary",
+        shape: |n, m, k| n == 1 && m == 0 && k == 0,
+        forms: "one integer, the mode (1/0/0)",
+    },
+    Kind {
+        tag: Tag::FaceVarying,
+        name: "facevaryinginterpolateboundary",
         shape: |n, m, k| n == 1 && m == 0 && k == 0,
         forms: "one integer, the mode (1/0/0)",
     },
@@ -217,6 +230,7 @@ impl Tags {
         let (floats, strings) = rest.split_at(m);
         match kind.tag {
             Tag::Boundary => self.boundary(ints[0]),
+            Tag::FaceVarying => self.face_varying(ints[0]),
             Tag::CreaseMethod => creasing(strings[0]),
             Tag::Triangles => {
                 self.features.triangles = triangles(strings[0])?;
@@ -279,6 +293,38 @@ impl Tags {
             _ => {
                 self.features.boundary = boundary;
                 self.lines.boundary = Some(line);
+                Ok(())
+            }
+        }
+    }
+}
+
+impl Tags {
+    /// `t facevaryinginterpolateboundary 1/0/0 k`, the mode `(tok, line)`.
+    fn face_varying(&mut self, (tok, line): Token<'_>) -> Result<(), Failure> {
+        let rule = match tok.parse::<i64>() {
+            Ok(0) => UvRule::Smooth,
+            Ok(1) => UvRule::CornersOnly,
+            Ok(2) => UvRule::CornersPlus1,
+            Ok(3) => UvRule::CornersPlus2,
+            Ok(4) => UvRule::Boundaries,
+            Ok(5) => UvRule::Linear,
+            _ => {
+                let message = format!(
+                    "`{}` is not a face-varying interpolation mode (0 none, 1 corners-only, 2 \
+                     corners-plus1, 3 corners-plus2, 4 boundaries, 5 all)",
+                    shorten(tok)
+                );
+                return Err((line, message));
+            }
+        };
+        match self.uv_rule {
+            Some((r, l)) if r != rule => Err((
+                line,
+                format!("the face-varying interpolation is set otherwise at line {l}"),
+            )),
+            _ => {
+                self.uv_rule = Some((rule, line));
                 Ok(())
             }
         }

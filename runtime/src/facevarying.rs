@@ -15,6 +15,9 @@
 //!   is not a 2-manifold (values whose faces form several fans, edges of more than two faces
 //!   or of two in the same direction) its fans are separated and those places made sharp, as
 //!   OpenSubdiv's face-varying level makes them ([`crate::nonmanifold`]).
+//! - [`UvRule::CornersOnly`], [`UvRule::CornersPlus1`], [`UvRule::CornersPlus2`],
+//!   [`UvRule::Boundaries`] (OpenSubdiv's other `FVAR_LINEAR_*` modes): as smooth, with more of
+//!   the layout's values kept as corners, where OpenSubdiv's face-varying level tags them sharp.
 //!
 //! Either way the refined channel's faces are parallel to the refined mesh's faces
 //! ([`crate::patch::Refiner::faces`]) and seams stay seams.
@@ -23,7 +26,7 @@ use crate::features::{Boundary, FeatureError, Features, Sharpness};
 use crate::grid::{site, Site};
 use crate::mesh::QuadMesh;
 use crate::nonmanifold::{separate, Weld};
-use crate::patch::{limit_with, renumbering, subdivide_with, Refined};
+use crate::patch::{limit_with, subdivide_with, Refined};
 use crate::polygon::{catmull_clark, PolyMesh, SplitError};
 use crate::real::Real;
 use crate::surface::{SurfaceError, SurfaceScheme};
@@ -31,14 +34,83 @@ use crate::topology::{Topology, TopologyError};
 use std::collections::HashMap;
 use std::fmt;
 
-/// How a face-varying channel is refined.
+/// How a face-varying channel is refined: OpenSubdiv's `Sdc::Options::FVarLinearInterpolation`.
+/// Every rule but [`UvRule::Linear`] refines the layout by the scheme; they differ in which of
+/// its values are kept as corners, as OpenSubdiv's face-varying level tags them
+/// (`Vtr::FVarLevel::completeTopologyFromFaceValues`, [`UvRule::sharpens`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum UvRule {
-    /// Bilinear in each base face at the refined vertices' knots.
+    /// `FVAR_LINEAR_ALL`: bilinear in each base face at the refined vertices' knots.
     #[default]
     Linear,
-    /// The scheme applied to the layout, seams and chart boundaries edge-only boundaries.
+    /// `FVAR_LINEAR_NONE`: the scheme applied to the layout, seams and chart boundaries
+    /// edge-only boundaries.
     Smooth,
+    /// `FVAR_LINEAR_CORNERS_ONLY`: as smooth, and a value with one face at its vertex is a
+    /// corner.
+    CornersOnly,
+    /// `FVAR_LINEAR_CORNERS_PLUS1`: as corners-only, and every value of a vertex with more than
+    /// two is a corner, both of a vertex with two where either's faces meet at an infinitely
+    /// sharp edge.
+    CornersPlus1,
+    /// `FVAR_LINEAR_CORNERS_PLUS2`: as corners-plus1, and both values of a vertex with two are
+    /// corners where either has one face, and the value where a seam ends inside the mesh
+    /// (a dart).
+    CornersPlus2,
+    /// `FVAR_LINEAR_BOUNDARIES`: every value on a seam or the mesh's boundary is a corner
+    /// (the channel is linear along them).
+    Boundaries,
+}
+
+impl UvRule {
+    /// Whether the scheme refines the layout (every rule but [`UvRule::Linear`]).
+    pub fn is_smooth(self) -> bool {
+        self != UvRule::Linear
+    }
+
+    /// The corner sharpness each value of a vertex whose layout does not match the mesh's
+    /// there (a seam or chart boundary passes, or a seam ends) takes besides what the mesh's
+    /// features give it (smooth: none): `values` its values ([`Span`]), `boundary` whether
+    /// the vertex is on the mesh's boundary. OpenSubdiv's `allCornersAreSharp`, its one-face
+    /// corners and its dependent sharpness of two values, one of whose faces meet at
+    /// semi-sharp edges: the other is a corner while they are sharp (`_depSharp`).
+    fn sharpens(self, values: &[Span], boundary: bool) -> Vec<Sharpness> {
+        use UvRule::*;
+        let one = |s: &Span| s.faces == 1;
+        let two = values.len() == 2;
+        let all = match self {
+            Linear | Smooth | CornersOnly => false,
+            CornersPlus1 => values.len() > 2 || (two && values.iter().any(|s| s.inf)),
+            CornersPlus2 => {
+                values.len() > 2
+                    || (two && values.iter().any(|s| s.inf || one(s)))
+                    || (values.len() == 1 && !boundary)
+            }
+            Boundaries => true,
+        };
+        let corners = !matches!(self, Linear | Smooth);
+        let dependent = two && matches!(self, CornersPlus1 | CornersPlus2);
+        (0..values.len())
+            .map(|i| {
+                if all || (corners && one(&values[i])) {
+                    Sharpness::INFINITE
+                } else if dependent && !values[i].semi.is_sharp() {
+                    values[1 - i].semi
+                } else {
+                    Sharpness::SMOOTH
+                }
+            })
+            .collect()
+    }
+}
+
+/// One value of a vertex: its faces there, and the sharpest edges of the mesh between two of
+/// them, infinitely sharp and not.
+#[derive(Clone, Copy, Debug, Default)]
+struct Span {
+    faces: u32,
+    inf: bool,
+    semi: Sharpness,
 }
 
 /// Texture coordinates of a polygon mesh: one value index per corner, parallel to
@@ -131,31 +203,90 @@ fn check_indices<'a>(values: usize, faces: impl Iterator<Item = &'a [u32]>) -> R
 
 /// The mesh's creases, corners and holes on the layout: a crease on every layout edge whose
 /// corners sit on the crease's vertices, a corner on every value its vertex's corners use (the
-/// mesh's one-face corners under edge-and-corner too); the boundary edge-only (seams and chart
-/// boundaries are not corners).
+/// mesh's one-face corners under edge-and-corner too), and the corners `rule` adds
+/// ([`UvRule::sharpens`]; every value of a fin where the layout does not match the mesh, as
+/// OpenSubdiv sharpens the values of a non-manifold vertex); the boundary edge-only (seams and
+/// chart boundaries are not corners by themselves). The mesh is a 2-manifold (separated).
 fn layout_features<'a>(
     faces: impl Iterator<Item = (&'a [u32], &'a [u32])> + Clone,
     features: &Features,
+    rule: UvRule,
 ) -> Features {
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
     let mut edges: HashMap<[u32; 2], Vec<[u32; 2]>> = HashMap::new();
+    // Per edge of the mesh (smaller end first), each face's values at its two ends.
+    let mut sides: HashMap<[u32; 2], Vec<[u32; 2]>> = HashMap::new();
     let mut at: HashMap<u32, Vec<u32>> = HashMap::new();
+    let mut spans: HashMap<(u32, u32), Span> = HashMap::new();
     let mut faces_at: HashMap<u32, u32> = HashMap::new();
     for (pos, uv) in faces {
         let n = pos.len();
         for c in 0..n {
             *faces_at.entry(pos[c]).or_insert(0) += 1;
+            spans.entry((pos[c], uv[c])).or_default().faces += 1;
             let d = (c + 1) % n;
             let e = edges.entry(key(pos[c], pos[d])).or_default();
             let k = key(uv[c], uv[d]);
             if !e.contains(&k) {
                 e.push(k);
             }
+            let ends = match pos[c] < pos[d] {
+                true => [uv[c], uv[d]],
+                false => [uv[d], uv[c]],
+            };
+            sides.entry(key(pos[c], pos[d])).or_default().push(ends);
             let v = at.entry(pos[c]).or_default();
             if !v.contains(&uv[c]) {
                 v.push(uv[c]);
             }
         }
+    }
+    // Where the layout does not match the mesh (a seam at the vertex), the mesh's boundary,
+    // and the sharpest edges inside each value's faces.
+    let sharpness: HashMap<[u32; 2], Sharpness> =
+        (features.creases.iter()).map(|&([a, b], s)| (key(a, b), s)).collect();
+    let mut mismatched: Vec<u32> = (at.iter())
+        .filter(|(_, u)| u.len() > 1)
+        .map(|(&v, _)| v)
+        .collect();
+    let mut boundary = std::collections::HashSet::new();
+    for (&[a, b], ends) in &sides {
+        if ends.len() == 1 {
+            boundary.extend([a, b]);
+        } else if ends.iter().any(|e| e != &ends[0]) {
+            mismatched.extend([a, b]);
+        } else {
+            let s = sharpness.get(&[a, b]).copied().unwrap_or(Sharpness::SMOOTH);
+            for (v, u) in [(a, ends[0][0]), (b, ends[0][1])] {
+                let span = spans.get_mut(&(v, u)).expect("a face's corner");
+                span.inf |= s.is_infinite();
+                if !s.is_infinite() {
+                    span.semi = span.semi.max(s);
+                }
+            }
+        }
+    }
+    // OpenSubdiv makes the mesh's boundary vertices mismatched too where the rule sharpens
+    // them (linear boundaries; one-face corners the boundary rule leaves smooth).
+    let sharpened = |v: u32| match rule {
+        UvRule::Boundaries => true,
+        UvRule::CornersOnly | UvRule::CornersPlus1 | UvRule::CornersPlus2 => faces_at[&v] == 1,
+        UvRule::Linear | UvRule::Smooth => false,
+    };
+    mismatched.extend(boundary.iter().copied().filter(|&v| sharpened(v)));
+    mismatched.sort_unstable();
+    mismatched.dedup();
+    let fins: std::collections::HashSet<u32> = features.fins.iter().copied().collect();
+    let mut by_rule = Vec::new();
+    for &v in &mismatched {
+        let values = &at[&v];
+        let span: Vec<Span> = values.iter().map(|&u| spans[&(v, u)]).collect();
+        let sharp = match fins.contains(&v) {
+            true => vec![Sharpness::INFINITE; values.len()],
+            false => rule.sharpens(&span, boundary.contains(&v)),
+        };
+        let sharp = values.iter().zip(sharp).filter(|(_, s)| s.is_sharp());
+        by_rule.extend(sharp.map(|(&u, s)| ([u, u], s)));
     }
     // Under edge-and-corner a vertex with one face is a corner (OpenSubdiv sharpens it, and
     // with it its values), unless it is a fin.
@@ -178,20 +309,20 @@ fn layout_features<'a>(
         let uv = at.get(&v).map_or(&[][..], Vec::as_slice);
         uv.iter().map(move |&u| ([u, u], s))
     });
-    let mut fins: Vec<u32> = (features.fins.iter())
+    let mut layout_fins: Vec<u32> = (features.fins.iter())
         .flat_map(|v| at.get(v).map_or(&[][..], Vec::as_slice))
         .copied()
         .collect();
-    fins.sort_unstable();
-    fins.dedup();
+    layout_fins.sort_unstable();
+    layout_fins.dedup();
     Features {
         boundary: Boundary::EdgeOnly,
         creases: sharpest(creases),
-        corners: (sharpest(corners).into_iter())
+        corners: (sharpest(corners.chain(by_rule)).into_iter())
             .map(|([u, _], s)| (u, s))
             .collect(),
         holes: features.holes.clone(),
-        fins,
+        fins: layout_fins,
         triangles: features.triangles,
     }
 }
@@ -217,15 +348,23 @@ fn flat_corners(faces: &[[u32; 4]]) -> Vec<u32> {
     faces.iter().flatten().copied().collect()
 }
 
-/// The layout as a mesh in the plane z = 0, without the values no corner uses (the topology
-/// refuses unused vertices; the others keep their order), and the corners renumbered to match.
-fn plane(values: &[[f64; 2]], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
-    let map = renumbering(corners.iter().copied(), values.len());
-    let kept = (values.iter().zip(&map))
-        .filter(|(_, &m)| m != u32::MAX)
-        .map(|(&[u, v], _)| [u, v, 0.0])
+/// The layout as a mesh in the plane z = 0: a vertex per mesh vertex and value its corners
+/// use there (`vertices` and `corners` parallel), in order of first use, and the corners
+/// renumbered to match. A value belongs to a vertex, as in OpenSubdiv's face-varying level
+/// (its vertices' "siblings"): one index used at two vertices is two values of the layout.
+fn plane(values: &[[f64; 2]], vertices: &[u32], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
+    let mut ids: HashMap<(u32, u32), u32> = HashMap::with_capacity(corners.len());
+    let mut kept = Vec::new();
+    let renumbered = (vertices.iter().zip(corners))
+        .map(|(&v, &u)| {
+            *ids.entry((v, u)).or_insert_with(|| {
+                let [x, y] = values[u as usize];
+                kept.push([x, y, 0.0]);
+                kept.len() as u32 - 1
+            })
+        })
         .collect();
-    (kept, corners.iter().map(|&i| map[i as usize]).collect())
+    (kept, renumbered)
 }
 
 impl PolyUv {
@@ -269,8 +408,8 @@ impl PolyUv {
                 .windows(2)
                 .map(|w| (&mesh.corners[w[0]..w[1]], &self.corners[w[0]..w[1]]))
         };
-        if rule == UvRule::Smooth {
-            let (positions, corners) = plane(&self.values, &self.corners);
+        if rule.is_smooth() {
+            let (positions, corners) = plane(&self.values, &mesh.corners, &self.corners);
             let layout = PolyMesh {
                 positions,
                 offsets: mesh.offsets.clone(),
@@ -280,7 +419,7 @@ impl PolyUv {
                 .offsets
                 .windows(2)
                 .map(|w| (&mesh.corners[w[0]..w[1]], &layout.corners[w[0]..w[1]]));
-            let lf = layout_features(renumbered, features);
+            let lf = layout_features(renumbered, features, rule);
             // A layout that is not a 2-manifold is separated ([`separate`]) and joined after.
             let separated = separate(&layout, &lf).map_err(UvError::Layout)?;
             let (layout, lf) = match &separated {
@@ -369,8 +508,8 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
     threads: usize,
 ) -> Result<QuadUv<T>, UvError> {
     uv.check(mesh)?;
-    if rule == UvRule::Smooth {
-        let (positions, corners) = plane(&uv.values, &flat_corners(&uv.faces));
+    if rule.is_smooth() {
+        let (positions, corners) = plane(&uv.values, &flat_corners(&mesh.faces), &flat_corners(&uv.faces));
         let layout = QuadMesh {
             positions,
             faces: corners
@@ -381,7 +520,7 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
         let pairs = (mesh.faces.iter())
             .zip(&layout.faces)
             .map(|(p, u)| (&p[..], &u[..]));
-        let lf = layout_features(pairs, features);
+        let lf = layout_features(pairs, features, rule);
         // A layout that is not a 2-manifold is separated ([`separate`]) and joined after.
         let poly = PolyMesh {
             positions: layout.positions.clone(),

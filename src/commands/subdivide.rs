@@ -33,12 +33,15 @@ pub struct SubdivideArgs {
     /// there (OBJ `vn` and faces `v//vn`; PLY `nx ny nz`), in the vertices' order.
     #[arg(long)]
     limit: bool,
-    /// How texture coordinates (OBJ `vt`, PLY `u v`) are refined: `linear`, bilinear in each
-    /// base face at the refined vertices' knots (OpenSubdiv's FVAR_LINEAR_ALL), or `smooth`,
-    /// the scheme applied to the texture layout, its seams edge-only boundaries
-    /// (FVAR_LINEAR_NONE).
-    #[arg(long, value_enum, default_value_t = UvArg::Linear)]
-    uv: UvArg,
+    /// How texture coordinates (OBJ `vt`, PLY `u v`) are refined, OpenSubdiv's face-varying
+    /// modes: `linear` (alias `all`), bilinear in each base face at the refined vertices'
+    /// knots (FVAR_LINEAR_ALL); `smooth` (alias `none`), the scheme applied to the texture
+    /// layout, its seams edge-only boundaries (FVAR_LINEAR_NONE); `corners-only`,
+    /// `corners-plus1`, `corners-plus2`, `boundaries`: as smooth, with more values kept as
+    /// corners (FVAR_LINEAR_CORNERS_ONLY, _PLUS1, _PLUS2, _BOUNDARIES). Default: the file's
+    /// `t facevaryinginterpolateboundary`, else `linear`.
+    #[arg(long, value_enum)]
+    uv: Option<UvArg>,
     /// Binary PLY (little-endian doubles and `uint` indices) instead of ASCII: about a third of
     /// the size, written several times faster; `.ply` output only.
     #[arg(long)]
@@ -48,8 +51,14 @@ pub struct SubdivideArgs {
 /// `--uv`.
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum UvArg {
+    #[value(alias = "all")]
     Linear,
+    #[value(alias = "none")]
     Smooth,
+    CornersOnly,
+    CornersPlus1,
+    CornersPlus2,
+    Boundaries,
 }
 
 impl UvArg {
@@ -57,6 +66,10 @@ impl UvArg {
         match self {
             UvArg::Linear => UvRule::Linear,
             UvArg::Smooth => UvRule::Smooth,
+            UvArg::CornersOnly => UvRule::CornersOnly,
+            UvArg::CornersPlus1 => UvRule::CornersPlus1,
+            UvArg::CornersPlus2 => UvRule::CornersPlus2,
+            UvArg::Boundaries => UvRule::Boundaries,
         }
     }
 }
@@ -101,7 +114,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
     let mesh =
-        lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule(), uv.rule())?;
+        lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule(), uv.map(UvArg::rule))?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
@@ -111,7 +124,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: threads(t),
         max_memory: refine.limit.bytes(),
         limit: if limit { Limit::On } else { Limit::Off },
-        uv: Some(uv.rule()),
+        uv: Some(mesh.uv_rule),
         join: true,
     };
     let RefinedMesh { fine, uv, .. } = refine_mesh(&r, &mesh, &job)?;

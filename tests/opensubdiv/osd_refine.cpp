@@ -1,16 +1,20 @@
 // OpenSubdiv 3.x reference driver for tests/opensubdiv_shapes.rs: uniform Catmark refinement
 // of an OBJ shape with the options OpenSubdiv's regression drivers give it.
 //
-//   osd_refine MESH.obj LEVELS BOUNDARY CREASE TRI > OUT
+//   osd_refine MESH.obj LEVELS BOUNDARY CREASE TRI [FVAR] > OUT
 //
-// BOUNDARY: none | edge-only | edge-and-corner; CREASE: uniform | chaikin; TRI: catmark | smooth
-// (Sdc::Options). Reads `v` and `f` lines (any polygon, `i/t/n` corners, negative indices) and
+// BOUNDARY: none | edge-only | edge-and-corner; CREASE: uniform | chaikin; TRI: catmark | smooth;
+// FVAR: none | corners-only | corners-plus1 | corners-plus2 | boundaries | all (Sdc::Options).
+// With FVAR the texture coordinates (`vt`, corners `i/t`) are a face-varying channel refined
+// with the mesh (Far::PrimvarRefinerReal::InterpolateFaceVarying), written `vt u v t` and
+// faces `f a/t …`. Reads `v` and `f` lines (any polygon, `i/t/n` corners, negative indices) and
 // the tags `t crease`, `t corner`, `t hole` (OpenSubdiv's shape files, vertices counted from 0),
 // builds Far::TopologyRefinerFactory<Far::TopologyDescriptor>, refines uniformly LEVELS levels
 // and interpolates positions in double (Far::PrimvarRefinerReal<double>). Writes the last level:
 // `v x y z t` per vertex, t the vertex's taint (below), then `f a b c d` per face (0-based).
 //
-// Taint marks what lsubdiv's L-system rule may change: at each level taken by the scheme (every
+// Taint marks what lsubdiv's L-system rule may change (a texture value: the values of a tainted
+// vertex's child where its face-varying topology matches the mesh's, and what depends on them): at each level taken by the scheme (every
 // level of an all-quad base, every level after the first otherwise: the first step of a mesh
 // with other polygons is Catmull-Clark's in lsubdiv too), the child of a vertex whose rule is
 // smooth or dart, or blends into smooth or dart across the step (a rule transition of weight
@@ -46,8 +50,8 @@ struct Point {
 };
 
 struct Shape {
-    std::vector<Point> points;
-    std::vector<int> counts, corners;
+    std::vector<Point> points, uvs;
+    std::vector<int> counts, corners, uvCorners;
     std::vector<int> creasePairs, cornerVerts, holes;
     std::vector<float> creaseWeights, cornerWeights;
 };
@@ -70,12 +74,19 @@ Shape read(const char *path) {
             Point p{0, 0, 0, 0};
             l >> p.x >> p.y >> p.z;
             s.points.push_back(p);
+        } else if (tag == "vt") {
+            Point p{0, 0, 0, 0};
+            l >> p.x >> p.y;
+            s.uvs.push_back(p);
         } else if (tag == "f") {
             std::string tok;
             int n = 0;
             while (l >> tok) {
                 int i = std::atoi(tok.c_str());
                 s.corners.push_back(i < 0 ? (int)s.points.size() + i : i - 1);
+                std::size_t slash = tok.find('/');
+                int t = slash == std::string::npos ? 0 : std::atoi(tok.c_str() + slash + 1);
+                s.uvCorners.push_back(t < 0 ? (int)s.uvs.size() + t : t - 1);
                 ++n;
             }
             s.counts.push_back(n);
@@ -114,10 +125,16 @@ Shape read(const char *path) {
 }  // namespace
 
 int main(int argc, char **argv) {
-    if (argc != 6) fail("usage: osd_refine MESH.obj LEVELS BOUNDARY CREASE TRI");
+    if (argc != 6 && argc != 7) fail("usage: osd_refine MESH.obj LEVELS BOUNDARY CREASE TRI [FVAR]");
     Shape s = read(argv[1]);
     int levels = std::atoi(argv[2]);
     std::string boundary = argv[3], crease = argv[4], tri = argv[5];
+    std::string fvar = argc == 7 ? argv[6] : "";
+    if (!fvar.empty()) {
+        for (int t : s.uvCorners) {
+            if (t < 0 || t >= (int)s.uvs.size()) fail(std::string(argv[1]) + ": a corner without texture coordinates");
+        }
+    }
 
     Sdc::Options options;
     options.SetVtxBoundaryInterpolation(
@@ -128,6 +145,13 @@ int main(int argc, char **argv) {
                                                   : Sdc::Options::CREASE_UNIFORM);
     options.SetTriangleSubdivision(tri == "smooth" ? Sdc::Options::TRI_SUB_SMOOTH
                                                    : Sdc::Options::TRI_SUB_CATMARK);
+    options.SetFVarLinearInterpolation(
+        fvar == "none"            ? Sdc::Options::FVAR_LINEAR_NONE
+        : fvar == "corners-only"  ? Sdc::Options::FVAR_LINEAR_CORNERS_ONLY
+        : fvar == "corners-plus1" ? Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1
+        : fvar == "corners-plus2" ? Sdc::Options::FVAR_LINEAR_CORNERS_PLUS2
+        : fvar == "boundaries"    ? Sdc::Options::FVAR_LINEAR_BOUNDARIES
+                                  : Sdc::Options::FVAR_LINEAR_ALL);
 
     Far::TopologyDescriptor desc;
     desc.numVertices = (int)s.points.size();
@@ -142,6 +166,13 @@ int main(int argc, char **argv) {
     desc.cornerWeights = s.cornerWeights.data();
     desc.numHoles = (int)s.holes.size();
     desc.holeIndices = s.holes.data();
+    Far::TopologyDescriptor::FVarChannel channel;
+    if (!fvar.empty()) {
+        channel.numValues = (int)s.uvs.size();
+        channel.valueIndices = s.uvCorners.data();
+        desc.numFVarChannels = 1;
+        desc.fvarChannels = &channel;
+    }
 
     using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
     Far::TopologyRefiner *refiner =
@@ -152,12 +183,17 @@ int main(int argc, char **argv) {
     bool quads = true;
     for (int n : s.counts) quads = quads && n == 4;
 
-    std::vector<Point> level = s.points;
+    std::vector<Point> level = s.points, uvs = s.uvs;
     Far::PrimvarRefinerReal<double> primvar(*refiner);
     for (int l = 1; l <= levels; ++l) {
         Far::TopologyLevel const &parent = refiner->GetLevel(l - 1);
         std::vector<Point> next(refiner->GetLevel(l).GetNumVertices());
         primvar.Interpolate(l, level, next);
+        std::vector<Point> nextUvs;
+        if (!fvar.empty()) {
+            nextUvs.resize(refiner->GetLevel(l).GetNumFVarValues(0));
+            primvar.InterpolateFaceVarying(l, uvs, nextUvs, 0);
+        }
         if (quads || l > 1) {
             Far::TopologyLevel const &children = refiner->GetLevel(l);
             auto smooth = [](Sdc::Crease::Rule r) {
@@ -192,21 +228,40 @@ int main(int argc, char **argv) {
                     }
                     blends = count == 0 || sum / count < 1.0f;
                 }
-                if (smooth(rule) || blends) next[child].taint = 1.0;
+                if (smooth(rule) || blends) {
+                    next[child].taint = 1.0;
+                    if (!fvar.empty() && children.DoesVertexFVarTopologyMatch(child, 0)) {
+                        Far::ConstIndexArray faces = children.GetVertexFaces(child);
+                        Far::ConstLocalIndexArray in = children.GetVertexFaceLocalIndices(child);
+                        for (int i = 0; i < faces.size(); ++i) {
+                            nextUvs[children.GetFaceFVarValues(faces[i], 0)[in[i]]].taint = 1.0;
+                        }
+                    }
+                }
             }
         }
         level.swap(next);
+        uvs.swap(nextUvs);
     }
 
     Far::TopologyLevel const &last = refiner->GetLevel(levels);
     for (Point const &p : level) {
         std::printf("v %.17g %.17g %.17g %.17g\n", p.x, p.y, p.z, p.taint);
     }
+    for (Point const &p : uvs) {
+        std::printf("vt %.17g %.17g %.17g\n", p.x, p.y, p.taint);
+    }
     for (int f = 0; f < last.GetNumFaces(); ++f) {
         if (last.IsFaceHole(f)) continue;
         Far::ConstIndexArray fv = last.GetFaceVertices(f);
         std::printf("f");
-        for (int i = 0; i < fv.size(); ++i) std::printf(" %d", fv[i]);
+        for (int i = 0; i < fv.size(); ++i) {
+            if (fvar.empty()) {
+                std::printf(" %d", fv[i]);
+            } else {
+                std::printf(" %d/%d", fv[i], last.GetFaceFVarValues(f, 0)[i]);
+            }
+        }
         std::printf("\n");
     }
     delete refiner;
