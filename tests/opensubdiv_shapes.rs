@@ -14,6 +14,11 @@
 //! vertex and face counts must be OpenSubdiv's (less the hole faces and the vertices only they
 //! use, which lsubdiv does not write). Shapes with Chaikin's creasing must be refused with its
 //! reason.
+//!
+//! Texture coordinates likewise, in each of OpenSubdiv's six face-varying modes (`--uv`'s six
+//! rules) on every shape that has them, at level 2: every untainted face corner of OpenSubdiv's
+//! (position and value) must be one of lsubdiv's. The driver also taints the values of a
+//! vertex whose values OpenSubdiv 3.5 miscounts (faces running A, B, A, B: see the driver).
 
 mod common;
 
@@ -177,10 +182,11 @@ fn compare(osd: &Mesh, ours: &Mesh, glued: bool) -> Option<String> {
     })
 }
 
-/// What differs between OpenSubdiv's texture coordinates and lsubdiv's, or `None`: every face
-/// corner of OpenSubdiv's whose position and value are untainted must be a corner of lsubdiv's
-/// at that position (1e-9 of the shape's size) with that value (1e-9 of the layout's size).
-fn compare_uv(osd: &Mesh, ours: &Mesh) -> Option<String> {
+/// What differs between OpenSubdiv's texture coordinates and lsubdiv's, or the numbers of
+/// OpenSubdiv's face corners compared and in all: every face corner of OpenSubdiv's whose
+/// position and value are untainted must be a corner of lsubdiv's at that position (1e-9 of
+/// the shape's size) with that value (1e-9 of the layout's size).
+fn compare_uv(osd: &Mesh, ours: &Mesh) -> Result<[usize; 2], String> {
     let tol = 1e-9 * size(osd.points.iter().map(|p| p.0));
     let uv_tol = 1e-9 * size(osd.uvs.iter().map(|p| p.0));
     let corners = |m: &Mesh| -> Vec<([f64; 3], [f64; 2], bool)> {
@@ -209,17 +215,18 @@ fn compare_uv(osd: &Mesh, ours: &Mesh) -> Option<String> {
                 })
         })
         .collect();
-    (!missing.is_empty()).then(|| {
-        format!(
-            "{} of {} untainted corners of OpenSubdiv's not in lsubdiv's ({} tainted), e.g. at \
-             {:?} with {:?}",
-            missing.len(),
-            checked.len(),
-            theirs.len() - checked.len(),
-            missing[0].0,
-            missing[0].1
-        )
-    })
+    if missing.is_empty() {
+        return Ok([checked.len(), theirs.len()]);
+    }
+    Err(format!(
+        "{} of {} untainted corners of OpenSubdiv's not in lsubdiv's ({} tainted), e.g. at \
+         {:?} with {:?}",
+        missing.len(),
+        checked.len(),
+        theirs.len() - checked.len(),
+        missing[0].0,
+        missing[0].1
+    ))
 }
 
 /// The shapes (name, path, options boundary, crease, triangle rule) and a directory with the
@@ -322,6 +329,7 @@ fn texture_coordinates_equal_opensubdiv_in_every_face_varying_mode() {
     };
     let mut failures = Vec::new();
     let mut compared = 0;
+    let mut corners = [0; 2];
     let level = 2;
     for (name, obj, options) in &shapes {
         let [boundary, crease, _] = options;
@@ -351,12 +359,24 @@ fn texture_coordinates_equal_opensubdiv_in_every_face_varying_mode() {
             let osd_mesh = reference(&osd, obj, level, options, &[fvar]);
             let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
             compared += 1;
-            if let Some(why) = compare_uv(&osd_mesh, &our_mesh) {
-                failures.push(format!("{name} {uv}: {why}"));
+            match compare_uv(&osd_mesh, &our_mesh) {
+                Ok([checked, all]) => corners = [corners[0] + checked, corners[1] + all],
+                Err(why) => failures.push(format!("{name} {uv}: {why}")),
             }
         }
     }
-    eprintln!("compared {compared} texture refinements with OpenSubdiv's");
+    eprintln!(
+        "compared {compared} texture refinements with OpenSubdiv's: {} of {} face corners \
+         untainted",
+        corners[0], corners[1]
+    );
+    // Taint is the exception: most of OpenSubdiv's corners are compared (81 % on 3.5's shapes).
+    assert!(
+        !failures.is_empty() || 4 * corners[0] >= 3 * corners[1],
+        "only {} of {} corners compared",
+        corners[0],
+        corners[1]
+    );
     assert!(
         failures.is_empty(),
         "{} refinements differ from OpenSubdiv's:\n{}",

@@ -5,7 +5,7 @@
 //! placed in the file.
 
 use lsubdiv_compiler::{Error, Location};
-use lsubdiv_runtime::facevarying::{PolyUv, QuadUv, UvError, UvRule};
+use lsubdiv_runtime::facevarying::{Points, PolyUv, QuadUv, UvError, UvRule};
 use lsubdiv_runtime::features::{FeatureError, FeatureList, Features};
 use lsubdiv_runtime::mesh::QuadMesh;
 use lsubdiv_runtime::nonmanifold::{separate, Weld};
@@ -373,7 +373,8 @@ impl Parsed {
                 })?;
                 let topology =
                     topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
-                let uv = (uv.map(|uv| uv.split(&mesh, &features, uv_rule)).transpose())
+                let points = Points(&places.origin);
+                let uv = (uv.map(|uv| uv.split(&mesh, &features, uv_rule, points)).transpose())
                     .map_err(uv_error)?;
                 let weld = origin.map(|(o, e)| Weld::after_split(o, e, &s));
                 (s.mesh, s.features, topology, uv, true, weld)

@@ -205,12 +205,14 @@ fn check_indices<'a>(values: usize, faces: impl Iterator<Item = &'a [u32]>) -> R
 /// corners sit on the crease's vertices, a corner on every value its vertex's corners use (the
 /// mesh's one-face corners under edge-and-corner too), and the corners `rule` adds
 /// ([`UvRule::sharpens`]; every value of a fin where the layout does not match the mesh, as
-/// OpenSubdiv sharpens the values of a non-manifold vertex); the boundary edge-only (seams and
-/// chart boundaries are not corners by themselves). The mesh is a 2-manifold (separated).
+/// OpenSubdiv sharpens the values of a non-manifold vertex: a fin's point, [`Points`], has
+/// several values or a seam); the boundary edge-only (seams and chart boundaries are not
+/// corners by themselves). The mesh is a 2-manifold (separated).
 fn layout_features<'a>(
     faces: impl Iterator<Item = (&'a [u32], &'a [u32])> + Clone,
     features: &Features,
     rule: UvRule,
+    points: Points<'_>,
 ) -> Features {
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
     let mut edges: HashMap<[u32; 2], Vec<[u32; 2]>> = HashMap::new();
@@ -274,14 +276,29 @@ fn layout_features<'a>(
         UvRule::Linear | UvRule::Smooth => false,
     };
     mismatched.extend(boundary.iter().copied().filter(|&v| sharpened(v)));
+    // A fin's point is mismatched where one of its copies is, or they have several values.
+    let mut point_values: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (&v, values) in &at {
+        point_values.entry(points.of(v)).or_default().extend(values);
+    }
+    let mismatched_points: std::collections::HashSet<u32> =
+        (mismatched.iter()).map(|&v| points.of(v)).collect();
+    let mut fins: Vec<u32> = (features.fins.iter().copied())
+        .filter(|&v| {
+            let p = points.of(v);
+            let values = &point_values[&p];
+            mismatched_points.contains(&p) || values.iter().any(|&u| u != values[0])
+        })
+        .collect();
+    mismatched.append(&mut fins.clone());
     mismatched.sort_unstable();
     mismatched.dedup();
-    let fins: std::collections::HashSet<u32> = features.fins.iter().copied().collect();
+    fins.sort_unstable();
     let mut by_rule = Vec::new();
     for &v in &mismatched {
         let values = &at[&v];
         let span: Vec<Span> = values.iter().map(|&u| spans[&(v, u)]).collect();
-        let sharp = match fins.contains(&v) {
+        let sharp = match fins.binary_search(&v).is_ok() {
             true => vec![Sharpness::INFINITE; values.len()],
             false => rule.sharpens(&span, boundary.contains(&v)),
         };
@@ -348,16 +365,33 @@ fn flat_corners(faces: &[[u32; 4]]) -> Vec<u32> {
     faces.iter().flatten().copied().collect()
 }
 
-/// The layout as a mesh in the plane z = 0: a vertex per mesh vertex and value its corners
-/// use there (`vertices` and `corners` parallel), in order of first use, and the corners
-/// renumbered to match. A value belongs to a vertex, as in OpenSubdiv's face-varying level
-/// (its vertices' "siblings"): one index used at two vertices is two values of the layout.
-fn plane(values: &[[f64; 2]], vertices: &[u32], corners: &[u32]) -> (Vec<[f64; 3]>, Vec<u32>) {
+/// Per vertex of a mesh, the point of the file it stands for: the copies of a vertex
+/// [`separate`] split share one ([`Weld::points`]); an empty list: each vertex its own.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Points<'a>(pub &'a [u32]);
+
+impl Points<'_> {
+    fn of(self, v: u32) -> u32 {
+        self.0.get(v as usize).copied().unwrap_or(v)
+    }
+}
+
+/// The layout as a mesh in the plane z = 0: a vertex per point ([`Points`]) and value its
+/// corners use there (`vertices` and `corners` parallel), in order of first use, and the
+/// corners renumbered to match. A value belongs to a vertex, as in OpenSubdiv's face-varying
+/// level (its vertices' "siblings"): one index used at two vertices is two values of the
+/// layout, one used by two copies of a separated vertex one.
+fn plane(
+    values: &[[f64; 2]],
+    vertices: &[u32],
+    corners: &[u32],
+    points: Points<'_>,
+) -> (Vec<[f64; 3]>, Vec<u32>) {
     let mut ids: HashMap<(u32, u32), u32> = HashMap::with_capacity(corners.len());
     let mut kept = Vec::new();
     let renumbered = (vertices.iter().zip(corners))
         .map(|(&v, &u)| {
-            *ids.entry((v, u)).or_insert_with(|| {
+            *ids.entry((points.of(v), u)).or_insert_with(|| {
                 let [x, y] = values[u as usize];
                 kept.push([x, y, 0.0]);
                 kept.len() as u32 - 1
@@ -401,6 +435,7 @@ impl PolyUv {
         mesh: &PolyMesh,
         features: &Features,
         rule: UvRule,
+        points: Points<'_>,
     ) -> Result<QuadUv, UvError> {
         self.check(mesh)?;
         let faces = || {
@@ -409,7 +444,7 @@ impl PolyUv {
                 .map(|w| (&mesh.corners[w[0]..w[1]], &self.corners[w[0]..w[1]]))
         };
         if rule.is_smooth() {
-            let (positions, corners) = plane(&self.values, &mesh.corners, &self.corners);
+            let (positions, corners) = plane(&self.values, &mesh.corners, &self.corners, points);
             let layout = PolyMesh {
                 positions,
                 offsets: mesh.offsets.clone(),
@@ -419,7 +454,7 @@ impl PolyUv {
                 .offsets
                 .windows(2)
                 .map(|w| (&mesh.corners[w[0]..w[1]], &layout.corners[w[0]..w[1]]));
-            let lf = layout_features(renumbered, features, rule);
+            let lf = layout_features(renumbered, features, rule, points);
             // A layout that is not a 2-manifold is separated ([`separate`]) and joined after.
             let separated = separate(&layout, &lf).map_err(UvError::Layout)?;
             let (layout, lf) = match &separated {
@@ -502,14 +537,19 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
     mesh: &QuadMesh,
     topo: &Topology,
     features: &Features,
-    uv: &QuadUv,
+    (uv, points): (&QuadUv, Points<'_>),
     (rule, limit): (UvRule, bool),
     steps: usize,
     threads: usize,
 ) -> Result<QuadUv<T>, UvError> {
     uv.check(mesh)?;
     if rule.is_smooth() {
-        let (positions, corners) = plane(&uv.values, &flat_corners(&mesh.faces), &flat_corners(&uv.faces));
+        let (positions, corners) = plane(
+            &uv.values,
+            &flat_corners(&mesh.faces),
+            &flat_corners(&uv.faces),
+            points,
+        );
         let layout = QuadMesh {
             positions,
             faces: corners
@@ -520,7 +560,7 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
         let pairs = (mesh.faces.iter())
             .zip(&layout.faces)
             .map(|(p, u)| (&p[..], &u[..]));
-        let lf = layout_features(pairs, features, rule);
+        let lf = layout_features(pairs, features, rule, points);
         // A layout that is not a 2-manifold is separated ([`separate`]) and joined after.
         let poly = PolyMesh {
             positions: layout.positions.clone(),
@@ -636,6 +676,8 @@ pub struct RefineUv<'m> {
     pub features: &'m Features,
     /// The channel.
     pub uv: &'m QuadUv,
+    /// The points the mesh's vertices stand for ([`Points`]).
+    pub points: Points<'m>,
     /// How it is refined, and whether smooth values go to the layout's limit.
     pub rule: (UvRule, bool),
     /// Refinement steps.
@@ -652,7 +694,7 @@ impl crate::surface::SurfaceVisitor for RefineUv<'_> {
             self.mesh,
             self.topology,
             self.features,
-            self.uv,
+            (self.uv, self.points),
             self.rule,
             self.steps,
             self.threads,

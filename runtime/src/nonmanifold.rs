@@ -451,6 +451,11 @@ impl Weld {
         Weld::of(origin.to_vec(), edge_origin.clone())
     }
 
+    /// Per vertex of the quad mesh, the point it stands for (copies share it).
+    pub fn points(&self) -> &[u32] {
+        &self.point
+    }
+
     /// For the first Catmull–Clark step of the separated mesh: its vertices stand for their
     /// origins ([`Separated::origin`]), each edge point for its edge's input edge
     /// ([`Separated::edge_origin`]), each face point for itself.

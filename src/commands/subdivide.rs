@@ -5,7 +5,7 @@ use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::{Checked, Extras};
-use lsubdiv::runtime::facevarying::{QuadUv, RefineUv, UvError, UvRule};
+use lsubdiv::runtime::facevarying::{Points, QuadUv, RefineUv, UvError, UvRule};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{limit_available, Refined, Subdivide};
 use lsubdiv::runtime::surface::SurfaceVisitor;
@@ -306,6 +306,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
                 topology,
                 features: &input.features,
                 uv,
+                points: Points(input.weld.as_ref().map_or(&[], |w| w.points())),
                 rule: (rule, !normals.is_empty()),
                 steps,
                 threads,

@@ -13,6 +13,12 @@
 // and interpolates positions in double (Far::PrimvarRefinerReal<double>). Writes the last level:
 // `v x y z t` per vertex, t the vertex's taint (below), then `f a b c d` per face (0-based).
 //
+// Texture values are tainted too where OpenSubdiv 3.5 counts a vertex's values wrongly: its
+// Vtr::FVarLevel::completeTopologyFromFaceValues compares a new value with the first of two
+// found only, so around a vertex whose faces' values run A, B, A, B it makes the second B
+// another value (a smooth crease of one face) where it means one value on disjoint faces (a
+// corner). The children of such a vertex's values, and what depends on them, are tainted.
+//
 // Taint marks what lsubdiv's L-system rule may change (a texture value: the values of a tainted
 // vertex's child where its face-varying topology matches the mesh's, and what depends on them): at each level taken by the scheme (every
 // level of an all-quad base, every level after the first otherwise: the first step of a mesh
@@ -26,6 +32,7 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -37,6 +44,23 @@
 using namespace OpenSubdiv;
 
 namespace {
+
+// Whether OpenSubdiv's count of the distinct values around a vertex (the loop of
+// completeTopologyFromFaceValues, its faces' values in order) is not the true count.
+bool miscounted(std::vector<int> const &values) {
+    std::vector<int> unique{values[0]};
+    for (std::size_t i = 1; i < values.size(); ++i) {
+        if (values[i] == values[i - 1]) continue;
+        if (unique.size() == 1 || (unique.size() == 2 && unique[0] != values[i])) {
+            unique.push_back(values[i]);
+        } else if (std::find(unique.begin(), unique.end(), values[i]) == unique.end()) {
+            unique.push_back(values[i]);
+        }
+    }
+    std::vector<int> sorted = values;
+    std::sort(sorted.begin(), sorted.end());
+    return unique.size() != (std::size_t)(std::unique(sorted.begin(), sorted.end()) - sorted.begin());
+}
 
 struct Point {
     double x, y, z, taint;
@@ -193,6 +217,22 @@ int main(int argc, char **argv) {
         if (!fvar.empty()) {
             nextUvs.resize(refiner->GetLevel(l).GetNumFVarValues(0));
             primvar.InterpolateFaceVarying(l, uvs, nextUvs, 0);
+            Far::TopologyLevel const &children = refiner->GetLevel(l);
+            for (int v = 0; l == 1 && v < parent.GetNumVertices(); ++v) {
+                Far::ConstIndexArray faces = parent.GetVertexFaces(v);
+                Far::ConstLocalIndexArray in = parent.GetVertexFaceLocalIndices(v);
+                std::vector<int> values;
+                for (int i = 0; i < faces.size(); ++i) {
+                    values.push_back(parent.GetFaceFVarValues(faces[i], 0)[in[i]]);
+                }
+                int child = parent.GetVertexChildVertex(v);
+                if (values.empty() || child < 0 || !miscounted(values)) continue;
+                Far::ConstIndexArray cFaces = children.GetVertexFaces(child);
+                Far::ConstLocalIndexArray cIn = children.GetVertexFaceLocalIndices(child);
+                for (int i = 0; i < cFaces.size(); ++i) {
+                    nextUvs[children.GetFaceFVarValues(cFaces[i], 0)[cIn[i]]].taint = 1.0;
+                }
+            }
         }
         if (quads || l > 1) {
             Far::TopologyLevel const &children = refiner->GetLevel(l);
