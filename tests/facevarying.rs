@@ -7,7 +7,7 @@ mod common;
 
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
-use lsubdiv::runtime::facevarying::{refine_uv, PolyUv, QuadUv, UvRule};
+use lsubdiv::runtime::facevarying::{refine_uv, Points, PolyUv, QuadUv, UvRule};
 use lsubdiv::runtime::features::{Boundary, Features};
 use lsubdiv::runtime::generators::{open_grid, tube};
 use lsubdiv::runtime::mesh::QuadMesh;
@@ -41,7 +41,17 @@ fn grid_with_uv() -> (QuadMesh, QuadUv) {
 fn refine(s: &GenericSurface, mesh: &QuadMesh, uv: &QuadUv, rule: UvRule, steps: usize) -> QuadUv {
     let topo = Topology::build(mesh).unwrap();
     let f = Features::default();
-    refine_uv(s, mesh, &topo, &f, uv, (rule, false), steps, 2).unwrap()
+    refine_uv(
+        s,
+        mesh,
+        &topo,
+        &f,
+        (uv, Points::default()),
+        (rule, false),
+        steps,
+        2,
+    )
+    .unwrap()
 }
 
 /// Linear: the value at corner (x, y) of refined face (base face f, cell x, y) is the
@@ -101,8 +111,17 @@ fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
         let s = surface(name);
         let f = Features::with_boundary(boundary);
         let topo = Topology::build(&mesh).unwrap();
-        let fine: QuadUv =
-            refine_uv(&s, &mesh, &topo, &f, &uv, (UvRule::Smooth, false), 2, 2).unwrap();
+        let fine: QuadUv = refine_uv(
+            &s,
+            &mesh,
+            &topo,
+            &f,
+            (&uv, Points::default()),
+            (UvRule::Smooth, false),
+            2,
+            2,
+        )
+        .unwrap();
         let layout = QuadMesh {
             positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
             faces: mesh.faces.clone(),
@@ -135,7 +154,17 @@ fn smooth_uvs_go_to_the_layouts_limit() {
     let s = surface("fibonacci");
     let topo = Topology::build(&mesh).unwrap();
     let f = Features::with_boundary(Boundary::EdgeOnly);
-    let fine: QuadUv = refine_uv(&s, &mesh, &topo, &f, &uv, (UvRule::Smooth, true), 3, 2).unwrap();
+    let fine: QuadUv = refine_uv(
+        &s,
+        &mesh,
+        &topo,
+        &f,
+        (&uv, Points::default()),
+        (UvRule::Smooth, true),
+        3,
+        2,
+    )
+    .unwrap();
     let layout = QuadMesh {
         positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
         faces: mesh.faces.clone(),
@@ -242,7 +271,12 @@ fn the_first_step_of_polygons_splits_uvs_linearly() {
         corners: vec![0, 1, 2, 3, 1, 4, 2],
     };
     let split = uv
-        .split(&mesh, &Features::default(), UvRule::Linear)
+        .split(
+            &mesh,
+            &Features::default(),
+            UvRule::Linear,
+            Points::default(),
+        )
         .unwrap();
     assert_eq!(split.faces.len(), 7);
     let mid = |a: usize, b: usize| [0, 1].map(|i| (uv.values[a][i] + uv.values[b][i]) / 2.0);
@@ -276,8 +310,8 @@ fn vt_lines(text: &str) -> Vec<[f64; 2]> {
 
 /// `lsubdiv subdivide` carries texture coordinates through: OBJ `vt` in, `vt` and `v/vt` out
 /// (`v/vt/vn` with `--limit`), the input's `vn` ignored with one warning; linear values are
-/// the library's `refine_uv`; `--uv smooth` on a layout that is not a 2-manifold refines it
-/// as OpenSubdiv does.
+/// the library's `refine_uv`; a value index used at two vertices is two values, as
+/// OpenSubdiv's.
 #[test]
 fn subdivide_refines_texture_coordinates() {
     use common::cli::{lsubdiv, stderr, write};
@@ -324,7 +358,7 @@ fn subdivide_refines_texture_coordinates() {
         &read.mesh,
         &read.topology,
         &read.features,
-        uv,
+        (uv, Points::default()),
         (UvRule::Linear, false),
         2,
         1,
@@ -347,17 +381,22 @@ fn subdivide_refines_texture_coordinates() {
             .all(|c| c.split('/').count() == 3),
         "{face}"
     );
-    // The smooth rule on that layout: its edges non-manifold (both faces use them in the same
-    // direction), so sharp, its values corners, as OpenSubdiv's FVAR_LINEAR_NONE makes them:
-    // one quad with straight sharp sides and fixed corners, which uniform binary refines
-    // bilinearly, the linear rule's values.
-    let o = run(&["--uv", "smooth"]);
+    // A value belongs to its vertex (OpenSubdiv's face-varying level): the two faces are two
+    // charts of one quad each. Corners-only keeps their corners: straight sides with fixed
+    // ends, which uniform binary refines bilinearly, the linear rule's values; smooth rounds
+    // the corners in (FVAR_LINEAR_NONE's crease rule on a value of one face) where the mesh's
+    // boundary rule does not make them corners.
+    let near = |values: &[[f64; 2]], w: &[f64; 2]| {
+        (values.iter()).any(|v| (v[0] - w[0]).abs() < 1e-12 && (v[1] - w[1]).abs() < 1e-12)
+    };
+    let o = run(&["--uv", "corners-only"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let corners = vt_lines(&std::fs::read_to_string(&out).unwrap());
+    assert!(want.values.iter().all(|w| near(&corners, w)));
+    let o = run(&["--uv", "smooth", "--boundary", "edge-only"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let smooth = vt_lines(&std::fs::read_to_string(&out).unwrap());
-    for w in &want.values {
-        let near = |v: &[f64; 2]| (v[0] - w[0]).abs() < 1e-12 && (v[1] - w[1]).abs() < 1e-12;
-        assert!(smooth.iter().any(near), "{w:?}");
-    }
+    assert!(!near(&smooth, &[0.0, 0.0]));
 }
 
 /// A layout that is not a 2-manifold (issue 39; the spot models have such): on a 2 × 2 grid,
@@ -400,4 +439,115 @@ fn a_bow_tie_in_the_layout_is_a_corner_of_each_fan() {
         let at_middle = fine.values.iter().filter(|v| **v == middle).count();
         assert_eq!(at_middle, 1, "{name}");
     }
+}
+
+/// A 3 × 3 grid of unit quads in OBJ, its texture coordinates the positions over 3, but the
+/// interior vertex (1, 1) at (0.4, 0.3) (the layout is not affine there); with `dart`, the
+/// vertex (1, 0) has a second value (the same point) in the face to its right, so the edge
+/// (1, 0)–(1, 1) is a seam that ends at (1, 1); `tags` appended.
+fn grid_obj(dart: bool, tags: &str) -> String {
+    let mut text = String::new();
+    for y in 0..4 {
+        for x in 0..4 {
+            text += &format!("v {x} {y} 0\n");
+        }
+    }
+    for y in 0..4 {
+        for x in 0..4 {
+            let uv = match (x, y) {
+                (1, 1) => [0.4, 0.3],
+                _ => [x as f64 / 3.0, y as f64 / 3.0],
+            };
+            text += &format!("vt {} {}\n", uv[0], uv[1]);
+        }
+    }
+    text += "vt 0.3333333333333333 0\n";
+    for y in 0..3 {
+        for x in 0..3 {
+            let v = |dx: usize, dy: usize| {
+                let (i, j) = (x + dx, y + dy);
+                let vt = if dart && (i, j) == (1, 0) && x == 1 {
+                    17
+                } else {
+                    1 + i + 4 * j
+                };
+                format!("{}/{vt}", 1 + i + 4 * j)
+            };
+            text += &format!("f {} {} {} {}\n", v(0, 0), v(1, 0), v(1, 1), v(0, 1));
+        }
+    }
+    text + tags
+}
+
+/// `subdivide --steps n --boundary edge-only` of `obj` with `extra` arguments: its `vt` values.
+fn refined_uvs(obj: &str, steps: &str, extra: &[&str]) -> Vec<[f64; 2]> {
+    use common::cli::{lsubdiv, stderr, write};
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "grid.obj", obj);
+    let out = dir.path().join("out.obj");
+    let mut args = vec![
+        "subdivide",
+        "uniform-binary",
+        input.as_str(),
+        "--steps",
+        steps,
+    ];
+    args.extend_from_slice(&["--boundary", "edge-only", "-o", out.to_str().unwrap()]);
+    args.extend_from_slice(extra);
+    let o = lsubdiv(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    vt_lines(&std::fs::read_to_string(&out).unwrap())
+}
+
+fn has(values: &[[f64; 2]], p: [f64; 2]) -> bool {
+    values
+        .iter()
+        .any(|v| (v[0] - p[0]).abs() < 1e-12 && (v[1] - p[1]).abs() < 1e-12)
+}
+
+/// OpenSubdiv's face-varying modes: corners-only keeps a value with one face where smooth
+/// moves it; the file's `t facevaryinginterpolateboundary` chooses the mode, `--uv` overrides
+/// it; boundaries keeps the chart's boundary linear; corners-plus2 keeps a dart's value where
+/// corners-plus1 smooths it.
+#[test]
+fn face_varying_modes_keep_what_opensubdiv_keeps() {
+    let plain = grid_obj(false, "");
+    let corner = [0.0, 0.0];
+    assert!(!has(&refined_uvs(&plain, "2", &["--uv", "smooth"]), corner));
+    assert!(has(
+        &refined_uvs(&plain, "2", &["--uv", "corners-only"]),
+        corner
+    ));
+    let tagged = grid_obj(false, "t facevaryinginterpolateboundary 1/0/0 1\n");
+    assert!(has(&refined_uvs(&tagged, "2", &[]), corner));
+    assert!(!has(&refined_uvs(&tagged, "2", &["--uv", "none"]), corner));
+    // Along the bottom edge, linear: the twelfths; smooth: a B-spline's points, the corner's
+    // moved in.
+    let bottom = |values: &[[f64; 2]]| -> Vec<f64> {
+        let mut u: Vec<f64> = (values.iter())
+            .filter(|v| v[1].abs() < 1e-12)
+            .map(|v| v[0])
+            .collect();
+        u.sort_by(f64::total_cmp);
+        u
+    };
+    let linear = bottom(&refined_uvs(&plain, "2", &["--uv", "boundaries"]));
+    assert_eq!(linear.len(), 13);
+    for (k, u) in linear.iter().enumerate() {
+        assert!((u - k as f64 / 12.0).abs() < 1e-12, "{linear:?}");
+    }
+    let smooth = bottom(&refined_uvs(&plain, "2", &["--uv", "smooth"]));
+    assert!(smooth[0] > 1e-3, "{smooth:?}");
+    // The seam from (1, 0) ends at (1, 1), whose value (0.4, 0.3) is not where the smooth rule
+    // of its neighbours puts it.
+    let dart = grid_obj(true, "");
+    let value = [0.4, 0.3];
+    assert!(has(
+        &refined_uvs(&dart, "1", &["--uv", "corners-plus2"]),
+        value
+    ));
+    assert!(!has(
+        &refined_uvs(&dart, "1", &["--uv", "corners-plus1"]),
+        value
+    ));
 }

@@ -123,7 +123,10 @@ fn size<const N: usize>(points: impl Iterator<Item = [f64; N]>) -> f64 {
             std::array::from_fn(|i| hi[i].max(p[i])),
         )
     });
-    (0..N).map(|i| hi[i] - lo[i]).fold(0.0, f64::max).max(1e-300)
+    (0..N)
+        .map(|i| hi[i] - lo[i])
+        .fold(0.0, f64::max)
+        .max(1e-300)
 }
 
 /// Shapes where lsubdiv's vertex count is known to differ from OpenSubdiv's, and why: every
@@ -232,7 +235,11 @@ fn compare_uv(osd: &Mesh, ours: &Mesh) -> Result<[usize; 2], String> {
 /// The shapes (name, path, options boundary, crease, triangle rule) and a directory with the
 /// reference driver, or `None` (said why) where either is absent.
 #[allow(clippy::type_complexity)]
-fn setup() -> Option<(Vec<(String, String, [String; 3])>, tempfile::TempDir, PathBuf)> {
+fn setup() -> Option<(
+    Vec<(String, String, [String; 3])>,
+    tempfile::TempDir,
+    PathBuf,
+)> {
     let dir = shapes()?;
     let tmp = tempfile::tempdir().unwrap();
     let osd = driver(tmp.path())?;

@@ -374,8 +374,10 @@ impl Parsed {
                 let topology =
                     topology_of(&s.mesh).map_err(|e| places.locate(file, &e.in_input(&s)))?;
                 let points = Points(&places.origin);
-                let uv = (uv.map(|uv| uv.split(&mesh, &features, uv_rule, points)).transpose())
-                    .map_err(uv_error)?;
+                let uv = (uv
+                    .map(|uv| uv.split(&mesh, &features, uv_rule, points))
+                    .transpose())
+                .map_err(uv_error)?;
                 let weld = origin.map(|(o, e)| Weld::after_split(o, e, &s));
                 (s.mesh, s.features, topology, uv, true, weld)
             }

@@ -663,12 +663,53 @@ mod tests {
                 7,
                 "the boundary interpolation is set otherwise at line 6".into(),
             ),
+            (
+                "t facevaryinginterpolateboundary 1/0/0 6",
+                6,
+                "`6` is not a face-varying interpolation mode (0 none, 1 corners-only, 2 \
+                 corners-plus1, 3 corners-plus2, 4 boundaries, 5 all)"
+                    .into(),
+            ),
+            (
+                "t facevaryinginterpolateboundary 1/0/0 1\nt facevaryinginterpolateboundary 1/0/0 0",
+                7,
+                "the face-varying interpolation is set otherwise at line 6".into(),
+            ),
         ];
         for (tags, line, message) in cases {
             assert_eq!(
                 read(tags).expect_err(tags),
                 Error::at(Location::line("t.obj", line), message),
                 "{tags:?}"
+            );
+        }
+    }
+
+    /// `t facevaryinginterpolateboundary k` sets the texture coordinates' rule, OpenSubdiv's
+    /// numbering (`regression/common/far_utils.h`); without it the rule is linear.
+    #[test]
+    fn face_varying_modes() {
+        use lsubdiv_runtime::facevarying::UvRule;
+        let rule = |tags: &str| {
+            crate::obj::parse("t.obj", &format!("{SQUARE}{tags}"))
+                .unwrap()
+                .uv_rule
+        };
+        assert_eq!(rule(""), UvRule::Linear);
+        for (k, want) in [
+            UvRule::Smooth,
+            UvRule::CornersOnly,
+            UvRule::CornersPlus1,
+            UvRule::CornersPlus2,
+            UvRule::Boundaries,
+            UvRule::Linear,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            assert_eq!(
+                rule(&format!("t facevaryinginterpolateboundary 1/0/0 {k}\n")),
+                want
             );
         }
     }

@@ -245,8 +245,9 @@ fn layout_features<'a>(
     }
     // Where the layout does not match the mesh (a seam at the vertex), the mesh's boundary,
     // and the sharpest edges inside each value's faces.
-    let sharpness: HashMap<[u32; 2], Sharpness> =
-        (features.creases.iter()).map(|&([a, b], s)| (key(a, b), s)).collect();
+    let sharpness: HashMap<[u32; 2], Sharpness> = (features.creases.iter())
+        .map(|&([a, b], s)| (key(a, b), s))
+        .collect();
     let mut mismatched: Vec<u32> = (at.iter())
         .filter(|(_, u)| u.len() > 1)
         .map(|(&v, _)| v)
@@ -377,26 +378,28 @@ impl Points<'_> {
 }
 
 /// The layout as a mesh in the plane z = 0: a vertex per point ([`Points`]) and value its
-/// corners use there (`vertices` and `corners` parallel), in order of first use, and the
-/// corners renumbered to match. A value belongs to a vertex, as in OpenSubdiv's face-varying
-/// level (its vertices' "siblings"): one index used at two vertices is two values of the
-/// layout, one used by two copies of a separated vertex one.
+/// corners use there (`vertices` and `corners` parallel), in the order of (value, point), and
+/// the corners renumbered to match. A value belongs to a vertex, as in OpenSubdiv's
+/// face-varying level (its vertices' "siblings"): one index used at two vertices is two values
+/// of the layout, one used by two copies of a separated vertex one.
 fn plane(
     values: &[[f64; 2]],
     vertices: &[u32],
     corners: &[u32],
     points: Points<'_>,
 ) -> (Vec<[f64; 3]>, Vec<u32>) {
-    let mut ids: HashMap<(u32, u32), u32> = HashMap::with_capacity(corners.len());
-    let mut kept = Vec::new();
-    let renumbered = (vertices.iter().zip(corners))
-        .map(|(&v, &u)| {
-            *ids.entry((points.of(v), u)).or_insert_with(|| {
-                let [x, y] = values[u as usize];
-                kept.push([x, y, 0.0]);
-                kept.len() as u32 - 1
-            })
+    let pair = |(&v, &u): (&u32, &u32)| (u, points.of(v));
+    let mut pairs: Vec<(u32, u32)> = vertices.iter().zip(corners).map(pair).collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let kept = (pairs.iter())
+        .map(|&(u, _)| {
+            let [x, y] = values[u as usize];
+            [x, y, 0.0]
         })
+        .collect();
+    let renumbered = (vertices.iter().zip(corners))
+        .map(|c| pairs.binary_search(&pair(c)).expect("a pair of the list") as u32)
         .collect();
     (kept, renumbered)
 }

@@ -113,8 +113,12 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let mesh =
-        lsubdiv_cli::limits::read_mesh(&input, refine.limit.bytes(), boundary.rule(), uv.map(UvArg::rule))?;
+    let mesh = lsubdiv_cli::limits::read_mesh(
+        &input,
+        refine.limit.bytes(),
+        boundary.rule(),
+        uv.map(UvArg::rule),
+    )?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
