@@ -174,9 +174,12 @@ proptest::proptest! {
             // Boundary loops, with EVs inside and on the boundary (where the scheme's masks
             // are not contained after one step, the refiner refuses: nothing to compare).
             for mesh in [open_box(), pentagon(), l_shape()] {
-                match boundaries_are_curves((&text, &s, &mut c, &sigma), &mesh, steps) {
-                    Ok(()) | Err(SurfaceError::Unsupported(_)) => {}
-                    Err(e) => proptest::prop_assert!(false, "{e}\n{text}"),
+                for boundary in [Boundary::EdgeAndCorner, Boundary::EdgeOnly] {
+                    let what = (&*text, &s, &mut c, &sigma[..]);
+                    match boundaries_are_curves(what, (&mesh, boundary), steps) {
+                        Ok(()) | Err(SurfaceError::Unsupported(_)) => {}
+                        Err(e) => proptest::prop_assert!(false, "{boundary:?}: {e}\n{text}"),
+                    }
                 }
             }
             // A crease from boundary to boundary past EVs of valence 3 and 6.
@@ -295,16 +298,18 @@ fn boundary_loops(mesh: &QuadMesh) -> Vec<Vec<u32>> {
     loops
 }
 
-/// Checks that every boundary loop of `mesh` refined by `name` is the 1D refinement of the
-/// base loop: closed when it has no corner (a boundary vertex with one face), else open with
-/// interpolated ends between consecutive corners.
+/// Checks that every boundary loop of `mesh` refined by `name` under `boundary` is the 1D
+/// refinement of the base loop: closed when it has no corner (a boundary vertex with one face
+/// under edge-and-corner), else open with interpolated ends between consecutive corners.
 fn boundaries_are_curves(
     (name, s, c, sigma): (&str, &GenericSurface, &mut GenericScheme, &[u8]),
-    mesh: &QuadMesh,
+    (mesh, boundary): (&QuadMesh, Boundary),
     steps: usize,
 ) -> Result<(), SurfaceError> {
     let topo = Topology::build(mesh).unwrap();
-    let fine = lsubdiv::runtime::patch::subdivide::<_, f64>(s, mesh, steps, 2)?;
+    let features = Features::with_boundary(boundary);
+    let fine =
+        lsubdiv::runtime::patch::subdivide_with::<_, f64>(s, mesh, &topo, &features, steps, 2)?;
     let nv = mesh.positions.len() as u32;
     let base = boundary_loops(mesh);
     let refined = boundary_loops(&fine);
@@ -328,9 +333,8 @@ fn boundaries_are_curves(
         }
         let bases: Vec<u32> = walk.iter().copied().filter(|&v| v < nv).collect();
         assert_eq!(&bases, lp, "{name}: base vertices in order along the loop");
-        let corners: Vec<usize> = (0..lp.len())
-            .filter(|&i| topo.valence(lp[i]) == 1)
-            .collect();
+        let corner = |v: u32| boundary == Boundary::EdgeAndCorner && topo.valence(v) == 1;
+        let corners: Vec<usize> = (0..lp.len()).filter(|&i| corner(lp[i])).collect();
         let point = |v: u32| fine.positions[v as usize];
         let mut worst = 0.0f64;
         let mut compare = |want: &[[f64; 3]], got: &[u32]| {
@@ -374,7 +378,7 @@ fn boundaries_are_curves(
                 .copied()
                 .chain([lp[first]])
                 .collect();
-            let is_corner = |v: u32| v < nv && topo.valence(v) == 1;
+            let is_corner = |v: u32| v < nv && corner(v);
             let (mut i, mut j) = (0, 0);
             while i + 1 < rot_base.len() {
                 let i2 = i
@@ -444,9 +448,16 @@ fn boundary_loops_are_the_schemes_curves() {
         let s = surface(name);
         let (mut c, sigma) = curve(name);
         for steps in 1..=3 {
-            for mesh in [grid(2, 3), open_box(), pentagon(), l_shape()] {
-                boundaries_are_curves((name, &s, &mut c, &sigma), &mesh, steps)
-                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let meshes = [("grid", grid(2, 3)), ("open box", open_box())];
+            let meshes = meshes
+                .into_iter()
+                .chain([("pentagon", pentagon()), ("L", l_shape())]);
+            for (mesh_name, mesh) in meshes {
+                for boundary in [Boundary::EdgeAndCorner, Boundary::EdgeOnly] {
+                    let what = format!("{name}, {mesh_name}, {boundary:?}");
+                    boundaries_are_curves((&what, &s, &mut c, &sigma), (&mesh, boundary), steps)
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                }
             }
         }
     }

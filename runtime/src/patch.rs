@@ -81,7 +81,9 @@ use numbering::{lifted, Numbering, SharedOut};
 use plan::Plan;
 use reference::Reference;
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
-use vertices::{ev_child, one_ring, spoke, vertex_child, vertex_rule_weights, Spot};
+use vertices::{
+    ev_child, holders, one_ring, spoke, turning_line, vertex_child, vertex_rule_weights, Spot,
+};
 
 /// Faces (or special vertices) a worker takes between two lock-step levels at least: less
 /// work than that does not pay for a thread (the cube's 24 fan faces over 10 levels ran 8 %
@@ -1055,6 +1057,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let per = base.special.len().div_ceil(self.threads).max(BETWEEN);
             let specials = base.special.chunks(per).zip(self.alphas.chunks(per));
             let handed = &*handed;
+            let at = |f: u32, x: i64, y: i64| match gathered {
+                true => *fans.point(f, x, y),
+                // The start level's point, by the kernel's table (x-major).
+                false => {
+                    let at = ring_layout(n, true).at(x, y) / 3;
+                    start[table[f as usize * m * m + at] as usize]
+                }
+            };
             let children: Vec<Option<[T; 3]>> = in_threads(
                 specials.zip(base.vertex_rules(k).chunks(per)).enumerate(),
                 |(c, ((vs, alphas), rules))| {
@@ -1068,17 +1078,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                                     one.point(k, spot)
                                 })
                             }
-                            _ => {
-                                let at = |f: u32, x: i64, y: i64| match gathered {
-                                    true => *fans.point(f, x, y),
-                                    // The start level's point, by the kernel's table (x-major).
-                                    false => {
-                                        let at = ring_layout(n, true).at(x, y) / 3;
-                                        start[table[f as usize * m * m + at] as usize]
-                                    }
-                                };
-                                vertex_child(base, (v, rule, alpha), (plan, ring, k), n, at)
-                            }
+                            _ => vertex_child(base, (v, rule, alpha), (plan, ring, k), n, at),
                         })
                     })
                     .collect::<Vec<_>>()
@@ -1087,6 +1087,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             .into_iter()
             .flatten()
             .collect();
+            // Where a crease turns inside one face, its points near the turn by the curve.
+            let turns: Vec<(u32, u32, i64, [T; 3])> = (base.special.iter())
+                .zip(base.vertex_rules(k))
+                .filter(|(_, r)| **r == Some(VertexRule::Crease))
+                .flat_map(|(&v, _)| {
+                    let line = turning_line(base, plan, (v, k), n, &at);
+                    line.into_iter().map(move |(e, t, p)| (v, e, t, p))
+                })
+                .collect();
             if last {
                 for (&v, child) in base.special.iter().zip(&children) {
                     if let Some(child) = child {
@@ -1094,7 +1103,21 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         unsafe { out.write(v as usize, child) };
                     }
                 }
+                for &(v, e, t, p) in &turns {
+                    if let Some((f, (x, y))) = holders(base.topo, (v, e, t), n_new).next() {
+                        let (i, _) = self.out_num.index(f as usize, x, y);
+                        // SAFETY: as above.
+                        unsafe { out.write(i, &p) };
+                    }
+                }
             } else {
+                let layout = layouts.1;
+                for &(v, e, t, p) in &turns {
+                    for (f, (x, y)) in holders(base.topo, (v, e, t), n_new) {
+                        let at = self.fan_slot[f as usize] as usize * new_len + layout.at(x, y);
+                        new[at..at + 3].copy_from_slice(&p);
+                    }
+                }
                 let layout = layouts.1;
                 let (faces, slot) = (&self.fan_faces, &self.fan_slot);
                 // The ring points each face takes from its neighbours, all read before any

@@ -22,6 +22,7 @@
 //! A refinement to side 2 (one binary step) takes this step on every mesh, ordinary faces
 //! too: for 9 points a face the composed kernel's fixed costs made it half as fast ([`ALONE`]).
 
+use super::vertices::{holders, turning_line};
 use super::{
     ev_child, owned_border, ring_layout, vertex_child, Base, CornerPoint, Numbering, Plan,
     SharedOut, Simd, Spot,
@@ -265,6 +266,26 @@ impl Step {
                 unsafe { out.write(v as usize, &child) };
             }
         });
+        // Where a crease turns inside one face, its points near the turn by the curve, from
+        // the face's patch with its phantoms.
+        let patch_point = |f: u32, x: i64, y: i64| {
+            let mut patch = vec![T::default(); m * m * 3];
+            let table = &self.gather[f as usize * m * m..][..m * m];
+            super::load(table, old, layout, &mut patch);
+            base.load_phantoms((f, self.old.n, self.k), layout, &mut patch);
+            let at = layout.at(x, y);
+            [patch[at], patch[at + 1], patch[at + 2]]
+        };
+        let creases =
+            (base.special.iter().zip(rules)).filter(|(_, r)| **r == Some(VertexRule::Crease));
+        for (&v, _) in creases {
+            for (e, t, p) in turning_line(base, &self.plan, (v, self.k), self.old.n, &patch_point) {
+                if let Some((f, (x, y))) = holders(base.topo, (v, e, t), self.new.n).next() {
+                    // SAFETY: the workers are done.
+                    unsafe { out.write(self.new.index(f as usize, x, y).0, &p) };
+                }
+            }
+        }
     }
 
     #[cfg(target_arch = "x86_64")]

@@ -95,6 +95,78 @@ fn crease_child<T: Real>(
     acc.map(T::from_f64)
 }
 
+/// Where a crease turns inside one face (its two sharp edges are sides of one face, as at a
+/// boundary vertex with one face under edge-only): the new points near v along both edges,
+/// each the curve's rule with the line continued along the other edge, where the face's
+/// phantoms continue it straight on (a boundary is the scheme's curve, docs/real-meshes.md;
+/// `Cut::curves` does the same at a reference step). Per point: its edge, its distance from v
+/// (new level) and its value; only points whose masks reach past v. From the old level
+/// (side N, `point(face, x, y)`), the plan of the step.
+pub(super) fn turning_line<T: Real>(
+    base: &Base<'_>,
+    plan: &Plan,
+    (v, k): (u32, usize),
+    n: i64,
+    point: &impl Fn(u32, i64, i64) -> [T; 3],
+) -> Vec<(u32, i64, [T; 3])> {
+    let topo = base.topo;
+    let Some(w) = (topo.rotation(v).iter()).find(|w| {
+        base.rules(w.face, k).corners[w.corner as usize] == crate::features::CornerKind::Both
+    }) else {
+        return Vec::new();
+    };
+    let c = w.corner as usize;
+    let (cx, cy) = corner_at(w.corner, n, n);
+    // The two sides at the corner: (edge, unit step from v).
+    let sides = [
+        (topo.edge_of(w.face, w.corner), TOWARD_NEXT[c]),
+        (topo.edge_of(w.face, (w.corner + 3) % 4), TOWARD_PREV[c]),
+    ];
+    let h = (plan.rows.len() - plan.n_new as usize - 1) / 2;
+    let mut out = Vec::new();
+    for (i, &(edge, (dx, dy))) in sides.iter().enumerate() {
+        let (_, (ox, oy)) = sides[1 - i];
+        for t in 1..plan.n_new {
+            let parents = &plan.parents[plan.rows[h + t as usize].clone()];
+            if parents.iter().all(|&(x, _)| x > 0) {
+                continue;
+            }
+            let mut acc = [0.0f64; 3];
+            for &(x, wt) in parents {
+                let x = x as i64 - 1;
+                let (sx, sy) = if x < 0 { (ox, oy) } else { (dx, dy) };
+                let p = point(w.face, cx + x.abs() * sx, cy + x.abs() * sy);
+                for (a, q) in acc.iter_mut().zip(p) {
+                    *a += wt * q.to_f64();
+                }
+            }
+            out.push((edge, t, acc.map(T::from_f64)));
+        }
+    }
+    out
+}
+
+/// The faces at v that hold the point at distance t from v along edge e (side N), each with
+/// its place there.
+pub(super) fn holders(
+    topo: &Topology,
+    (v, e, t): (u32, u32, i64),
+    n: i64,
+) -> impl Iterator<Item = (u32, (i64, i64))> + '_ {
+    topo.rotation(v).iter().filter_map(move |w| {
+        let c = w.corner;
+        let (cx, cy) = corner_at(c, n, n);
+        let (dx, dy) = if topo.edge_of(w.face, c) == e {
+            TOWARD_NEXT[c as usize]
+        } else if topo.edge_of(w.face, (c + 3) % 4) == e {
+            TOWARD_PREV[c as usize]
+        } else {
+            return None;
+        };
+        Some((w.face, (cx + t * dx, cy + t * dy)))
+    })
+}
+
 /// Spoke i of v's rotation (wedge i's previous edge; the last spoke of a boundary vertex is
 /// the last wedge's next edge): the wedge that holds it, and the unit step along it from the
 /// vertex in that wedge's face.
