@@ -296,41 +296,32 @@ fn a_fractional_crease_blends_the_two_integer_ones() {
     // A crease loop of sharpness 0.5 around the cube: at the first step every point on it is
     // half the crease's and half the smooth rule's (OpenSubdiv's `ComputeEdgeVertexMask`, and
     // `ComputeFractionalWeightAtVertex` = 0.5 at each of its vertices), and the steps after
-    // are linear and the same: the refinement is the mean of sharpness 1's and sharpness 0's.
+    // are linear and the same: the refinement is the mean of sharpness 1's and sharpness 0's
+    // (for Binary-Ternary, whose first step runs the reference driver on the mesh cut along
+    // its sharp lines, by the blend of that step cut along the crease and not).
+    // A corner of sharpness 0.5 likewise (its rule blends the corner's and the smooth one).
     let dir = tempfile::tempdir().unwrap();
-    let tagged = |s: &str| format!("{CUBE}t crease 8/1/0 0 1 1 2 2 3 3 0 {s}\n");
+    let crease = |s: &str| format!("{CUBE}t crease 8/1/0 0 1 1 2 2 3 3 0 {s}\n");
+    let corner = |s: &str| format!("{CUBE}t corner 1/1/0 0 {s}\n");
     for scheme in SCHEMES {
-        if scheme == "binary-ternary" {
-            // Its first step runs the reference driver on the mesh cut along sharp lines,
-            // which has no blend: refused with that reason (docs/real-meshes.md).
-            let input = write(dir.path(), "half.obj", &tagged("0.5"));
-            let out = dir.path().join("bt.obj");
-            let o = lsubdiv(&[
-                "subdivide",
-                scheme,
-                "--steps",
-                "2",
-                &input,
-                "-o",
-                out.to_str().unwrap(),
-            ]);
-            assert_eq!(o.status.code(), Some(2));
-            assert!(stderr(&o).contains("sharpness below 1"), "{}", stderr(&o));
-            continue;
-        }
-        let (half, _) = refine(dir.path(), ("half.obj", &tagged("0.5")), scheme, 3, &[]);
-        let (one, _) = refine(dir.path(), ("one.obj", &tagged("1")), scheme, 3, &[]);
-        let (zero, _) = refine(dir.path(), ("zero.obj", &tagged("0")), scheme, 3, &[]);
-        assert_eq!(half.f, one.f, "{scheme}");
-        for (i, p) in half.v.iter().enumerate() {
-            for c in 0..3 {
-                let mean = 0.5 * (one.v[i][c] + zero.v[i][c]);
+        for (what, tagged) in [
+            ("crease", &crease as &dyn Fn(&str) -> String),
+            ("corner", &corner),
+        ] {
+            let (half, _) = refine(dir.path(), ("half.obj", &tagged("0.5")), scheme, 3, &[]);
+            let (one, _) = refine(dir.path(), ("one.obj", &tagged("1")), scheme, 3, &[]);
+            let (zero, _) = refine(dir.path(), ("zero.obj", &tagged("0")), scheme, 3, &[]);
+            assert_eq!(half.f, one.f, "{scheme}");
+            for (i, (p, (a, b))) in half.v.iter().zip(one.v.iter().zip(&zero.v)).enumerate() {
+                let mean: [f64; 3] = std::array::from_fn(|c| 0.5 * (a[c] + b[c]));
+                let off = (0..3).map(|c| (p[c] - mean[c]).abs()).fold(0.0, f64::max);
                 assert!(
-                    (p[c] - mean).abs() < 1e-12,
-                    "{scheme}: vertex {i}: {p:?}, mean {mean}"
+                    off < 1e-12,
+                    "{scheme}, {what}: vertex {i}: {p:?}, mean {mean:?}"
                 );
             }
         }
+        let tagged = crease;
         let (point_seven, _) = refine(dir.path(), ("p7.obj", &tagged("1.7")), scheme, 3, &[]);
         assert!(
             point_seven

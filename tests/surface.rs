@@ -711,7 +711,19 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
     use lsubdiv::runtime::patch::{footprint, Refiner};
     use lsubdiv::runtime::surface::SurfaceScheme;
     let plain = |mesh: QuadMesh| (mesh, Features::default());
+    // A crease of sharpness 0.5 around one face: Binary-Ternary's reference step runs twice.
+    let fractional = |mesh: QuadMesh| {
+        let f = mesh.faces[0];
+        let half = lsubdiv::runtime::features::Sharpness::from_f64(0.5).unwrap();
+        let creases = (0..4).map(|i| ([f[i], f[(i + 1) % 4]], half)).collect();
+        let features = Features {
+            creases,
+            ..Features::default()
+        };
+        (mesh, features)
+    };
     for (name, (mesh, features), steps) in [
+        ("binary-ternary", fractional(split_icosphere(3)), 2),
         ("fibonacci", plain(star()), 7),
         ("fibonacci", plain(cube()), 6),
         ("binary-ternary", plain(star()), 3),

@@ -425,6 +425,27 @@ impl Resolved {
         topo.spokes(v).map(|e| self.edge_sharp(e, k)).collect()
     }
 
+    /// Whether an edge or a vertex has a sharpness below 1: at the first step its rule is a
+    /// blend of the sharp and the smooth one.
+    pub fn has_fractions(&self) -> bool {
+        (self.edge.iter().chain(&self.vertex)).any(|s| s.is_sharp() && s.value() < 1.0)
+    }
+
+    /// These features with every sharpness below 1 made smooth: the smooth side of the
+    /// first step's blends.
+    pub fn without_fractions(&self) -> Resolved {
+        let whole = |s: &Sharpness| match s.value() < 1.0 {
+            true => Sharpness::SMOOTH,
+            false => *s,
+        };
+        Resolved {
+            edge: self.edge.iter().map(whole).collect(),
+            vertex: self.vertex.iter().map(whole).collect(),
+            hole: self.hole.clone(),
+            plain: self.plain,
+        }
+    }
+
     /// How much of the sharp rule edge e takes at step k ([`Sharpness::weight`]).
     pub fn edge_weight(&self, e: u32, k: usize) -> f64 {
         self.edge[e as usize].at(k).weight()

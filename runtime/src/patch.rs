@@ -58,6 +58,7 @@ use crate::topology::{Topology, TopologyError};
 use std::time::Instant;
 
 mod base;
+mod blend;
 mod composed;
 mod cut;
 mod direct;
@@ -71,6 +72,7 @@ mod reference;
 mod stream;
 mod vertices;
 use base::{Base, FaceRules};
+use blend::Blend;
 use composed::{Composed, Faces, Rows};
 use cut::{Cut, Ghosts};
 pub use footprint::{footprint, output_counts, Footprint};
@@ -317,6 +319,10 @@ pub struct Refiner<'s, S, T> {
     near: Option<Near>,
     /// The reference steps' maps (none without reference steps).
     reference: Option<Reference>,
+    /// The smooth side of the reference step's blends, where a sharpness is below 1 at it.
+    blend: Option<Blend>,
+    /// That side's level after the step.
+    smooth_start: Vec<[T; 3]>,
 
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
@@ -440,21 +446,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         } else {
             None
         };
-        // The cut is along whole lines: an edge that blends the sharp and the smooth rule
-        // at the step (sharpness below 1) has no place in it.
-        if cut.is_some()
-            && (0..topo.edge_count() as u32).any(|e| {
-                let w = base.features.edge_weight(e, 0);
-                w > 0.0 && w < 1.0
-            })
-        {
-            return Err(SurfaceError::Unsupported(format!(
-                "the first step of scheme `{}` runs the reference driver on the mesh cut open \
-                 along its sharp edges, and an edge here has sharpness below 1 at that step \
-                 (a blend of the sharp and the smooth rule), which that cut cannot make",
-                t.name
-            )));
-        }
+        // The cut is along whole lines: a sharpness below 1 at the step blends the step cut
+        // along it with the step without it.
+        let blend = match &cut {
+            Some(_) => {
+                let num = Numbering::new(base.topo, words[1].len() as i64);
+                let line = || Plan::new(&t, &lookup, &[*omega], 0);
+                Blend::new(scheme, &base, (line()?, line()?), &num, threads.max(1))?
+            }
+            None => None,
+        };
         if first > 0 && !plain && cut.is_none() {
             return Err(SurfaceError::Unsupported(format!(
                 "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \
@@ -541,6 +542,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             cut,
             near,
             reference,
+            blend,
+            smooth_start: Vec::new(),
             ordinary,
             stacks,
             handoff,
@@ -656,13 +659,14 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     .sum::<usize>()
             })
             .sum();
-        let points = [&self.start, &self.level, &self.output]
+        let points = [&self.start, &self.level, &self.output, &self.smooth_start]
             .map(Vec::capacity)
             .iter()
             .sum::<usize>()
             + self.handed.capacity();
         (fans + scratch + 3 * points) * size_of::<T>()
             + self.reference.as_ref().map_or(0, Reference::bytes)
+            + self.blend.as_ref().map_or(0, Blend::bytes)
             + self.near.as_ref().map_or(0, Near::bytes)
     }
 
@@ -745,6 +749,20 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             let rules = self.base.special.iter().zip(self.base.vertex_rules(0));
             for (&v, _) in rules.filter(|(_, r)| **r == Some(VertexRule::Corner)) {
                 self.start[v as usize] = positions[v as usize].map(T::from_f64);
+            }
+            if let Some(blend) = &mut self.blend {
+                let ring = self.scheme.surface().rings[0];
+                let (start, other) = (&mut self.start, &mut self.smooth_start);
+                let alphas = (&self.alphas[..], ring);
+                blend.run(
+                    &self.base,
+                    alphas,
+                    positions,
+                    num,
+                    start,
+                    other,
+                    self.threads,
+                );
             }
         }
         self.level_seconds.clear();

@@ -154,9 +154,20 @@ pub fn footprint(
         let new = n(first).saturating_add(1);
         let near = new.saturating_mul(new).saturating_add(side(first - 1));
         let near = near.saturating_mul(4).saturating_add(5);
-        reference::bound(t, level0, first)
+        let one = reference::bound(t, level0, first)
             .saturating_add(f0.saturating_mul(near))
-            .saturating_add(made)
+            .saturating_add(made);
+        // A sharpness below 1 at the step runs it twice (`patch/blend.rs`): a second cut
+        // (along fewer edges) and its maps, its level after the step and a weight per point.
+        let blends = cut.is_some() && base.as_ref().is_some_and(|b| b.features.has_fractions());
+        let second = output_counts(v0, e0, f0, n(first))
+            .0
+            .saturating_add(ghosts)
+            .saturating_mul(point.saturating_add(8));
+        match blends {
+            true => one.saturating_mul(2).saturating_add(second),
+            false => one,
+        }
     } else {
         0
     };
