@@ -39,19 +39,37 @@ fn grid_with_uv() -> (QuadMesh, QuadUv) {
 }
 
 fn refine(s: &GenericSurface, mesh: &QuadMesh, uv: &QuadUv, rule: UvRule, steps: usize) -> QuadUv {
+    refine_with(s, (mesh, &Features::default()), uv, (rule, false), steps)
+}
+
+/// [`refine_uv`] of `uv` on `mesh` with `features`, two workers.
+fn refine_with(
+    s: &GenericSurface,
+    (mesh, features): (&QuadMesh, &Features),
+    uv: &QuadUv,
+    rule: (UvRule, bool),
+    steps: usize,
+) -> QuadUv {
     let topo = Topology::build(mesh).unwrap();
-    let f = Features::default();
     refine_uv(
         s,
         mesh,
         &topo,
-        &f,
+        features,
         (uv, Points::default()),
-        (rule, false),
+        rule,
         steps,
         2,
     )
     .unwrap()
+}
+
+/// The layout of a channel with one value per vertex: the mesh's faces over its values.
+fn layout_of(mesh: &QuadMesh, uv: &QuadUv) -> QuadMesh {
+    QuadMesh {
+        positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
+        faces: mesh.faces.clone(),
+    }
 }
 
 /// Linear: the value at corner (x, y) of refined face (base face f, cell x, y) is the
@@ -110,22 +128,8 @@ fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
     ] {
         let s = surface(name);
         let f = Features::with_boundary(boundary);
-        let topo = Topology::build(&mesh).unwrap();
-        let fine: QuadUv = refine_uv(
-            &s,
-            &mesh,
-            &topo,
-            &f,
-            (&uv, Points::default()),
-            (UvRule::Smooth, false),
-            2,
-            2,
-        )
-        .unwrap();
-        let layout = QuadMesh {
-            positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
-            faces: mesh.faces.clone(),
-        };
+        let fine = refine_with(&s, (&mesh, &f), &uv, (UvRule::Smooth, false), 2);
+        let layout = layout_of(&mesh, &uv);
         let topo = Topology::build(&layout).unwrap();
         let want = subdivide_with::<_, f64>(&s, &layout, &topo, &f, 2, 1).unwrap();
         let positions = subdivide_with::<_, f64>(
@@ -152,23 +156,9 @@ fn smooth_uvs_go_to_the_layouts_limit() {
     use lsubdiv::runtime::patch::limit_with;
     let (mesh, uv) = grid_with_uv();
     let s = surface("fibonacci");
-    let topo = Topology::build(&mesh).unwrap();
     let f = Features::with_boundary(Boundary::EdgeOnly);
-    let fine: QuadUv = refine_uv(
-        &s,
-        &mesh,
-        &topo,
-        &f,
-        (&uv, Points::default()),
-        (UvRule::Smooth, true),
-        3,
-        2,
-    )
-    .unwrap();
-    let layout = QuadMesh {
-        positions: uv.values.iter().map(|&[u, v]| [u, v, 0.0]).collect(),
-        faces: mesh.faces.clone(),
-    };
+    let fine = refine_with(&s, (&mesh, &f), &uv, (UvRule::Smooth, true), 3);
+    let layout = layout_of(&mesh, &uv);
     let lt = Topology::build(&layout).unwrap();
     let want = limit_with::<_, f64>(&s, &layout, &lt, &f, 3, 1).unwrap();
     assert_eq!(fine.faces, want.mesh.faces);

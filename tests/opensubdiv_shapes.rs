@@ -269,6 +269,21 @@ fn reference(osd: &Path, obj: &str, level: usize, options: &[String; 3], fvar: &
     parse(&String::from_utf8(reference.stdout).unwrap(), false)
 }
 
+/// `lsubdiv subdivide uniform-binary` of `obj`, `level` steps, to `out`, with `extra`.
+fn uniform_binary(
+    obj: &str,
+    level: usize,
+    boundary: &str,
+    out: &Path,
+    extra: &[&str],
+) -> std::process::Output {
+    let level = level.to_string();
+    let mut args = vec!["subdivide", "uniform-binary", "--steps", &level, obj];
+    args.extend(["-o", out.to_str().unwrap(), "--boundary", boundary]);
+    args.extend(extra);
+    lsubdiv(&args)
+}
+
 #[test]
 fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
     let Some((shapes, tmp, osd)) = setup() else {
@@ -280,17 +295,7 @@ fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
         let [boundary, crease, _] = options;
         let out = tmp.path().join("out.obj");
         for level in 1..=2 {
-            let ours = lsubdiv(&[
-                "subdivide",
-                "uniform-binary",
-                "--steps",
-                &level.to_string(),
-                obj,
-                "-o",
-                out.to_str().unwrap(),
-                "--boundary",
-                boundary,
-            ]);
+            let ours = uniform_binary(obj, level, boundary, &out, &[]);
             if !ours.status.success() {
                 // Chaikin's creasing is refused, with its reason (docs/real-meshes.md).
                 let chaikin = crease == "chaikin"
@@ -346,19 +351,7 @@ fn texture_coordinates_equal_opensubdiv_in_every_face_varying_mode() {
         }
         let out = tmp.path().join("out.obj");
         for (fvar, uv) in MODES {
-            let ours = lsubdiv(&[
-                "subdivide",
-                "uniform-binary",
-                "--steps",
-                &level.to_string(),
-                obj,
-                "-o",
-                out.to_str().unwrap(),
-                "--boundary",
-                boundary,
-                "--uv",
-                uv,
-            ]);
+            let ours = uniform_binary(obj, level, boundary, &out, &["--uv", uv]);
             if !ours.status.success() {
                 failures.push(format!("{name} {uv}: refused: {}", stderr(&ours)));
                 continue;
