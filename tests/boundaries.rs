@@ -448,7 +448,10 @@ fn boundary_loops_are_the_schemes_curves() {
         let s = surface(name);
         let (mut c, sigma) = curve(name);
         for steps in 1..=3 {
-            let meshes = [("grid", grid(2, 3)), ("open box", open_box())];
+            // The larger grid's corner faces step in lock-step (`Refiner::fan_faces`), the
+            // small one's level by level (`patch/direct.rs`).
+            let grids = [("grid", grid(2, 3)), ("larger grid", grid(6, 7))];
+            let meshes = grids.into_iter().chain([("open box", open_box())]);
             let meshes = meshes
                 .into_iter()
                 .chain([("pentagon", pentagon()), ("L", l_shape())]);
