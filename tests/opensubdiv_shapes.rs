@@ -384,3 +384,82 @@ fn texture_coordinates_equal_opensubdiv_in_every_face_varying_mode() {
         failures.join("\n")
     );
 }
+
+/// A 5 × 5 grid whose texture has a seam along the column x = 2 (its values there moved
+/// right on the right side, along a curve) and a crease of sharpness 2.5 along the row y = 2 that ends at
+/// the seam: at its end the left value's faces meet at a semi-sharp edge and the right
+/// value's do not, OpenSubdiv's dependent sharpness (corners-plus1, corners-plus2). Every
+/// mode at level 3 against OpenSubdiv's.
+#[test]
+fn a_crease_ending_at_a_seam_equals_opensubdiv_in_every_mode() {
+    let tmp = tempfile::tempdir().unwrap();
+    let Some(osd) = driver(tmp.path()) else {
+        return;
+    };
+    let n = 5;
+    let mut obj = String::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            obj += &format!("v {x} {y} {}\n", 0.15 * ((x * x + 2 * y) % 3) as f64);
+        }
+    }
+    // One value per (vertex, side of the seam), numbered as first used.
+    let mut values: Vec<(usize, usize, bool)> = Vec::new();
+    let mut value = |x: usize, y: usize, right: bool| {
+        let key = (x, y, right && x == 2);
+        let at = values.iter().position(|k| *k == key).unwrap_or_else(|| {
+            values.push(key);
+            values.len() - 1
+        });
+        at + 1
+    };
+    let mut faces = String::new();
+    for y in 0..n {
+        for x in 0..n {
+            let corners = [(x, y), (x + 1, y), (x + 1, y + 1), (x, y + 1)];
+            faces += "f";
+            for (cx, cy) in corners {
+                faces += &format!(" {}/{}", 1 + cx + (n + 1) * cy, value(cx, cy, x >= 2));
+            }
+            faces += "\n";
+        }
+    }
+    for &(x, y, moved) in &values {
+        // The right side's seam values on a curve (a crease rule moves them, a corner not).
+        let shift = if moved {
+            0.05 + 0.01 * (y * y) as f64
+        } else {
+            0.0
+        };
+        obj += &format!(
+            "vt {} {}\n",
+            x as f64 / 5.0 + shift,
+            (y as f64 + 0.05 * (x * y) as f64) / 5.0
+        );
+    }
+    obj += &faces;
+    obj += &format!(
+        "t crease 4/1/0 {} {} {} {} 2.5\n",
+        2 * (n + 1),
+        2 * (n + 1) + 1,
+        2 * (n + 1) + 1,
+        2 * (n + 1) + 2
+    );
+    let input = tmp.path().join("seam.obj");
+    std::fs::write(&input, obj).unwrap();
+    let input = input.to_str().unwrap();
+    let out = tmp.path().join("out.obj");
+    let options = ["edge-only", "uniform", "catmark"].map(String::from);
+    for (fvar, uv) in MODES {
+        let ours = uniform_binary(input, 3, "edge-only", &out, &["--uv", uv]);
+        assert!(ours.status.success(), "{uv}: {}", stderr(&ours));
+        let osd_mesh = reference(&osd, input, 3, &options, &[fvar]);
+        let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
+        let [checked, all] =
+            compare_uv(&osd_mesh, &our_mesh).unwrap_or_else(|e| panic!("{uv}: {e}"));
+        assert_eq!(
+            checked, all,
+            "{uv}: no extraordinary vertex, nothing tainted"
+        );
+    }
+}
