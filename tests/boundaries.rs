@@ -450,7 +450,11 @@ fn boundary_loops_are_the_schemes_curves() {
         for steps in 1..=3 {
             // The larger grid's corner faces step in lock-step (`Refiner::fan_faces`), the
             // small one's level by level (`patch/direct.rs`).
-            let grids = [("grid", grid(2, 3)), ("larger grid", grid(6, 7))];
+            let grids = [
+                ("grid", grid(2, 3)),
+                ("larger grid", grid(6, 7)),
+                ("strip", grid(1, 4)),
+            ];
             let meshes = grids.into_iter().chain([("open box", open_box())]);
             let meshes = meshes
                 .into_iter()
