@@ -291,7 +291,7 @@ fn layout_features<'a>(
             mismatched_points.contains(&p) || values.iter().any(|&u| u != values[0])
         })
         .collect();
-    mismatched.append(&mut fins.clone());
+    mismatched.extend(&fins);
     mismatched.sort_unstable();
     mismatched.dedup();
     fins.sort_unstable();

@@ -448,13 +448,15 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         };
         // The cut is along whole lines: a sharpness below 1 at the step blends the step cut
         // along it with the step without it.
-        let blend = match &cut {
-            Some(_) => {
-                let num = Numbering::new(base.topo, words[1].len() as i64);
-                let line = || Plan::new(&t, &lookup, &[*omega], 0);
-                Blend::new(scheme, &base, (line()?, line()?), &num, threads.max(1))?
+        // The level after the reference steps (a cut: after its one step).
+        let reference_num =
+            (first > 0).then(|| Numbering::new(base.topo, words[first].len() as i64));
+        let blend = match (&cut, &reference_num) {
+            (Some(_), Some(num)) => {
+                let line = Plan::new(&t, &lookup, &[*omega], 0)?;
+                Blend::new(scheme, &base, line, num, threads.max(1))?
             }
-            None => None,
+            _ => None,
         };
         if first > 0 && !plain && cut.is_none() {
             return Err(SurfaceError::Unsupported(format!(
@@ -470,11 +472,10 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let mut near = (first > 0 && plain)
             .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
-        let reference = (first > 0)
-            .then(|| {
-                let num = Numbering::new(base.topo, words[first].len() as i64);
+        let reference = (reference_num.as_ref())
+            .map(|num| {
                 let (near, cut) = (near.as_mut(), cut.as_ref());
-                Reference::new(scheme, &base, (first, &num), near, cut, threads.max(1))
+                Reference::new(scheme, &base, (first, num), near, cut, threads.max(1))
             })
             .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.
@@ -1136,7 +1137,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                         new[at..at + 3].copy_from_slice(&p);
                     }
                 }
-                let layout = layouts.1;
                 let (faces, slot) = (&self.fan_faces, &self.fan_slot);
                 // The ring points each face takes from its neighbours, all read before any
                 // patch changes (they are inside the neighbours, where nothing below writes);

@@ -39,8 +39,6 @@ pub(super) struct Blend {
     /// Per point of the level after the step, the weight of the step cut along every sharp
     /// edge (1 where no sharpness below 1 reaches the point).
     weight: Vec<f64>,
-    /// The step's 1D plan, for the vertex rules.
-    plan: Plan,
 }
 
 impl Blend {
@@ -51,7 +49,7 @@ impl Blend {
     pub(super) fn new<S: SurfaceScheme>(
         scheme: &S,
         base: &Base<'_>,
-        plans: (Plan, Plan),
+        line: Plan,
         num: &Numbering,
         threads: usize,
     ) -> Result<Option<Blend>, SurfaceError> {
@@ -60,7 +58,6 @@ impl Blend {
         }
         let topo = base.topo;
         let smooth = base.features.without_fractions();
-        let (line, plan) = plans;
         let refused = |why: &str| {
             SurfaceError::Unsupported(format!(
                 "the first step of scheme `{}` runs the reference driver on the mesh cut open \
@@ -108,7 +105,6 @@ impl Blend {
             cut,
             reference,
             weight,
-            plan,
         }))
     }
 
@@ -159,7 +155,8 @@ impl Blend {
             if let (Some(rule), Some(_)) = (rule, base.transition(v, 0)) {
                 let rule: VertexRule = *rule;
                 let child = (v, rule, alphas[i]);
-                start[v as usize] = vertex_child(base, child, (&self.plan, ring, 0), 1, point);
+                let plan = (&self.cut.line, ring, 0);
+                start[v as usize] = vertex_child(base, child, plan, 1, point);
             }
         }
     }

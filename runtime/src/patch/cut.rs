@@ -19,7 +19,7 @@ pub(super) struct Cut {
     pub(super) source: Vec<u32>,
     /// The 1D plan of the step (no ring): new points 0..=N' of an old interval from the
     /// points −1..=2 around it.
-    line: Plan,
+    pub(super) line: Plan,
     /// Per edge sharp at step 0: the edge, its ends a and b, and the vertex beyond each end
     /// along the sharp line through it (none: the reflection 2a − b).
     sharp: Vec<(u32, [u32; 2], [Option<u32>; 2])>,
