@@ -425,16 +425,16 @@ impl Resolved {
         topo.spokes(v).map(|e| self.edge_sharp(e, k)).collect()
     }
 
-    /// Whether an edge or a vertex has a sharpness below 1: at the first step its rule is a
+    /// Whether an edge or a vertex has a sharpness below 1 at step k: there its rule is a
     /// blend of the sharp and the smooth one.
-    pub fn has_fractions(&self) -> bool {
-        (self.edge.iter().chain(&self.vertex)).any(|s| s.is_sharp() && s.value() < 1.0)
+    pub fn has_fractions(&self, k: usize) -> bool {
+        (self.edge.iter().chain(&self.vertex)).any(|s| s.at(k).is_sharp() && s.at(k).value() < 1.0)
     }
 
-    /// These features with every sharpness below 1 made smooth: the smooth side of the
-    /// first step's blends.
-    pub fn without_fractions(&self) -> Resolved {
-        let whole = |s: &Sharpness| match s.value() < 1.0 {
+    /// These features with every sharpness below 1 at step k made smooth: the smooth side of
+    /// that step's blends.
+    pub fn without_fractions(&self, k: usize) -> Resolved {
+        let whole = |s: &Sharpness| match s.at(k).value() < 1.0 {
             true => Sharpness::SMOOTH,
             false => *s,
         };

@@ -43,9 +43,9 @@
 //! corner) or whose sharpness changes (semi-sharp creases) run in lock-step: after each step the
 //! vertex children are set by their rule and the rings refreshed from the neighbours' new patches
 //! and from the next step's phantoms. A step the reference driver must take (masks not contained
-//! where a corner has no diagonal) runs, on a mesh with features, on the mesh cut open along its
-//! sharp edges and extended by ghost faces (`Cut`, `Ghosts`); a scheme that needs more than one
-//! such step is refused there with that reason.
+//! where a corner has no diagonal) runs, on a mesh with features, on its level cut open along the
+//! edges sharp at that step and extended by ghost faces (`Cut`, `Ghosts`), as many such steps as
+//! the scheme needs.
 
 use crate::curve::rewrite;
 use crate::features::{Features, Resolved, VertexRule};
@@ -81,11 +81,9 @@ pub use limit::{limit_available, SurfaceLimit};
 use near::Near;
 use numbering::{lifted, Numbering, SharedOut};
 use plan::Plan;
-use reference::Reference;
+use reference::{CutStep, Reference};
 use stream::{Stream, Writers, STREAM_BYTES, WRITERS};
-use vertices::{
-    ev_child, holders, one_ring, spoke, turning_line, vertex_child, vertex_rule_weights, Spot,
-};
+use vertices::{ev_child, holders, spoke, turning_line, vertex_child, Spot};
 
 /// Faces (or special vertices) a worker takes between two lock-step levels at least: less
 /// work than that does not pay for a thread (the cube's 24 fan faces over 10 levels ran 8 %
@@ -312,17 +310,11 @@ pub struct Refiner<'s, S, T> {
     /// Per face, its start patch (ring included) as indices into the start level, in the
     /// gathered layout ([`load`]).
     start_gather: Vec<u32>,
-    /// The mesh cut along its sharp edges, when a reference step runs on a mesh with features.
-    cut: Option<Cut>,
     /// Where the last reference step runs on a mesh without features, when some faces are far
     /// from its EVs.
     near: Option<Near>,
     /// The reference steps' maps (none without reference steps).
     reference: Option<Reference>,
-    /// The smooth side of the reference step's blends, where a sharpness is below 1 at it.
-    blend: Option<Blend>,
-    /// That side's level after the step.
-    smooth_start: Vec<[T; 3]>,
 
     /// Faces whose four corners are ordinary, and the others (the fans of the EVs) with the
     /// slot of each face among them.
@@ -438,44 +430,17 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 first = s + 1;
             }
         }
-        // Those steps run by the reference driver, which refines closed meshes, and one step
-        // of a mesh with features cut open along its sharp edges and extended by ghost faces
-        // ([`Cut`], [`Ghosts`]).
-        let cut = if first == 1 && !plain {
-            Cut::new(topo, &base.features, Plan::new(&t, &lookup, &[*omega], 0)?)
-        } else {
-            None
-        };
-        // The cut is along whole lines: a sharpness below 1 at the step blends the step cut
-        // along it with the step without it.
-        // The level after the reference steps (a cut: after its one step).
-        let reference_num =
-            (first > 0).then(|| Numbering::new(base.topo, words[first].len() as i64));
-        let blend = match (&cut, &reference_num) {
-            (Some(_), Some(num)) => {
-                let line = Plan::new(&t, &lookup, &[*omega], 0)?;
-                Blend::new(scheme, &base, line, num, threads.max(1))?
-            }
-            _ => None,
-        };
-        if first > 0 && !plain && cut.is_none() {
-            return Err(SurfaceError::Unsupported(format!(
-                "{} step{} of scheme `{}` on this mesh need the reference driver (masks not \
-                 yet contained near its extraordinary, boundary or crease vertices, [G] \
-                 Prop. 4.8); on a mesh with boundaries or sharp features it takes one such \
-                 step (on the mesh cut open along its sharp edges, with ghost faces), not more",
-                first,
-                if first == 1 { "" } else { "s" },
-                t.name
-            )));
-        }
+        // Those steps run by the reference driver: on a mesh with features each level cut
+        // open along its sharp edges and extended by ghost faces ([`Cut`], [`Ghosts`]), a
+        // sharpness below 1 at a step blending the step cut along it with the step without it.
         let mut near = (first > 0 && plain)
             .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
-        let reference = (reference_num.as_ref())
-            .map(|num| {
-                let (near, cut) = (near.as_mut(), cut.as_ref());
-                Reference::new(scheme, &base, (first, num), near, cut, threads.max(1))
+        let reference = (first > 0)
+            .then(|| {
+                let num = Numbering::new(base.topo, words[first].len() as i64);
+                let levels = (&words[..=first], &num);
+                Reference::new(scheme, &base, levels, near.as_mut(), threads.max(1))
             })
             .transpose()?;
         // The first depth-first steps of a mesh of small fans, level by level.
@@ -540,11 +505,8 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             start_num,
             out_num,
             start_gather,
-            cut,
             near,
             reference,
-            blend,
-            smooth_start: Vec::new(),
             ordinary,
             stacks,
             handoff,
@@ -660,14 +622,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                     .sum::<usize>()
             })
             .sum();
-        let points = [&self.start, &self.level, &self.output, &self.smooth_start]
+        let points = [&self.start, &self.level, &self.output]
             .map(Vec::capacity)
             .iter()
             .sum::<usize>()
             + self.handed.capacity();
         (fans + scratch + 3 * points) * size_of::<T>()
             + self.reference.as_ref().map_or(0, Reference::bytes)
-            + self.blend.as_ref().map_or(0, Blend::bytes)
             + self.near.as_ref().map_or(0, Near::bytes)
     }
 
@@ -706,9 +667,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     /// Refines new positions of the base vertices; returns the output positions.
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<&[[T; 3]], SurfaceError> {
         let clock = Instant::now();
-        // The level after the reference steps: the patches' start level, or the first of the
-        // level-by-level steps.
-        let num = self.direct.first().map_or(&self.start_num, |d| d.old());
         // Each level-by-level step swaps the two levels: after an odd count, swap back, so that
         // every `refine` puts the same levels in the same buffer (none grows a second time).
         if self.direct.len() % 2 == 1 {
@@ -720,50 +678,11 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             self.start
                 .extend(positions.iter().map(|p| p.map(T::from_f64)));
         } else {
-            // Level 0: the base mesh, or the cut mesh with its ghost layers.
             let reference = self.reference.as_mut().expect("reference steps have maps");
-            let extended;
-            let level0 = match &self.cut {
-                None => positions,
-                Some(cut) => {
-                    let mut at: Vec<[f64; 3]> =
-                        cut.source.iter().map(|&v| positions[v as usize]).collect();
-                    reference.ghosts().extend(&mut at);
-                    extended = at;
-                    &extended
-                }
-            };
-            reference.run(level0, &mut self.start, self.threads);
+            let level0 = (positions, &self.alphas[..]);
+            reference.run(&self.base, level0, &mut self.start, self.threads);
             if let Some(near) = &self.near {
-                near.far_faces(reference.before(level0), &mut self.start);
-            }
-            if let Some(cut) = &self.cut {
-                let ring = self.scheme.surface().rings[0];
-                let alpha = |v: u32| {
-                    let i = self.base.special.binary_search(&v);
-                    i.map_or(0.0, |i| self.alphas[i])
-                };
-                cut.curves(&self.base, (&alpha, ring), positions, num, &mut self.start);
-            }
-            // Corners stay exactly (the ghosts' double reflection gives them up to rounding);
-            // every corner is a special vertex, its rule set at every step.
-            let rules = self.base.special.iter().zip(self.base.vertex_rules(0));
-            for (&v, _) in rules.filter(|(_, r)| **r == Some(VertexRule::Corner)) {
-                self.start[v as usize] = positions[v as usize].map(T::from_f64);
-            }
-            if let Some(blend) = &mut self.blend {
-                let ring = self.scheme.surface().rings[0];
-                let (start, other) = (&mut self.start, &mut self.smooth_start);
-                let alphas = (&self.alphas[..], ring);
-                blend.run(
-                    &self.base,
-                    alphas,
-                    positions,
-                    num,
-                    start,
-                    other,
-                    self.threads,
-                );
+                near.far_faces(reference.before(positions), &mut self.start);
             }
         }
         self.level_seconds.clear();

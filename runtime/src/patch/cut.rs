@@ -1,42 +1,65 @@
-//! The mesh cut open along its sharp edges and extended by ghost faces, for the reference
-//! driver's step on a mesh with features (`patch/reference.rs`): a crease is a boundary for
-//! both of its sides, and two layers of ghost faces beyond every boundary give the scatter
-//! the odd reflections the patches use as phantoms (docs/real-meshes.md).
+//! A level of the reference steps cut open along its sharp edges and extended by ghost faces,
+//! for the reference driver's step on a mesh with features (`patch/reference.rs`): a crease
+//! is a boundary for both of its sides, and two layers of ghost faces beyond every boundary
+//! give the scatter the odd reflections the patches use as phantoms (docs/real-meshes.md).
+//! After the step, the points on the sharp lines are set by the scheme's curve rule
+//! ([`Cut::curves`]), a dart's child by its smooth rule.
 
-use super::{add3, one_ring, sub3, vertex_rule_weights, Base, Numbering, Plan, Spot};
+use super::{add3, sub3, vertex_child, Base, Numbering, Plan};
 use crate::features::{Resolved, VertexRule};
 use crate::mesh::QuadMesh;
 use crate::real::Real;
 use crate::topology::Topology;
 use std::collections::HashMap;
 
-/// A mesh cut open along the edges sharp at its first step, for the reference driver's step
-/// with ghost faces ([`Ghosts`]): each vertex gets one copy per sector (faces between sharp
-/// edges), so a crease is a boundary for both sides. `source[i]` is the vertex copy i came
-/// from; the faces are the mesh's, in order.
+/// Level k of the reference steps (side N = W_k per base face, numbered by `num`) cut along
+/// the base edges sharp at step k, for the step's scatter with ghost faces ([`Ghosts`]): each
+/// vertex gets one copy per sector (faces between sharp edges), so a crease is a boundary for
+/// both sides. `source[i]` is the level's point copy i came from; the faces are the level's,
+/// in order.
 pub(super) struct Cut {
     pub(super) topo: Topology,
     pub(super) source: Vec<u32>,
-    /// The 1D plan of the step (no ring): new points 0..=N' of an old interval from the
-    /// points −1..=2 around it.
+    /// The level's face labels (`[label of edge 0, label of edge 1]`).
+    pub(super) labels: Vec<[u8; 2]>,
+    /// The 1D plan of step k along a whole base edge (no ring): its new points 0..=N' from
+    /// its points −1..=N+1 (W_k is a palindrome under σ, \[G\] Cor. 4.4, so every sharp line
+    /// reads it from either end).
     pub(super) line: Plan,
-    /// Per edge sharp at step 0: the edge, its ends a and b, and the vertex beyond each end
-    /// along the sharp line through it (none: the reflection 2a − b).
+    /// The step.
+    pub(super) k: usize,
+    /// Per base edge sharp at step k: the edge, its ends a and b, and the base edge the sharp
+    /// line continues along beyond each end (none: the odd reflection).
     sharp: Vec<(u32, [u32; 2], [Option<u32>; 2])>,
     /// The darts: smooth vertices with a sharp edge.
     darts: Vec<u32>,
 }
 
 impl Cut {
-    /// The cut of `topo` (none if it is not a manifold). At a dart (one sharp edge at an
+    /// The cut at step k (`features`' edges sharp at k) of the level of quads `faces` with
+    /// their `labels` over the points of `num`, whose connectivity is `level` (the base mesh
+    /// at k = 0); none if the level is not a manifold. At a dart (one sharp edge at an
     /// interior vertex) the cut is at most a slit: the dart keeps one copy, whose child
     /// [`Cut::curves`] sets by the smooth rule.
-    pub(super) fn new(topo: &Topology, features: &Resolved, line: Plan) -> Option<Cut> {
-        let mut faces = topo.faces().to_vec();
-        let mut source: Vec<u32> = (0..topo.vertex_count() as u32).collect();
-        for v in 0..topo.vertex_count() as u32 {
-            let sharp = features.sharp_spokes(topo, v, 0);
-            let interior = !topo.is_boundary(v);
+    pub(super) fn new(
+        base: &Topology,
+        features: &Resolved,
+        (k, level, num): (usize, &Topology, &Numbering),
+        labels: Vec<[u8; 2]>,
+        line: Plan,
+    ) -> Option<Cut> {
+        let mut faces = level.faces().to_vec();
+        let mut source: Vec<u32> = (0..level.vertex_count() as u32).collect();
+        // Per edge of the level: whether it lies on a base edge sharp at step k.
+        let sharp_edge: Vec<bool> = (0..level.edge_count() as u32)
+            .map(|e| {
+                base_edge(base, num, level.edge_vertices(e))
+                    .is_some_and(|e| features.edge_sharp(e, k))
+            })
+            .collect();
+        for v in 0..level.vertex_count() as u32 {
+            let sharp: Vec<bool> = level.spokes(v).map(|e| sharp_edge[e as usize]).collect();
+            let interior = !level.is_boundary(v);
             // Wedge w lies between spokes w and w + 1; its sector is the number of sharp
             // spokes up to it, less one (at a boundary vertex spoke 0 is the boundary; at an
             // interior one the wedges before the first sharp spoke close the last sector).
@@ -48,7 +71,7 @@ impl Cut {
             let sectors = if interior { count } else { count - 1 };
             source.extend(std::iter::repeat_n(v, sectors.saturating_sub(1)));
             let mut seen = 0;
-            for (w, wedge) in topo.rotation(v).iter().enumerate() {
+            for (w, wedge) in level.rotation(v).iter().enumerate() {
                 seen += usize::from(sharp[w]);
                 let sector = (seen + count - 1) % count;
                 if sector > 0 {
@@ -58,77 +81,87 @@ impl Cut {
             }
         }
         let mesh = QuadMesh {
-            positions: vec![[0.0f64; 3]; source.len()],
+            positions: vec![[(); 3]; source.len()],
             faces,
         };
         let cut = Topology::build(&mesh).ok()?;
-        // Each vertex's rule, resolved once (an end of many sharp edges is met once per edge).
-        let rules: Vec<VertexRule> = (0..topo.vertex_count() as u32)
-            .map(|v| features.vertex_rule(topo, v, 0))
+        // Each base vertex's rule, resolved once (an end of many sharp edges is met once per
+        // edge).
+        let rules: Vec<VertexRule> = (0..base.vertex_count() as u32)
+            .map(|v| features.vertex_rule(base, v, k))
             .collect();
-        // The vertex beyond a, away from b, along the sharp line through a (edge e).
-        let beyond = |a: u32, e: u32| {
-            let next = match rules[a as usize] {
-                VertexRule::Crease => topo
-                    .spokes(a)
-                    .find(|&s| s != e && features.edge_sharp(s, 0)),
-                VertexRule::Smooth if topo.valence(a) == 4 && !topo.is_boundary(a) => {
-                    let spokes: Vec<u32> = topo.spokes(a).collect();
-                    spokes
-                        .iter()
-                        .position(|&s| s == e)
-                        .map(|i| spokes[(i + 2) % 4])
-                }
-                _ => None,
-            };
-            next.map(|s| topo.other_end(s, a))
+        // The base edge the sharp line through a continues along, away from edge e.
+        let beyond = |a: u32, e: u32| match rules[a as usize] {
+            VertexRule::Crease => base
+                .spokes(a)
+                .find(|&s| s != e && features.edge_sharp(s, k)),
+            VertexRule::Smooth if base.valence(a) == 4 && !base.is_boundary(a) => {
+                let spokes: Vec<u32> = base.spokes(a).collect();
+                let i = spokes.iter().position(|&s| s == e);
+                i.map(|i| spokes[(i + 2) % 4])
+            }
+            _ => None,
         };
-        let sharp = (0..topo.edge_count() as u32)
-            .filter(|&e| features.edge_sharp(e, 0))
+        let sharp = (0..base.edge_count() as u32)
+            .filter(|&e| features.edge_sharp(e, k))
             .map(|e| {
-                let [a, b] = topo.edge_vertices(e);
+                let [a, b] = base.edge_vertices(e);
                 (e, [a, b], [beyond(a, e), beyond(b, e)])
             })
             .collect();
-        let darts = (0..topo.vertex_count() as u32)
+        let darts = (0..base.vertex_count() as u32)
             .filter(|&v| {
                 rules[v as usize] == VertexRule::Smooth
-                    && features.sharp_spokes(topo, v, 0).contains(&true)
+                    && base.spokes(v).any(|e| features.edge_sharp(e, k))
             })
             .collect();
         Some(Cut {
             topo: cut,
             source,
+            labels,
             line,
+            k,
             sharp,
             darts,
         })
     }
 
-    /// After the step: every point on a line sharp at step 0 set to the scheme's curve
-    /// refinement of that line (a boundary is the scheme's curve, docs/real-meshes.md), the
-    /// 1D plan on the points along it: beyond a crease vertex the line continues along its
-    /// other sharp edge, beyond a dart of valence 4 straight on (the line is sharp, the vertex
-    /// smooth, as in OpenSubdiv), elsewhere it is odd-reflected. A dart's child is its smooth
-    /// rule on its 1-ring ([`dart_child`]). The scatter near a boundary EV drops the entries
-    /// that pass through it; on the lines, the principle decides.
+    /// After the step from `level` (numbered `num`) to `next` (numbered `next_num`): every
+    /// point on a line sharp at step k set to the scheme's curve refinement of that line (a
+    /// boundary is the scheme's curve, docs/real-meshes.md), the 1D plan on the points along
+    /// it: beyond a crease vertex the line continues along its other sharp edge, beyond a dart
+    /// of valence 4 straight on (the line is sharp, the vertex smooth, as in OpenSubdiv),
+    /// elsewhere it is odd-reflected. A dart's child is its smooth rule on its 1-ring
+    /// ([`vertex_child`]; `alpha` per vertex, `ring` the step's EV 1-ring weights). The
+    /// scatter near a boundary EV drops the entries that pass through it; on the lines, the
+    /// principle decides.
     pub(super) fn curves<T: Real>(
         &self,
         base: &Base<'_>,
         (alpha, ring): (&dyn Fn(u32) -> f64, [f64; 2]),
-        positions: &[[f64; 3]],
-        num: &Numbering,
-        start: &mut [[T; 3]],
+        (level, num): (&[[f64; 3]], &Numbering),
+        next_num: &Numbering,
+        next: &mut [[T; 3]],
     ) {
-        let at = |v: u32| positions[v as usize];
-        let n = self.line.n_new;
-        let k = (n - 1) as usize;
-        for &(e, [a, b], [beyond_a, beyond_b]) in &self.sharp {
-            let beyond = |v: Option<u32>, a: u32, b: u32| match v {
-                Some(v) => at(v),
-                None => std::array::from_fn(|i| 2.0 * at(a)[i] - at(b)[i]),
+        let topo = base.topo;
+        let n = num.n;
+        let at = |i: usize| level[i];
+        let mut old = Vec::with_capacity(n as usize + 3);
+        for &(e, ends, beyond) in &self.sharp {
+            let point = |x: i64| at(num.along(e, ends, x));
+            // The point next to v on the sharp line's continuation s, or the reflection of
+            // the one next to it on e.
+            let past = |s: Option<u32>, v: u32, inner: [f64; 3]| match s {
+                Some(s) => {
+                    let ends = topo.edge_vertices(s);
+                    at(num.along(s, ends, if ends[0] == v { 1 } else { n - 1 }))
+                }
+                None => std::array::from_fn(|i| 2.0 * at(v as usize)[i] - inner[i]),
             };
-            let old = [beyond(beyond_a, a, b), at(a), at(b), beyond(beyond_b, b, a)];
+            old.clear();
+            old.push(past(beyond[0], ends[0], point(1)));
+            old.extend((0..=n).map(point));
+            old.push(past(beyond[1], ends[1], point(n - 1)));
             for (xn, row) in self.line.rows.iter().enumerate() {
                 let mut p = [0.0f64; 3];
                 for &(x, w) in &self.line.parents[row.clone()] {
@@ -136,46 +169,30 @@ impl Cut {
                         *o += w * q;
                     }
                 }
-                let i = match xn as i64 {
-                    0 => a as usize,
-                    x if x == n => b as usize,
-                    x => num.nv + e as usize * k + x as usize - 1,
-                };
-                start[i] = p.map(T::from_f64);
+                next[next_num.along(e, ends, xn as i64)] = p.map(T::from_f64);
             }
         }
+        let point = |f: u32, x: i64, y: i64| at(num.index(f as usize, x, y).0);
         for &v in &self.darts {
-            let rule = (alpha(v), ring);
-            start[v as usize] =
-                dart_child(base.topo, &self.line, rule, positions, v).map(T::from_f64);
+            let child = (v, VertexRule::Smooth, alpha(v));
+            let plan = (&self.line, ring, self.k);
+            next[v as usize] = vertex_child(base, child, plan, n, point).map(T::from_f64);
         }
     }
 }
 
-/// The child of a dart v (a smooth interior vertex with one sharp edge) by the smooth rule on
-/// its 1-ring of base positions ([`one_ring`]): the tensor product of the vertex mask at
-/// valence 4, the EV rule with `rule` = (α, [E1, E2]) at other valences.
-fn dart_child(
-    topo: &Topology,
-    line: &Plan,
-    rule: (f64, [f64; 2]),
-    positions: &[[f64; 3]],
-    v: u32,
-) -> [f64; 3] {
-    let rule = if topo.valence(v) == 4 {
-        vertex_rule_weights(line)
-    } else {
-        rule
-    };
-    one_ring(topo, v, rule, |_, w, spot| {
-        let c = match spot {
-            Spot::Centre => w.corner,
-            Spot::Spoke if w.next_is_plus => (w.corner + 3) % 4,
-            Spot::Spoke => (w.corner + 1) % 4,
-            Spot::Diagonal => (w.corner + 2) % 4,
-        };
-        positions[topo.vertex(w.face, c) as usize]
-    })
+/// The base edge that the edge between points p and q of a level (numbered `num`) lies on.
+fn base_edge(base: &Topology, num: &Numbering, [p, q]: [u32; 2]) -> Option<u32> {
+    let vertex = |i: u32| (i as usize) < num.nv;
+    match (num.edge_at(p as usize), num.edge_at(q as usize)) {
+        (Some(e), Some(g)) => (e == g).then_some(e),
+        (Some(e), None) => vertex(q).then_some(e),
+        (None, Some(e)) => vertex(p).then_some(e),
+        (None, None) if vertex(p) && vertex(q) => {
+            base.spokes(p).find(|&e| base.other_end(e, p) == q)
+        }
+        _ => None,
+    }
 }
 
 /// The mesh extended past its boundary by two layers of ghost faces, for a step of the
@@ -184,10 +201,12 @@ fn dart_child(
 /// (b₁, a₁, a₂, b₂), with a₁ = 2a − d, b₁ = 2b − c (the odd reflection the patches use; a
 /// vertex with two faces shares its ghosts between its two boundary edges) and a₂ = 3a − 2d;
 /// at a corner, the four quads of the diagonal quadrant, the first at the double reflection
-/// 4a − 2b − 2d + c. The outer layer only makes the first one's vertices interior and
+/// 4a − 2b − 2d + c. A ghost face's labels are its mirror image's: along the boundary the
+/// boundary edge's, across it the level's word W_k read away from the boundary (`outward`, its
+/// first two letters: every line leaving a boundary of the level reads W_k). The outer layer only makes the first one's vertices interior and
 /// ordinary: in a complete step (every patch's new ring has its parents in the old ring) its
 /// points reach no real new point, and the driver does not scatter them. Real vertices and
-/// faces keep their indices; the ghosts follow. Found once ([`Ghosts::new`]); each refine
+/// faces keep their indices; the ghosts follow. Found once ([`Extended::new`]); each refine
 /// only makes the ghosts' points ([`Ghosts::extend`]).
 #[derive(Default)]
 pub(super) struct Ghosts {
@@ -204,13 +223,26 @@ pub(super) enum Ghost {
     Corner([u32; 4], [u32; 2]),
 }
 
-impl Ghosts {
-    /// The ghost layers of `topo`: how the ghosts are made, the extended mesh's quads, and
-    /// its outer ghosts (per point of the extended mesh).
-    pub(super) fn new(topo: &Topology) -> (Ghosts, Vec<[u32; 4]>, Vec<bool>) {
+/// A cut level extended by its ghost faces ([`Ghosts`]).
+pub(super) struct Extended {
+    pub(super) ghosts: Ghosts,
+    /// The level's quads, then the ghosts'.
+    pub(super) faces: Vec<[u32; 4]>,
+    pub(super) labels: Vec<[u8; 2]>,
+    /// Per point: whether it is an outer ghost (not scattered).
+    pub(super) outer: Vec<bool>,
+}
+
+impl Extended {
+    /// The ghost layers of the cut level `cut`, `sigma` the scheme's involution on labels.
+    pub(super) fn new(cut: &Cut, sigma: &[u8], outward: [u8; 2]) -> Extended {
+        let topo = &cut.topo;
         let mut ghosts = Ghosts::default();
         let mut next = topo.vertex_count() as u32;
         let mut faces = topo.faces().to_vec();
+        let mut labels = cut.labels.clone();
+        let sigma = |a: u8| sigma[a as usize];
+        let [w0, w1] = outward;
         let mut shared: HashMap<u32, u32> = HashMap::new();
         // The ghost pairs made once per edge (not shared), and each corner's first diagonal
         // ghost.
@@ -244,6 +276,10 @@ impl Ghosts {
                 }
                 faces.push([b, a, a1, b1]);
                 faces.push([b1, a1, a1 + 1, b1 + 1]);
+                // Edge a → b's label, read from corner l (as the scatter reads it).
+                let [la, lb] = cut.labels[f as usize];
+                let along = [la, lb, sigma(la), sigma(lb)][l as usize];
+                labels.extend([[sigma(along), w0], [sigma(along), w1]]);
                 if topo.valence(a) == 1 {
                     corners.entry(a).or_insert([u32::MAX; 2])[0] = a1;
                 }
@@ -266,6 +302,8 @@ impl Ghosts {
             faces.push([g_out + 1, g_out, d11, d21]);
             faces.push([d11, g_in, g_in + 1, d12]);
             faces.push([d21, d11, d12, d22]);
+            let (s0, s1) = (sigma(w0), sigma(w1));
+            labels.extend([[s0, w0], [s1, w0], [s0, w1], [s1, w1]]);
         }
         // The outer layer: every a₂ (a ghost pair's second) and each corner's outer three.
         let mut outer = vec![false; next as usize];
@@ -275,15 +313,22 @@ impl Ghosts {
         for &d11 in &diagonals {
             outer[d11 as usize + 1..d11 as usize + 4].fill(true);
         }
-        (ghosts, faces, outer)
+        Extended {
+            ghosts,
+            faces,
+            labels,
+            outer,
+        }
     }
+}
 
+impl Ghosts {
     /// Bytes it holds.
     pub(super) fn bytes(&self) -> usize {
         self.made.capacity() * size_of::<Ghost>()
     }
 
-    /// Appends the ghosts' points to the mesh's `points`, in the order [`Ghosts::new`] made
+    /// Appends the ghosts' points to the mesh's `points`, in the order [`Extended::new`] made
     /// them.
     pub(super) fn extend(&self, points: &mut Vec<[f64; 3]>) {
         for ghost in &self.made {

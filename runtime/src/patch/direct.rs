@@ -191,11 +191,6 @@ impl Step {
         }
     }
 
-    /// The numbering of the level before the step.
-    pub(super) fn old(&self) -> &Numbering {
-        &self.old
-    }
-
     /// Refines level `old` into `new` (every point of it written: each by the face that owns
     /// it, each EV by its child), with `threads` workers; `alphas` per special vertex.
     pub(super) fn run<T: Real>(

@@ -159,7 +159,7 @@ pub fn footprint(
             .saturating_add(made);
         // A sharpness below 1 at the step runs it twice (`patch/blend.rs`): a second cut
         // (along fewer edges) and its maps, its level after the step and a weight per point.
-        let blends = cut.is_some() && base.as_ref().is_some_and(|b| b.features.has_fractions());
+        let blends = cut.is_some() && base.as_ref().is_some_and(|b| b.features.has_fractions(0));
         let second = output_counts(v0, e0, f0, n(first))
             .0
             .saturating_add(ghosts)

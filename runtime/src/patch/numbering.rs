@@ -129,6 +129,21 @@ impl Numbering {
         }
     }
 
+    /// The base edge point i lies on strictly between its ends, if it is an edge point.
+    pub(super) fn edge_at(&self, i: usize) -> Option<u32> {
+        let k = (self.n - 1) as usize;
+        (i >= self.nv && i < self.nv + self.ne * k).then(|| ((i - self.nv) / k) as u32)
+    }
+
+    /// The index of point x (0..=N) along base edge e with ends `ends` (smaller first).
+    pub(super) fn along(&self, e: u32, [a, b]: [u32; 2], x: i64) -> usize {
+        match x {
+            0 => a as usize,
+            x if x == self.n => b as usize,
+            x => self.nv + e as usize * (self.n - 1) as usize + x as usize - 1,
+        }
+    }
+
     /// The index of face f's first interior point (x, y) = (1, 1); the others follow row by
     /// row.
     #[inline(always)]
@@ -276,7 +291,7 @@ pub(super) fn lifted(
     // (A mesh with ghost faces has them after the base faces: they are left out.)
     let faces = quads.chunks_exact(cells.len()).take(num.faces.len());
     for (f, quads) in faces.enumerate() {
-        for (&(x, y), quad) in cells.iter().zip(quads) {
+        for (&(x, y, _), quad) in cells.iter().zip(quads) {
             let last = (x + 1 == n, y + 1 == n);
             for c in [0u8, 1, 2, 3] {
                 let wanted = match c {
@@ -295,10 +310,36 @@ pub(super) fn lifted(
     from
 }
 
+/// The quads of the base mesh refined `k` times by the reference driver, in the order it makes
+/// them, over this numbering's points (N = W_k), and their labels ([`crate::surface`]'s
+/// `[label of edge 0, label of edge 1]`): a level of the reference steps without its ghosts.
+pub(super) fn level_mesh(
+    t: &CurveTables<'_>,
+    k: usize,
+    num: &Numbering,
+) -> (Vec<[u32; 4]>, Vec<[u8; 2]>) {
+    let cells = cells(t, k);
+    let mut faces = Vec::with_capacity(cells.len() * num.faces.len());
+    for f in 0..num.faces.len() {
+        faces.extend(cells.iter().map(|&(x, y, _)| {
+            [0u8, 1, 2, 3].map(|c| {
+                let (dx, dy) = corner_at(c, 1, 1);
+                num.index(f, x + dx, y + dy).0 as u32
+            })
+        }));
+    }
+    let labels = cells.iter().map(|&(_, _, l)| l);
+    let labels = std::iter::repeat_n(labels, num.faces.len())
+        .flatten()
+        .collect();
+    (faces, labels)
+}
+
 /// The cells of a base face refined `k` times by the reference driver, in the order it makes
 /// them: each cell of step k − 1 becomes its rule's block, row by row; (x, y) of each cell's
-/// corner 0 in the face's grid (every base face alike: its edges all carry the axiom).
-fn cells(t: &CurveTables<'_>, k: usize) -> Vec<(i64, i64)> {
+/// corner 0 in the face's grid and its labels (every base face alike: its edges all carry the
+/// axiom).
+fn cells(t: &CurveTables<'_>, k: usize) -> Vec<(i64, i64, [u8; 2])> {
     let mut cells = vec![(0i64, 0i64, t.axiom[0], t.axiom[0])];
     let mut word = t.axiom.to_vec();
     for _ in 0..k {
@@ -322,5 +363,8 @@ fn cells(t: &CurveTables<'_>, k: usize) -> Vec<(i64, i64)> {
         rewrite(t, &word, &mut next);
         word = next;
     }
-    cells.into_iter().map(|(x, y, _, _)| (x, y)).collect()
+    cells
+        .into_iter()
+        .map(|(x, y, a, b)| (x, y, [a, b]))
+        .collect()
 }

@@ -8,14 +8,18 @@
 //! there (docs/benchmarks.md). The sums keep the scatter's order and divisors: the same bits.
 //!
 //! The last step scatters only the vertices near the EVs when some faces are far from them
-//! (`patch/near.rs`: those faces take the step by its 1D plan); on a mesh with features it
-//! runs on the mesh cut open along its sharp edges and extended by two layers of ghost faces
-//! (`Cut`, `Ghosts`): the outer ghosts are not scattered, the extended mesh's boundary
-//! vertices are scattered over the faces they have, and only the real faces' new points are
-//! kept.
+//! (`patch/near.rs`: those faces take the step by its 1D plan). On a mesh with features every
+//! step runs on its level cut open along the edges sharp at that step and extended by two
+//! layers of ghost faces (`Cut`, `Ghosts`): the outer ghosts are not scattered, the extended
+//! level's boundary vertices are scattered over the faces they have, and only the real faces'
+//! new points are kept, numbered as the base mesh's points at that level (`Numbering`), where
+//! the sharp lines take the scheme's curve and the corners stay.
 
-use super::{lifted, output_counts, Base, Cut, Ghosts, Near, Numbering};
+use super::cut::Extended;
+use super::numbering::level_mesh;
+use super::{lifted, output_counts, Base, Blend, Cut, Ghosts, Near, Numbering, Plan};
 use crate::curve::CurveTables;
+use crate::features::{Resolved, VertexRule};
 use crate::mesh::QuadMesh;
 use crate::real::Real;
 use crate::stencil::Stencil;
@@ -25,132 +29,265 @@ use crate::topology::Topology;
 
 /// The maps of the reference steps `0..first` and the levels between them.
 pub(super) struct Reference {
-    /// Per step, its map of the level before; the last one's points in the start numbering
+    /// Per step, its map of the level before (on a mesh with features: of that level cut along
+    /// its sharp edges, with its ghosts); the last one's points in the start numbering
     /// ([`lifted`](super::lifted)), those of the faces far from the EVs left to
     /// `Near::far_faces` (no weights).
     maps: Vec<Stencil>,
-    /// How level 0's ghosts are made on a mesh cut along its sharp edges (none else).
-    ghosts: Ghosts,
+    /// On a mesh with features, per step: its cut ([`CutStep`]) and the smooth side of its
+    /// blends where a sharpness is below 1 at the step; none else.
+    cuts: Vec<(CutStep, Option<Blend>)>,
+    /// The numbering of each level `0..=first` on a mesh with features (its levels are kept
+    /// in it).
+    nums: Vec<Numbering>,
+    /// Per step, the EVs' 1-ring weights.
+    rings: Vec<[f64; 2]>,
     /// The levels of the last `refine` between the steps.
     levels: Vec<Vec<[f64; 3]>>,
+    /// The level before a step cut open with its ghosts, during a `refine`.
+    extended: Vec<[f64; 3]>,
 }
 
-impl Reference {
-    /// The maps of the steps `0..first` of `base` (`first` ≥ 1) to the level numbered `num`:
-    /// the last one near the EVs only with `near`, on the cut mesh with its ghosts with `cut`;
-    /// each scattered by up to `threads` workers.
+/// A reference step on a level cut along its sharp edges: the cut and how its ghosts are made.
+pub(super) struct CutStep {
+    pub(super) cut: Cut,
+    pub(super) ghosts: Ghosts,
+}
+
+impl CutStep {
+    /// Step k on the level numbered `num` (connectivity `level`, face labels `labels`) cut
+    /// along the edges `features` makes sharp at k, and its map to the level numbered `next`.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn new<S: SurfaceScheme>(
         scheme: &S,
         base: &Base<'_>,
-        (first, num): (usize, &Numbering),
-        mut near: Option<&mut Near>,
-        cut: Option<&Cut>,
+        features: &Resolved,
+        (k, level, labels): (usize, &Topology, Vec<[u8; 2]>),
+        (num, next): (&Numbering, &Numbering),
+        word: &[u8],
+        threads: usize,
+    ) -> Result<(CutStep, Stencil), SurfaceError> {
+        let t = scheme.tables();
+        let line = Plan::new(&t, &t.word_index(), word, 0)?;
+        let cut =
+            Cut::new(base.topo, features, (k, level, num), labels, line).ok_or_else(|| {
+                SurfaceError::Unsupported(format!(
+                    "step {} of scheme `{}` runs the reference driver on the mesh cut open along \
+                 its sharp edges, and the cut is not a manifold",
+                    k + 1,
+                    t.name
+                ))
+            })?;
+        let outward = [word[0], word[1 % word.len()]];
+        let extended = Extended::new(&cut, scheme.surface().sigma, outward);
+        let topo = Topology::build(&shape(extended.faces, extended.outer.len()))?;
+        let skip = Some(&extended.outer[..]);
+        let (map, _) = step_map(scheme, &extended.labels, &topo, skip, threads)?;
+        let order = lifted(&t, &map.faces, k + 1, next);
+        let step = CutStep {
+            cut,
+            ghosts: extended.ghosts,
+        };
+        Ok((step, map.stencil.pick(&order)))
+    }
+
+    /// `map` on the level `level` cut open with its ghosts (in `extended`) into `next`.
+    pub(super) fn apply<T: Real>(
+        &self,
+        map: &Stencil,
+        level: &[[f64; 3]],
+        extended: &mut Vec<[f64; 3]>,
+        next: &mut Vec<[T; 3]>,
+        threads: usize,
+    ) {
+        extended.clear();
+        extended.extend(self.cut.source.iter().map(|&v| level[v as usize]));
+        self.ghosts.extend(extended);
+        apply(map, extended, next, threads);
+    }
+}
+
+impl Reference {
+    /// The maps of the steps `0..first` of `base` (`first` ≥ 1, `words` the label words of
+    /// levels `0..=first`) to the level numbered `num`: the last one near the EVs only with
+    /// `near` on a mesh without features; each level cut along its sharp edges, with its
+    /// ghosts, on a mesh with features; each scattered by up to `threads` workers.
+    pub(super) fn new<S: SurfaceScheme>(
+        scheme: &S,
+        base: &Base<'_>,
+        (words, num): (&[Vec<u8>], &Numbering),
+        near: Option<&mut Near>,
         threads: usize,
     ) -> Result<Reference, SurfaceError> {
+        let first = words.len() - 1;
+        let rings = scheme.surface().rings;
+        let rings = (0..first).map(|k| rings[k.min(rings.len() - 1)]).collect();
+        let levels = vec![Vec::new(); first - 1];
+        if base.features.is_plain() {
+            return Ok(Reference {
+                maps: closed_maps(scheme, base, (first, num), near, threads)?,
+                cuts: Vec::new(),
+                nums: Vec::new(),
+                rings,
+                levels,
+                extended: Vec::new(),
+            });
+        }
         let t = scheme.tables();
-        let [axiom] = t.axiom else {
-            return Err(SurfaceError::Axiom);
-        };
-        // Level 0: the base mesh, or the cut mesh with its ghost layers.
-        let (mut mesh, outer, built, ghosts) = match cut {
-            None => (
-                shape(base.topo.faces().to_vec(), base.topo.vertex_count()),
-                None,
-                None,
-                Ghosts::default(),
-            ),
-            Some(cut) => {
-                let (ghosts, faces, outer) = Ghosts::new(&cut.topo);
-                let mesh = shape(faces, outer.len());
-                let topo = Topology::build(&mesh)?;
-                (mesh, Some(outer), Some(topo), ghosts)
-            }
-        };
-        let mut labels = vec![[*axiom; 2]; mesh.faces.len()];
-        let mut maps = Vec::with_capacity(first);
+        let nums: Vec<Numbering> = (0..=first)
+            .map(|k| num.with_n(words[k].len() as i64))
+            .collect();
+        let (mut maps, mut cuts) = (Vec::with_capacity(first), Vec::with_capacity(first));
         for k in 0..first {
-            let level;
-            let topo = match (k, &built) {
-                (0, Some(topo)) => topo,
-                (0, None) => base.topo,
-                _ => {
-                    level = Topology::build(&mesh)?;
-                    &level
-                }
+            let (faces, labels) = level_mesh(&t, k, &nums[k]);
+            let built;
+            let level = if k == 0 {
+                base.topo
+            } else {
+                built = Topology::build(&shape(faces, nums[k].len()))?;
+                &built
             };
-            if cut.is_none() {
-                topo.require_closed()?;
-            }
-            let last = k + 1 == first;
-            let near_skip = (near.as_deref())
-                .filter(|_| last)
-                .map(|near| near.skip(&mesh.faces, topo.vertex_count()));
-            let skip = near_skip.as_deref().or(outer.as_deref());
-            let (map, _) = step_map(scheme, &labels, topo, skip, threads)?;
-            if let Some(near) = near.as_deref_mut().filter(|_| last) {
-                // Where the faces far from the EVs read the level before and write theirs.
-                let before = if k > 0 {
-                    &mesh.faces
-                } else {
-                    base.topo.faces()
-                };
-                near.index(&t, base, (before, first), num);
-            }
-            mesh = shape(map.faces, map.stencil.len());
-            labels = map.labels;
-            maps.push(map.stencil);
+            let nums = (&nums[k], &nums[k + 1]);
+            let blend = Blend::new(scheme, base, (k, level, &labels), nums, &words[k], threads)?;
+            let features = &base.features;
+            let level = (k, level, labels);
+            let (step, map) =
+                CutStep::new(scheme, base, features, level, nums, &words[k], threads)?;
+            maps.push(map);
+            cuts.push((step, blend));
         }
-        // The last map's points in the start numbering, but those the far faces write.
-        let mut order = lifted(&t, &mesh.faces, first, num);
-        for &i in near.map_or(&[][..], |near| near.written()) {
-            order[i as usize] = u32::MAX;
-        }
-        let last = maps.pop().expect("first ≥ 1");
-        maps.push(last.pick(&order));
         Ok(Reference {
             maps,
-            ghosts,
-            levels: vec![Vec::new(); first - 1],
+            cuts,
+            nums,
+            rings,
+            levels,
+            extended: Vec::new(),
         })
     }
 
-    /// Runs the steps on the positions of level 0 (the base mesh's, or the cut mesh's with its
-    /// ghosts) with `threads` workers; the last level goes to `start`.
+    /// Runs the steps on the base mesh's `positions` with `threads` workers (`alphas` per
+    /// special vertex); the last level goes to `start`.
     pub(super) fn run<T: Real>(
         &mut self,
-        level0: &[[f64; 3]],
+        base: &Base<'_>,
+        (positions, alphas): (&[[f64; 3]], &[f64]),
         start: &mut Vec<[T; 3]>,
         threads: usize,
     ) {
-        let (last, maps) = self.maps.split_last().expect("first ≥ 1");
-        for (k, map) in maps.iter().enumerate() {
-            let (done, next) = self.levels.split_at_mut(k);
-            apply(
-                map,
-                done.last().map_or(level0, Vec::as_slice),
-                &mut next[0],
-                threads,
-            );
+        let first = self.maps.len();
+        let mut levels = std::mem::take(&mut self.levels);
+        for k in 0..first {
+            let (done, next) = levels.split_at_mut(k.min(first - 1));
+            let level = done.last().map_or(positions, Vec::as_slice);
+            if k + 1 < first {
+                self.step(base, (k, level, alphas), &mut next[0], threads);
+            } else {
+                self.step(base, (k, level, alphas), start, threads);
+            }
         }
-        apply(last, self.before(level0), start, threads);
+        self.levels = levels;
     }
 
-    /// How level 0's ghosts are made from the cut mesh's points (none without a cut).
-    pub(super) fn ghosts(&self) -> &Ghosts {
-        &self.ghosts
+    /// Step k from `level` into `next`: its map, and on a mesh with features the sharp lines'
+    /// curves, the darts, the blends and the corners.
+    fn step<T: Real>(
+        &mut self,
+        base: &Base<'_>,
+        (k, level, alphas): (usize, &[[f64; 3]], &[f64]),
+        next: &mut Vec<[T; 3]>,
+        threads: usize,
+    ) {
+        let Some((step, blend)) = self.cuts.get_mut(k) else {
+            apply(&self.maps[k], level, next, threads);
+            return;
+        };
+        step.apply(&self.maps[k], level, &mut self.extended, next, threads);
+        let alpha = |v: u32| {
+            let i = base.special.binary_search(&v);
+            i.map_or(0.0, |i| alphas[i])
+        };
+        let ring = self.rings[k];
+        let (num, next_num) = (&self.nums[k], &self.nums[k + 1]);
+        step.cut
+            .curves(base, (&alpha, ring), (level, num), next_num, next);
+        if let Some(blend) = blend {
+            let level = (level, num);
+            blend.run(base, (alphas, ring), level, next_num, next, threads);
+        }
+        // Corners stay exactly (the ghosts' double reflection gives them up to rounding);
+        // every corner is a special vertex, its rule set at every step. A corner whose rule
+        // changes across the step took its rules' blend.
+        let rules = base.special.iter().zip(base.vertex_rules(k));
+        let corners = rules.filter(|(_, r)| **r == Some(VertexRule::Corner));
+        for (&v, _) in corners.filter(|(&v, _)| base.transition(v, k).is_none()) {
+            next[v as usize] = level[v as usize].map(T::from_f64);
+        }
     }
 
-    /// The level before the last step in the last [`Reference::run`] on `level0`.
-    pub(super) fn before<'a>(&'a self, level0: &'a [[f64; 3]]) -> &'a [[f64; 3]] {
-        self.levels.last().map_or(level0, Vec::as_slice)
+    /// The level before the last step in the last [`Reference::run`] on `positions`.
+    pub(super) fn before<'a>(&'a self, positions: &'a [[f64; 3]]) -> &'a [[f64; 3]] {
+        self.levels.last().map_or(positions, Vec::as_slice)
     }
 
-    /// Bytes held: the maps, the ghosts' making and the levels.
+    /// Bytes held: the maps, the cuts' ghosts and blends, and the levels.
     pub(super) fn bytes(&self) -> usize {
         let maps: usize = self.maps.iter().map(Stencil::bytes).sum();
+        let cuts: usize = (self.cuts.iter())
+            .map(|(c, b)| c.ghosts.bytes() + b.as_ref().map_or(0, Blend::bytes))
+            .sum();
         let levels: usize = self.levels.iter().map(Vec::capacity).sum();
-        maps + self.ghosts.bytes() + levels * size_of::<[f64; 3]>()
+        let levels = levels + self.extended.capacity();
+        maps + cuts + levels * size_of::<[f64; 3]>()
     }
+}
+
+/// The maps of the steps `0..first` of the closed mesh `base` to the level numbered `num`, the
+/// last one near the EVs only with `near`.
+fn closed_maps<S: SurfaceScheme>(
+    scheme: &S,
+    base: &Base<'_>,
+    (first, num): (usize, &Numbering),
+    mut near: Option<&mut Near>,
+    threads: usize,
+) -> Result<Vec<Stencil>, SurfaceError> {
+    let t = scheme.tables();
+    let [axiom] = t.axiom else {
+        return Err(SurfaceError::Axiom);
+    };
+    let mut mesh = shape(base.topo.faces().to_vec(), base.topo.vertex_count());
+    let mut labels = vec![[*axiom; 2]; mesh.faces.len()];
+    let mut maps = Vec::with_capacity(first);
+    for k in 0..first {
+        let level;
+        let topo = if k == 0 {
+            base.topo
+        } else {
+            level = Topology::build(&mesh)?;
+            &level
+        };
+        topo.require_closed()?;
+        let last = k + 1 == first;
+        let skip = (near.as_deref())
+            .filter(|_| last)
+            .map(|near| near.skip(&mesh.faces, topo.vertex_count()));
+        let (map, _) = step_map(scheme, &labels, topo, skip.as_deref(), threads)?;
+        if let Some(near) = near.as_deref_mut().filter(|_| last) {
+            // Where the faces far from the EVs read the level before and write theirs.
+            near.index(&t, base, (&mesh.faces, first), num);
+        }
+        mesh = shape(map.faces, map.stencil.len());
+        labels = map.labels;
+        maps.push(map.stencil);
+    }
+    // The last map's points in the start numbering, but those the far faces write.
+    let mut order = lifted(&t, &mesh.faces, first, num);
+    for &i in near.map_or(&[][..], |near| near.written()) {
+        order[i as usize] = u32::MAX;
+    }
+    let last = maps.pop().expect("first ≥ 1");
+    maps.push(last.pick(&order));
+    Ok(maps)
 }
 
 /// Points a worker takes at least: a point's sum is short (~10 ns), a scoped thread starts
