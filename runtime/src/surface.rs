@@ -337,10 +337,24 @@ impl Step<'_> {
         self.topo.valence(v) == 4 && !self.topo.is_boundary(v)
     }
 
+    /// The spoke of v straight on from its spoke k ([`Step::spokes`] order), if a line
+    /// continues through v there: the opposite one at an ordinary vertex, and the other
+    /// boundary edge at a boundary vertex with two faces arrived at along a boundary edge (a
+    /// ghosted level's straight boundary, `patch/cut.rs`).
+    fn straight_on(&self, v: u32, k: usize) -> Option<usize> {
+        if self.ordinary(v) {
+            Some((k + 2) % 4)
+        } else if self.topo.valence(v) == 2 && self.topo.is_boundary(v) && k != 1 {
+            Some(2 - k)
+        } else {
+            None
+        }
+    }
+
     /// `len` labels along the straight line leaving v by its spoke `start` (edge, label read
     /// from v), read outward. At an ordinary vertex the line continues through the opposite
-    /// edge; at an EV it continues with the mirrored label (\[G\] §2.2.2). Only ordinary
-    /// vertices' spokes are read on the way, so a ray costs the same beside an EV of any
+    /// edge ([`Step::straight_on`]); at an EV it continues with the mirrored label (\[G\]
+    /// §2.2.2). No EV's spokes are read on the way, so a ray costs the same beside an EV of any
     /// valence.
     fn ray(&self, v: u32, start: (u32, u8), len: usize) -> Vec<u8> {
         let (mut e, mut label) = start;
@@ -348,15 +362,16 @@ impl Step<'_> {
         let mut out = vec![label];
         while out.len() < len {
             let q = self.topo.other_end(e, at);
-            if self.ordinary(q) {
+            // Spokes are read only where a line may continue (never around an EV).
+            let next = (self.ordinary(q) || self.topo.valence(q) == 2).then(|| {
                 let qs = self.spokes(q);
-                let i = qs
-                    .iter()
-                    .position(|s| s.0 == e)
-                    .expect("edge is a spoke of its end");
-                (e, label) = qs[(i + 2) % 4];
-            } else {
-                label = self.sigma(label);
+                let i = qs.iter().position(|s| s.0 == e);
+                let i = i.expect("edge is a spoke of its end");
+                self.straight_on(q, i).map(|j| qs[j])
+            });
+            match next.flatten() {
+                Some(spoke) => (e, label) = spoke,
+                None => label = self.sigma(label),
             }
             at = q;
             out.push(label);
@@ -369,10 +384,9 @@ impl Step<'_> {
     fn word(&self, v: u32, sp: &[(u32, u8)], k: usize) -> Result<u32, SurfaceError> {
         let half = self.t.degree.div_ceil(2);
         let ahead = self.ray(v, sp[k], half);
-        let behind = if self.ordinary(v) {
-            self.ray(v, sp[(k + 2) % 4], half)
-        } else {
-            ahead.clone()
+        let behind = match self.straight_on(v, k) {
+            Some(j) => self.ray(v, sp[j], half),
+            None => ahead.clone(),
         };
         let w: Vec<u8> = behind
             .iter()

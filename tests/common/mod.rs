@@ -104,9 +104,24 @@ pub fn knots(s: &GenericSurface, steps: usize) -> Vec<f64> {
 /// A drawn system's scheme text, its exact scheme and its surface scheme, if it is valid and
 /// passes the surface conditions (\[G\] §4.2); not every drawn system does.
 pub fn drawn_surface(sys: &SmallSystem) -> Option<(String, Scheme, GenericSurface)> {
-    let text = sys.to_toml();
-    let ls = scheme::parse("small.toml", &text).expect("generated text parses");
+    text_surface(sys.to_toml())
+}
+
+/// A scheme text's exact scheme and surface scheme, if it is valid and a surface scheme.
+pub fn text_surface(text: String) -> Option<(String, Scheme, GenericSurface)> {
+    let ls = scheme::parse("small.toml", &text).expect("the text parses");
     let exact = Scheme::build(ls).ok()?;
     let surface = GenericSurface::new(exact.clone()).ok()?;
     Some((text, exact, surface))
 }
+
+/// Surface schemes whose masks are contained near extraordinary, boundary and crease vertices
+/// only from step 2 and 3 on (\[G\] Prop. 4.8): the axiom takes one or two steps (S → TCT,
+/// S → T → U) before Binary-Ternary's rules, so on a mesh with features the refiner takes two
+/// or three reference steps, each on its level cut along its sharp edges.
+pub const DELAYED: [&str; 2] = [
+    "name = \"delayed-once\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"T C T\"\n\
+     T = \"L C R\"\nL = \"L C\"\nC = \"L C R\"\nR = \"C R\"\n[symmetry]\nL = \"R\"\n",
+    "name = \"delayed-twice\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"T\"\nT = \"U\"\n\
+     U = \"L C R\"\nL = \"L C\"\nC = \"L C R\"\nR = \"C R\"\n[symmetry]\nL = \"R\"\n",
+];

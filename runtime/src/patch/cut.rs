@@ -195,28 +195,32 @@ fn base_edge(base: &Topology, num: &Numbering, [p, q]: [u32; 2]) -> Option<u32> 
     }
 }
 
-/// The mesh extended past its boundary by two layers of ghost faces, for a step of the
-/// reference driver on an open mesh whose boundary vertices have two faces, or one (a corner):
-/// across each boundary edge a → b of face (a, b, c, d) the quads (b, a, a₁, b₁) and
-/// (b₁, a₁, a₂, b₂), with a₁ = 2a − d, b₁ = 2b − c (the odd reflection the patches use; a
-/// vertex with two faces shares its ghosts between its two boundary edges) and a₂ = 3a − 2d;
-/// at a corner, the four quads of the diagonal quadrant, the first at the double reflection
+/// The mesh extended past its boundary by [`LAYERS`] layers of ghost faces, for a step of the
+/// reference driver on an open level whose boundary vertices have two faces, or one (a
+/// corner): across each boundary edge a → b of face (a, b, c, d) the quads (b, a, a₁, b₁),
+/// (b₁, a₁, a₂, b₂), …, with a_i = a + i(a − d), b_i = b + i(b − c) (the odd reflection the
+/// patches use, continued; a vertex with two faces shares its ghosts between its two boundary
+/// edges); at a corner, the quads of the diagonal quadrant, the first at the double reflection
 /// 4a − 2b − 2d + c. A ghost face's labels are its mirror image's: along the boundary the
-/// boundary edge's, across it the level's word W_k read away from the boundary (`outward`, its
-/// first two letters: every line leaving a boundary of the level reads W_k). The outer layer only makes the first one's vertices interior and
-/// ordinary: in a complete step (every patch's new ring has its parents in the old ring) its
-/// points reach no real new point, and the driver does not scatter them. Real vertices and
-/// faces keep their indices; the ghosts follow. Found once ([`Extended::new`]); each refine
-/// only makes the ghosts' points ([`Ghosts::extend`]).
+/// boundary edge's, across it the level's word W_k read away from the boundary (`outward`:
+/// every line leaving a boundary of a level reads W_k). Only the first layer is scattered:
+/// the rays of its vertices' words pass the second (\[G\] §2.2.2: two labels each way at
+/// degree 3), which the third makes ordinary; the outer layers' masks reach no real new point
+/// (a mask reaches less than two old edges from its vertex). Real vertices and faces keep
+/// their indices; the ghosts follow. Found once ([`Extended::new`]); each refine only makes
+/// the ghosts' points ([`Ghosts::extend`]).
 #[derive(Default)]
 pub(super) struct Ghosts {
     /// The ghosts in the order they are made, each from points made before it.
     made: Vec<Ghost>,
 }
 
+/// Layers of ghost faces beyond a boundary ([`Ghosts`]).
+pub(super) const LAYERS: usize = 3;
+
 /// How ghosts are made ([`Ghosts`]).
 pub(super) enum Ghost {
-    /// a₁ = 2a − p and a₂ = 3a − 2p, from [a, p].
+    /// a_i = a + i(a − p), i = 1..=LAYERS, from [a, p].
     Pair([u32; 2]),
     /// A corner's diagonal quadrant from its face [a, b, c, d] and its ghosts [g_out, g_in]
     /// across its outgoing and incoming boundary edges.
@@ -234,15 +238,18 @@ pub(super) struct Extended {
 }
 
 impl Extended {
-    /// The ghost layers of the cut level `cut`, `sigma` the scheme's involution on labels.
-    pub(super) fn new(cut: &Cut, sigma: &[u8], outward: [u8; 2]) -> Extended {
+    /// The ghost layers of the cut level `cut`, `sigma` the scheme's involution on labels,
+    /// `word` the level's W_k.
+    pub(super) fn new(cut: &Cut, sigma: &[u8], word: &[u8]) -> Extended {
         let topo = &cut.topo;
         let mut ghosts = Ghosts::default();
         let mut next = topo.vertex_count() as u32;
         let mut faces = topo.faces().to_vec();
         let mut labels = cut.labels.clone();
         let sigma = |a: u8| sigma[a as usize];
-        let [w0, w1] = outward;
+        // The labels of the lines leaving the boundary, layer by layer.
+        let outward: [u8; LAYERS] = std::array::from_fn(|i| word[i % word.len()]);
+        const L: u32 = LAYERS as u32;
         let mut shared: HashMap<u32, u32> = HashMap::new();
         // The ghost pairs made once per edge (not shared), and each corner's first diagonal
         // ghost.
@@ -262,7 +269,7 @@ impl Extended {
                     // the same line), once per edge otherwise.
                     let g = next;
                     ghosts.made.push(Ghost::Pair([a, p]));
-                    next += 2;
+                    next += L;
                     if topo.valence(a) == 2 {
                         shared.insert(a, g);
                     }
@@ -275,11 +282,11 @@ impl Extended {
                     }
                 }
                 faces.push([b, a, a1, b1]);
-                faces.push([b1, a1, a1 + 1, b1 + 1]);
+                faces.extend((1..L).map(|i| [b1 + i - 1, a1 + i - 1, a1 + i, b1 + i]));
                 // Edge a → b's label, read from corner l (as the scatter reads it).
                 let [la, lb] = cut.labels[f as usize];
                 let along = [la, lb, sigma(la), sigma(lb)][l as usize];
-                labels.extend([[sigma(along), w0], [sigma(along), w1]]);
+                labels.extend(outward.map(|w| [sigma(along), w]));
                 if topo.valence(a) == 1 {
                     corners.entry(a).or_insert([u32::MAX; 2])[0] = a1;
                 }
@@ -295,23 +302,37 @@ impl Extended {
             let w = topo.rotation(a)[0];
             let face = [0, 1, 2, 3].map(|i| topo.vertex(w.face, (w.corner + i) % 4));
             ghosts.made.push(Ghost::Corner(face, [g_out, g_in]));
-            let (d11, d21, d12, d22) = (next, next + 1, next + 2, next + 3);
-            next += 4;
+            // The quadrant's points P(i, j), i along g_out's line and j along g_in's: a, the
+            // ghosts of the two boundary edges, and the L × L diagonal ghosts, row by row.
+            let d11 = next;
+            next += L * L;
             diagonals.push(d11);
-            faces.push([g_out, a, g_in, d11]);
-            faces.push([g_out + 1, g_out, d11, d21]);
-            faces.push([d11, g_in, g_in + 1, d12]);
-            faces.push([d21, d11, d12, d22]);
-            let (s0, s1) = (sigma(w0), sigma(w1));
-            labels.extend([[s0, w0], [s1, w0], [s0, w1], [s1, w1]]);
+            let point = |i: u32, j: u32| match (i, j) {
+                (0, 0) => a,
+                (i, 0) => g_out + i - 1,
+                (0, j) => g_in + j - 1,
+                (i, j) => d11 + (i - 1) + L * (j - 1),
+            };
+            for j in 0..L {
+                for i in 0..L {
+                    faces.push([
+                        point(i + 1, j),
+                        point(i, j),
+                        point(i, j + 1),
+                        point(i + 1, j + 1),
+                    ]);
+                    let (wi, wj) = (outward[i as usize], outward[j as usize]);
+                    labels.push([sigma(wi), wj]);
+                }
+            }
         }
-        // The outer layer: every a₂ (a ghost pair's second) and each corner's outer three.
+        // The outer layers: every ghost pair's but its first, each corner's but its first.
         let mut outer = vec![false; next as usize];
         for &g in shared.values().chain(&pairs) {
-            outer[g as usize + 1] = true;
+            outer[g as usize + 1..(g + L) as usize].fill(true);
         }
         for &d11 in &diagonals {
-            outer[d11 as usize + 1..d11 as usize + 4].fill(true);
+            outer[d11 as usize + 1..(d11 + L * L) as usize].fill(true);
         }
         Extended {
             ghosts,
@@ -335,8 +356,10 @@ impl Ghosts {
             match *ghost {
                 Ghost::Pair([a, p]) => {
                     let (pa, pp) = (points[a as usize], points[p as usize]);
-                    points.push(std::array::from_fn(|i| 2.0 * pa[i] - pp[i]));
-                    points.push(std::array::from_fn(|i| 3.0 * pa[i] - 2.0 * pp[i]));
+                    for layer in 1..=LAYERS {
+                        let (m, n) = (layer as f64 + 1.0, layer as f64);
+                        points.push(std::array::from_fn(|i| m * pa[i] - n * pp[i]));
+                    }
                 }
                 Ghost::Corner(face, [g_out, g_in]) => {
                     let [pa, pb, pc, pd] = face.map(|v| points[v as usize]);
@@ -345,8 +368,16 @@ impl Ghosts {
                         std::array::from_fn(|i| 4.0 * pa[i] - 2.0 * pb[i] - 2.0 * pd[i] + pc[i]);
                     let along_out = sub3(g(g_out + 1), g(g_out));
                     let along_in = sub3(g(g_in + 1), g(g_in));
-                    let d21 = add3(d11, along_out);
-                    points.extend([d11, d21, add3(d11, along_in), add3(d21, along_in)]);
+                    // Row by row: each row the one before moved along g_in's line.
+                    let first = points.len();
+                    let mut at = d11;
+                    for _ in 0..LAYERS {
+                        points.push(at);
+                        at = add3(at, along_out);
+                    }
+                    for i in LAYERS..LAYERS * LAYERS {
+                        points.push(add3(points[first + i - LAYERS], along_in));
+                    }
                 }
             }
         }

@@ -78,8 +78,7 @@ impl CutStep {
                     t.name
                 ))
             })?;
-        let outward = [word[0], word[1 % word.len()]];
-        let extended = Extended::new(&cut, scheme.surface().sigma, outward);
+        let extended = Extended::new(&cut, scheme.surface().sigma, word);
         let topo = Topology::build(&shape(extended.faces, extended.outer.len()))?;
         let skip = Some(&extended.outer[..]);
         let (map, _) = step_map(scheme, &extended.labels, &topo, skip, threads)?;
