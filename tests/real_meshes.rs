@@ -29,7 +29,12 @@ fn refine(
     extra: &[&str],
 ) -> (Obj, String) {
     let input = write(dir, name, text);
-    let out = dir.join(format!("{name}.{scheme}.out.obj"));
+    let label = std::path::Path::new(scheme)
+        .file_stem()
+        .unwrap()
+        .to_str()
+        .unwrap();
+    let out = dir.join(format!("{name}.{label}.out.obj"));
     let steps = steps.to_string();
     let mut args = vec![
         "subdivide",
@@ -303,23 +308,28 @@ fn a_fractional_crease_blends_the_two_integer_ones() {
     let dir = tempfile::tempdir().unwrap();
     let crease = |s: &str| format!("{CUBE}t crease 8/1/0 0 1 1 2 2 3 3 0 {s}\n");
     let corner = |s: &str| format!("{CUBE}t corner 1/1/0 0 {s}\n");
+    // Sharpness `s` refines to the mean of sharpness `lo` and `hi`.
+    let mean_of =
+        |scheme: &str, what: &str, tagged: &dyn Fn(&str) -> String, [s, lo, hi]: [&str; 3]| {
+            let (mid, _) = refine(dir.path(), ("mid.obj", &tagged(s)), scheme, 3, &[]);
+            let (hi, _) = refine(dir.path(), ("hi.obj", &tagged(hi)), scheme, 3, &[]);
+            let (lo, _) = refine(dir.path(), ("lo.obj", &tagged(lo)), scheme, 3, &[]);
+            assert_eq!(mid.f, hi.f, "{scheme}");
+            for (i, (p, (a, b))) in mid.v.iter().zip(hi.v.iter().zip(&lo.v)).enumerate() {
+                let mean: [f64; 3] = std::array::from_fn(|c| 0.5 * (a[c] + b[c]));
+                let off = (0..3).map(|c| (p[c] - mean[c]).abs()).fold(0.0, f64::max);
+                assert!(
+                    off < 1e-12,
+                    "{scheme}, {what} {s}: vertex {i}: {p:?}, mean {mean:?}"
+                );
+            }
+        };
     for scheme in SCHEMES {
         for (what, tagged) in [
             ("crease", &crease as &dyn Fn(&str) -> String),
             ("corner", &corner),
         ] {
-            let (half, _) = refine(dir.path(), ("half.obj", &tagged("0.5")), scheme, 3, &[]);
-            let (one, _) = refine(dir.path(), ("one.obj", &tagged("1")), scheme, 3, &[]);
-            let (zero, _) = refine(dir.path(), ("zero.obj", &tagged("0")), scheme, 3, &[]);
-            assert_eq!(half.f, one.f, "{scheme}");
-            for (i, (p, (a, b))) in half.v.iter().zip(one.v.iter().zip(&zero.v)).enumerate() {
-                let mean: [f64; 3] = std::array::from_fn(|c| 0.5 * (a[c] + b[c]));
-                let off = (0..3).map(|c| (p[c] - mean[c]).abs()).fold(0.0, f64::max);
-                assert!(
-                    off < 1e-12,
-                    "{scheme}, {what}: vertex {i}: {p:?}, mean {mean:?}"
-                );
-            }
+            mean_of(scheme, what, tagged, ["0.5", "0", "1"]);
         }
         let tagged = crease;
         let (point_seven, _) = refine(dir.path(), ("p7.obj", &tagged("1.7")), scheme, 3, &[]);
@@ -330,6 +340,16 @@ fn a_fractional_crease_blends_the_two_integer_ones() {
                 .all(|p| p.iter().all(|x| x.is_finite())),
             "{scheme}"
         );
+    }
+    // Schemes whose first two or three steps run the reference driver, each on its level cut
+    // along the lines sharp at that step: sharpness 1.5 blends at the second step (its edges
+    // at weight 0.5, its vertices' rule transition at 0.5), so it is the mean of sharpness 1's
+    // (smooth from the second step) and 2's (sharp at it).
+    for (i, text) in common::DELAYED.iter().enumerate() {
+        let scheme = write(dir.path(), &format!("delayed-{i}.toml"), text);
+        for s in [["1.5", "1", "2"], ["0.5", "0", "1"]] {
+            mean_of(&scheme, "crease", &crease, s);
+        }
     }
 }
 

@@ -711,18 +711,24 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
     use lsubdiv::runtime::patch::{footprint, Refiner};
     use lsubdiv::runtime::surface::SurfaceScheme;
     let plain = |mesh: QuadMesh| (mesh, Features::default());
-    // A crease of sharpness 0.5 around one face: Binary-Ternary's reference step runs twice.
-    let fractional = |mesh: QuadMesh| {
+    // A crease of sharpness s around one face: a reference step below 1 runs twice.
+    let creased = |mesh: QuadMesh, s: f64| {
         let f = mesh.faces[0];
-        let half = lsubdiv::runtime::features::Sharpness::from_f64(0.5).unwrap();
-        let creases = (0..4).map(|i| ([f[i], f[(i + 1) % 4]], half)).collect();
+        let s = lsubdiv::runtime::features::Sharpness::from_f64(s).unwrap();
+        let creases = (0..4).map(|i| ([f[i], f[(i + 1) % 4]], s)).collect();
         let features = Features {
             creases,
             ..Features::default()
         };
         (mesh, features)
     };
-    for (name, (mesh, features), steps) in [
+    let fractional = |mesh| creased(mesh, 0.5);
+    let one_and_a_half = |mesh| creased(mesh, 1.5);
+    // Schemes that take two and three reference steps on a mesh with features, each on its
+    // level cut open with ghost layers, a fraction blending at the second.
+    let delayed = common::DELAYED.map(|text| common::text_surface(text.into()).unwrap().2);
+    let open = || split(&capless(&icosphere(3), 0.6));
+    let shipped = [
         ("binary-ternary", fractional(split_icosphere(3)), 2),
         ("fibonacci", plain(star()), 7),
         ("fibonacci", plain(cube()), 6),
@@ -735,13 +741,16 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
         // A reference step on the icosphere's every face, and on it open, cut along its
         // boundary with ghost layers (`patch/reference.rs`).
         ("binary-ternary", plain(split_icosphere(3)), 2),
-        (
-            "binary-ternary",
-            plain(split(&capless(&icosphere(3), 0.6))),
-            2,
-        ),
-    ] {
-        let s = surface(name);
+        ("binary-ternary", plain(open()), 2),
+    ]
+    .map(|(name, mesh, steps)| (name, surface(name), mesh, steps));
+    let [once, twice] = delayed;
+    let delayed = [
+        ("delayed-once", once.clone(), plain(open()), 3),
+        ("delayed-once", once, one_and_a_half(open()), 3),
+        ("delayed-twice", twice, plain(open()), 4),
+    ];
+    for (name, s, (mesh, features), steps) in shipped.into_iter().chain(delayed) {
         let topo = Topology::build(&mesh).unwrap();
         let fp = footprint(
             &CurveScheme::tables(&s),
@@ -753,9 +762,10 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
             1,
         );
         let mut r = Refiner::<_, f64>::with_features(&s, &topo, &features, steps, 1).unwrap();
+        let reference = s.surface().contained_from.min(steps);
         assert!(
-            name != "binary-ternary" || r.reference_steps() == 1,
-            "{name}, {steps} steps: a reference step"
+            name == "fibonacci" || name == "uniform-binary" || r.reference_steps() == reference,
+            "{name}, {steps} steps: {reference} reference steps"
         );
         r.refine(&mesh.positions).unwrap();
         let once = r.buffer_bytes();

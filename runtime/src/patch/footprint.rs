@@ -2,7 +2,7 @@
 //! every buffer's bound, for the size guard (`lsubdiv --max-memory`) and the benchmarks'
 //! memory ratios.
 
-use super::cut::Ghost;
+use super::cut::{Ghost, LAYERS};
 use super::numbering::FaceNumbering;
 use super::{direct, handoff, reference, Base, FaceRules};
 use crate::curve::CurveTables;
@@ -117,23 +117,24 @@ pub fn footprint(
     // The start level, every face's start patch as u32 indices, and the faces' rules.
     // An open mesh's reference step runs on it with its ghost layers ([`Ghosts`]): two
     // vertices and two faces per boundary vertex and edge, six and four more per corner.
-    // A reference step on a mesh with features runs on it cut along its sharp edges, with its
-    // ghost layers ([`Cut`], [`Ghosts`]): at most two ghost vertices and faces per side of
-    // each sharp edge, six and four more per corner sector.
+    // A reference step on a mesh with features runs on its level cut along the edges sharp
+    // at that step (at most those sharp at step 0), with its ghost layers ([`Cut`], [`Ghosts`]):
+    // per side of a sharp edge at most two ghost pairs of `LAYERS` points and `LAYERS` faces
+    // per sub-edge, and per sector of one face (a face corner between two sharp edges) a
+    // quadrant of `LAYERS`² faces and points.
     let cut = match &base {
         Some(b) if first > 0 && !b.features.is_plain() => {
-            let sharp = (0..topo.edge_count() as u32)
-                .filter(|&e| b.features.edge_sharp(e, 0))
+            let sharp = |e: u32| b.features.edge_sharp(e, 0);
+            let edges = (0..topo.edge_count() as u32).filter(|&e| sharp(e)).count() as u128;
+            let quadrants = (0..topo.face_count() as u32)
+                .flat_map(|f| (0..4u8).map(move |c| (f, c)))
+                .filter(|&(f, c)| sharp(topo.edge_of(f, c)) && sharp(topo.edge_of(f, (c + 3) % 4)))
                 .count() as u128;
-            let corners = (0..topo.vertex_count() as u32)
-                .filter(|&v| b.features.vertex_rule(topo, v, 0) == VertexRule::Corner)
-                .count() as u128;
-            // A corner has a quadrant of ghosts per sector: at most one per face.
-            let per_corner = corners.saturating_mul(4);
+            let l = LAYERS as u128;
             Some((
-                sharp,
-                4 * sharp + 6 * per_corner,
-                4 * sharp + 4 * per_corner,
+                edges,
+                4 * l * edges + l * l * quadrants,
+                2 * l * edges + l * l * quadrants,
             ))
         }
         _ => None,
@@ -163,7 +164,7 @@ pub fn footprint(
         let second = output_counts(v0, e0, f0, n(first))
             .0
             .saturating_add(ghosts)
-            .saturating_mul(point.saturating_add(8));
+            .saturating_mul(24 + 8);
         match blends {
             true => one.saturating_mul(2).saturating_add(second),
             false => one,
