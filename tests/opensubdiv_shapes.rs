@@ -292,20 +292,14 @@ fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
     let mut failures = Vec::new();
     let mut compared = 0;
     for (name, obj, options) in &shapes {
-        let [boundary, crease, _] = options;
+        let [boundary, _, _] = options;
         let out = tmp.path().join("out.obj");
         for level in 1..=2 {
             let ours = uniform_binary(obj, level, boundary, &out, &[]);
             if !ours.status.success() {
-                // Chaikin's creasing is refused, with its reason (docs/real-meshes.md).
-                let chaikin = crease == "chaikin"
-                    && stderr(&ours).contains("Chaikin creasing is not supported");
-                if !chaikin {
-                    failures.push(format!("{name} level {level}: refused: {}", stderr(&ours)));
-                }
+                failures.push(format!("{name} level {level}: refused: {}", stderr(&ours)));
                 break;
             }
-            assert_ne!(crease, "chaikin", "{name}: Chaikin creasing is refused");
             let osd_mesh = reference(&osd, obj, level, options, &[]);
             let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
             compared += 1;
@@ -322,6 +316,37 @@ fn uniform_binary_equals_opensubdiv_on_its_regression_shapes() {
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// Chaikin creasing through a polygon mesh's first step (a Catmull–Clark step of its own,
+/// `runtime::polygon`) and the steps after it, one level at a time: OpenSubdiv's Chaikin shape
+/// with its first quad cut into two triangles, against OpenSubdiv.
+#[test]
+fn chaikin_creasing_after_a_polygon_step_equals_opensubdiv() {
+    let Some((shapes, tmp, osd)) = setup() else {
+        return;
+    };
+    let (_, obj, options) = (shapes.iter())
+        .find(|s| s.0 == "catmark_chaikin1")
+        .expect("OpenSubdiv's Chaikin shape");
+    let text = std::fs::read_to_string(obj).unwrap();
+    let quad = text.lines().find(|l| l.starts_with("f ")).unwrap();
+    let [a, b, c, d] =
+        <[&str; 4]>::try_from(quad.split_whitespace().skip(1).collect::<Vec<_>>()).expect("a quad");
+    let triangles = text.replacen(quad, &format!("f {a} {b} {c}\nf {a} {c} {d}"), 1);
+    let obj = tmp.path().join("triangles.obj");
+    std::fs::write(&obj, triangles).unwrap();
+    let obj = obj.to_str().unwrap();
+    let out = tmp.path().join("out.obj");
+    for level in 1..=3 {
+        let ours = uniform_binary(obj, level, &options[0], &out, &[]);
+        assert!(ours.status.success(), "{}", stderr(&ours));
+        let osd_mesh = reference(&osd, obj, level, options, &[]);
+        let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
+        if let Some(why) = compare(&osd_mesh, &our_mesh, false) {
+            panic!("level {level}: {why}");
+        }
+    }
 }
 
 /// OpenSubdiv's face-varying modes and `--uv`'s names for them.
@@ -344,9 +369,9 @@ fn texture_coordinates_equal_opensubdiv_in_every_face_varying_mode() {
     let mut corners = [0; 2];
     let level = 2;
     for (name, obj, options) in &shapes {
-        let [boundary, crease, _] = options;
+        let [boundary, _, _] = options;
         let text = std::fs::read_to_string(obj).unwrap();
-        if crease == "chaikin" || !text.lines().any(|l| l.starts_with("vt ")) {
+        if !text.lines().any(|l| l.starts_with("vt ")) {
             continue;
         }
         let out = tmp.path().join("out.obj");

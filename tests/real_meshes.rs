@@ -353,6 +353,72 @@ fn a_fractional_crease_blends_the_two_integer_ones() {
     }
 }
 
+#[test]
+fn chaikin_creasing_takes_its_steps_one_level_at_a_time() {
+    // Chaikin's children (OpenSubdiv's `CREASE_CHAIKIN`) vary along an edge, so lsubdiv takes
+    // the steps one at a time, each level a base mesh. Where no two semi-sharp creases meet,
+    // the children are uniform creasing's (s − 1), and the refinement is the one refinement's,
+    // face for face, with a hole, a semi-sharp corner and an infinitely sharp crease carried
+    // through the levels.
+    let dir = tempfile::tempdir().unwrap();
+    let tags = "t crease 2/1/0 0 1 2.5\nt crease 2/1/0 2 3 1.5\nt crease 2/1/0 6 7 10\n\
+                t corner 1/1/0 5 2\nt hole 1/0/0 4\n";
+    let chaikin = "t creasemethod 0/0/1 chaikin\n";
+    let apart = format!("{CUBE}{tags}");
+    let (uniform, _) = refine(dir.path(), ("u.obj", &apart), "uniform-binary", 3, &[]);
+    let (stepped, _) = refine(
+        dir.path(),
+        ("c.obj", &(apart.clone() + chaikin)),
+        "uniform-binary",
+        3,
+        &[],
+    );
+    // The same quads in the same order, corner for corner (the levels number their points
+    // their own way).
+    let gap = corner_gap(&uniform, &stepped);
+    assert!(gap < 1e-12, "apart by {gap:e}");
+    // Where semi-sharp creases of 2 and 4 meet, their children there are 1.5 and 2.5, not 1
+    // and 3: the surfaces differ (tests/opensubdiv_shapes.rs compares them with OpenSubdiv's).
+    let meeting = format!("{CUBE}t crease 2/1/0 0 1 2\nt crease 2/1/0 1 2 4\n");
+    let (uniform, _) = refine(dir.path(), ("mu.obj", &meeting), "uniform-binary", 3, &[]);
+    let (stepped, _) = refine(
+        dir.path(),
+        ("mc.obj", &(meeting.clone() + chaikin)),
+        "uniform-binary",
+        3,
+        &[],
+    );
+    let apart = corner_gap(&uniform, &stepped);
+    assert!(
+        apart > 1e-3,
+        "Chaikin's surface is uniform creasing's: {apart:e}"
+    );
+    // A scheme whose levels are not base meshes refuses it, saying why.
+    let input = write(dir.path(), "m.obj", &(meeting + chaikin));
+    let out = dir.path().join("f.obj");
+    let o = lsubdiv(&[
+        "subdivide",
+        "fibonacci",
+        "--steps",
+        "2",
+        &input,
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("Chaikin creasing"), "{}", stderr(&o));
+}
+
+/// How far apart the corners of two refinements with the same quads in the same order are
+/// (each numbering its points its own way).
+fn corner_gap(a: &Obj, b: &Obj) -> f64 {
+    assert_eq!((a.f.len(), a.v.len()), (b.f.len(), b.v.len()));
+    let corners = a.f.iter().zip(&b.f).flat_map(|(f, g)| f.iter().zip(g));
+    corners
+        .flat_map(|(&i, &j)| (0..3).map(move |c| (a.v[i][c] - b.v[j][c]).abs()))
+        .fold(0.0, f64::max)
+}
+
 /// Per number of faces k, the edges of `mesh` with k faces (distinct vertex pairs; a face's
 /// degenerate edges left out).
 fn edges_by_faces(

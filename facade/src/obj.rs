@@ -543,7 +543,7 @@ impl std::fmt::Display for Text<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lsubdiv_runtime::features::Triangles;
+    use lsubdiv_runtime::features::{Creasing, Triangles};
     use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
     use lsubdiv_runtime::topology::Topology;
 
@@ -837,17 +837,13 @@ mod tests {
                 "skipped 1 line with unknown tag `t faceedit` (line 12)",
             ]
         );
-        // Chaikin's creasing is refused at its line.
-        let e = parse(
-            "t.obj",
-            &format!("{SQUARE_V}f 1 2 3 4\nt creasemethod 0/0/1 chaikin\n"),
-        )
-        .unwrap_err();
+        // The creasing method, and a method that is none refused at its line.
+        let chaikin = format!("{SQUARE_V}f 1 2 3 4\nt creasemethod 0/0/1 chaikin\n");
+        let p = parse("t.obj", &chaikin).unwrap();
+        assert_eq!(p.features.creasing, Creasing::Chaikin);
+        let e = parse("t.obj", &chaikin.replace("chaikin", "loop")).unwrap_err();
         assert!(e.to_string().contains("t.obj:6"), "{e}");
-        assert!(
-            e.to_string().contains("Chaikin creasing is not supported"),
-            "{e}"
-        );
+        assert!(e.to_string().contains("not a creasing method"), "{e}");
     }
 
     #[test]

@@ -18,8 +18,8 @@
 //! - `t facevaryinginterpolateboundary 1/0/0 k`: how texture coordinates are refined
 //!   ([`UvRule`]), OpenSubdiv's `FVarLinearInterpolation`: 0 none (smooth), 1 corners-only,
 //!   2 corners-plus1, 3 corners-plus2, 4 boundaries, 5 all (linear); `--uv` overrides it;
-//! - `t creasemethod 0/0/1 m`: `normal` (OpenSubdiv's uniform creasing, lsubdiv's); `chaikin`
-//!   is refused (Chaikin's sharpness varies along an edge).
+//! - `t creasemethod 0/0/1 m`: `normal` (OpenSubdiv's uniform creasing) or `chaikin`
+//!   ([`Creasing`]).
 //!
 //! The count field may omit its string count (`2/1`). Sharpness is read by
 //! [`Sharpness::from_f64`] (`inf` and 10 or more: infinitely sharp; fractions as OpenSubdiv). A value
@@ -30,7 +30,7 @@
 use crate::mesh_file::{shorten, FeatureLines};
 use crate::obj::{is_integer, Token};
 use lsubdiv_runtime::facevarying::UvRule;
-use lsubdiv_runtime::features::{Boundary, Features, Sharpness, Triangles};
+use lsubdiv_runtime::features::{Boundary, Creasing, Features, Sharpness, Triangles};
 use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
 
@@ -231,7 +231,10 @@ impl Tags {
         match kind.tag {
             Tag::Boundary => self.boundary(ints[0]),
             Tag::FaceVarying => self.face_varying(ints[0]),
-            Tag::CreaseMethod => creasing(strings[0]),
+            Tag::CreaseMethod => {
+                self.features.creasing = creasing(strings[0])?;
+                Ok(())
+            }
             Tag::Triangles => {
                 self.features.triangles = triangles(strings[0])?;
                 Ok(())
@@ -331,20 +334,12 @@ impl Tags {
     }
 }
 
-/// `t creasemethod 0/0/1 m`: OpenSubdiv's `normal` (uniform) creasing is lsubdiv's;
-/// `chaikin` is refused: its sharpness varies along an edge from step to step (each child
-/// averaged with the sharp edges at its end), and lsubdiv's is one value per file edge and
-/// step.
-fn creasing((tok, line): Token<'_>) -> Result<(), Failure> {
+/// `t creasemethod 0/0/1 m`: OpenSubdiv's `normal` (uniform) or `chaikin` creasing
+/// ([`Creasing`]).
+fn creasing((tok, line): Token<'_>) -> Result<Creasing, Failure> {
     match tok {
-        "normal" | "uniform" => Ok(()),
-        "chaikin" => Err((
-            line,
-            "Chaikin creasing is not supported: lsubdiv keeps one sharpness per edge of the file \
-             and step (OpenSubdiv's uniform creasing), and Chaikin's varies along each edge; \
-             remove the tag for uniform creasing"
-                .into(),
-        )),
+        "normal" | "uniform" => Ok(Creasing::Uniform),
+        "chaikin" => Ok(Creasing::Chaikin),
         _ => Err((
             line,
             format!(

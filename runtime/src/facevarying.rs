@@ -342,6 +342,7 @@ fn layout_features<'a>(
         holes: features.holes.clone(),
         fins: layout_fins,
         triangles: features.triangles,
+        creasing: features.creasing,
     }
 }
 

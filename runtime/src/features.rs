@@ -159,6 +159,20 @@ pub enum Triangles {
     Smooth,
 }
 
+/// How a sharp edge's children take its sharpness: OpenSubdiv's `Sdc::Options::CreasingMethod`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Creasing {
+    /// Each child s − 1 (`CREASE_UNIFORM`, [`Sharpness::decremented`]).
+    #[default]
+    Uniform,
+    /// Each child ¾ of s and ¼ of the mean of the other semi-sharp edges at its end, less 1
+    /// (`CREASE_CHAIKIN`, `Crease::SubdivideEdgeSharpnessAtVertex`): the sharpness varies
+    /// along an edge after a step, so a mesh takes its steps one at a time, each on the level
+    /// before as a base mesh (schemes whose axiom rewrites to two copies of itself, whose
+    /// every level is one: `patch::subdivide_with`).
+    Chaikin,
+}
+
 /// The sharp features of a mesh, named by its vertices and faces (0-based, as OpenSubdiv's
 /// shape files write them in OBJ `t` tags).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -176,9 +190,76 @@ pub struct Features {
     pub fins: Vec<u32>,
     /// The triangle rule of the first step of a mesh that is not all quads.
     pub triangles: Triangles,
+    /// How a sharp edge's children take its sharpness.
+    pub creasing: Creasing,
 }
 
 impl Features {
+    /// Per crease (in `creases`' order), the sharpness of its children at its two ends after
+    /// a step, by the creasing method ([`Creasing`]). A boundary edge, infinitely sharp, is
+    /// no semi-sharp edge at its ends.
+    pub fn children(&self) -> Vec<[Sharpness; 2]> {
+        let semi = |s: Sharpness| s.is_sharp() && !s.is_infinite();
+        // Per vertex, the sum and count of the semi-sharp creases at it (f32, as OpenSubdiv).
+        let mut at: std::collections::HashMap<u32, (f32, u32)> = Default::default();
+        if self.creasing == Creasing::Chaikin {
+            for &(ends, s) in self.creases.iter().filter(|c| semi(c.1)) {
+                for v in ends {
+                    let e = at.entry(v).or_default();
+                    *e = (e.0 + s.0, e.1 + 1);
+                }
+            }
+        }
+        let child = |s: Sharpness, v: u32| match at.get(&v) {
+            Some(&(sum, count)) if semi(s) && count > 1 => {
+                let others = (sum - s.0) / (count - 1) as f32;
+                let c = 0.75 * s.0 + 0.25 * others - 1.0;
+                if c > 0.0 {
+                    Sharpness(c)
+                } else {
+                    Sharpness::SMOOTH
+                }
+            }
+            _ => s.decremented(),
+        };
+        (self.creases.iter())
+            .map(|&([a, b], s)| [child(s, a), child(s, b)])
+            .collect()
+    }
+
+    /// The steps at which some crease or corner is semi-sharp (sharp, not infinitely), under
+    /// the creasing method: the creases' children followed step by step (their edge points
+    /// named from `u32::MAX` down), at most 11 (every finite sharpness is below 10 and each
+    /// child at most the larger of its edge's and its end's mean, less 1).
+    pub fn semi_sharp_steps(&self) -> usize {
+        let semi = |s: Sharpness| s.is_sharp() && !s.is_infinite();
+        let mut level = Features {
+            creases: self.creases.iter().copied().filter(|c| semi(c.1)).collect(),
+            corners: self.corners.iter().copied().filter(|c| semi(c.1)).collect(),
+            creasing: self.creasing,
+            ..Features::default()
+        };
+        let mut next = u32::MAX;
+        for k in 0..=11 {
+            if level.creases.is_empty() && level.corners.is_empty() {
+                return k;
+            }
+            let children = level.children();
+            level.creases = (level.creases.iter().zip(children))
+                .flat_map(|(&([a, b], _), [sa, sb])| {
+                    next = next.wrapping_sub(1);
+                    [([a, next], sa), ([next, b], sb)]
+                })
+                .filter(|c| semi(c.1))
+                .collect();
+            level.corners = (level.corners.iter())
+                .map(|&(v, s)| (v, s.decremented()))
+                .filter(|c| semi(c.1))
+                .collect();
+        }
+        11
+    }
+
     /// No creases, corners or holes, and the given boundary rule.
     pub fn with_boundary(boundary: Boundary) -> Features {
         Features {
@@ -332,6 +413,13 @@ pub struct Resolved {
     vertex: Vec<Sharpness>,
     hole: Vec<bool>,
     plain: bool,
+    /// Under Chaikin creasing, per edge its children's sharpness at its ends (smaller vertex
+    /// first): the sharpness at step 1, which varies along an edge (empty under uniform
+    /// creasing, where step k's is [`Sharpness::at`]).
+    children: Vec<[Sharpness; 2]>,
+    /// Under Chaikin creasing, the steps at which some edge or corner is semi-sharp
+    /// ([`Features::semi_sharp_steps`]).
+    chaikin_steps: usize,
 }
 
 impl Resolved {
@@ -362,6 +450,18 @@ impl Resolved {
                 }
             }
         }
+        let mut children = Vec::new();
+        if features.creasing == Creasing::Chaikin {
+            children = edge.iter().map(|s| [s.decremented(); 2]).collect();
+            for (&([a, b], _), child) in features.creases.iter().zip(features.children()) {
+                if let Some(e) = topo.edge_between(a, b) {
+                    if !edge[e as usize].is_infinite() {
+                        let forward = topo.edge_vertices(e)[0] == a;
+                        children[e as usize] = if forward { child } else { [child[1], child[0]] };
+                    }
+                }
+            }
+        }
         for &(v, s) in &features.corners {
             vertex[v as usize] = s;
         }
@@ -378,11 +478,17 @@ impl Resolved {
         let plain = topo.is_closed()
             && edge.iter().all(|s| !s.is_sharp())
             && vertex.iter().all(|s| !s.is_sharp());
+        let chaikin_steps = match features.creasing {
+            Creasing::Chaikin => features.semi_sharp_steps(),
+            Creasing::Uniform => 0,
+        };
         Ok(Resolved {
             edge,
             vertex,
             hole,
             plain,
+            children,
+            chaikin_steps,
         })
     }
 
@@ -422,7 +528,28 @@ impl Resolved {
         v: u32,
         k: usize,
     ) -> Vec<bool> {
-        topo.spokes(v).map(|e| self.edge_sharp(e, k)).collect()
+        match self.child_at(topo, v, k) {
+            Some(child) => topo.spokes(v).map(|e| child(e).is_sharp()).collect(),
+            None => topo.spokes(v).map(|e| self.edge_sharp(e, k)).collect(),
+        }
+    }
+
+    /// Under Chaikin creasing at step 1, the sharpness of an edge at v's end ([`Creasing`]).
+    fn child_at<'a>(
+        &'a self,
+        topo: &'a crate::topology::Topology,
+        v: u32,
+        k: usize,
+    ) -> Option<impl Fn(u32) -> Sharpness + 'a> {
+        (k == 1 && !self.children.is_empty()).then_some(move |e: u32| {
+            self.children[e as usize][usize::from(topo.edge_vertices(e)[0] != v)]
+        })
+    }
+
+    /// Whether the edges take Chaikin's sharpness ([`Creasing::Chaikin`]): the refiner takes
+    /// one step of them.
+    pub fn chaikin(&self) -> bool {
+        !self.children.is_empty()
     }
 
     /// Whether an edge or a vertex has a sharpness below 1 at step k: there its rule is a
@@ -443,6 +570,8 @@ impl Resolved {
             vertex: self.vertex.iter().map(whole).collect(),
             hole: self.hole.clone(),
             plain: self.plain,
+            children: self.children.clone(),
+            chaikin_steps: self.chaikin_steps,
         }
     }
 
@@ -490,9 +619,16 @@ impl Resolved {
         if vertex.at(k).is_sharp() && !vertex.at(k + 1).is_sharp() {
             (count, sum) = (1, vertex.at(k).value());
         }
+        // Uniform: the edges of sharpness ≤ 1; Chaikin: the sharp edges whose child at v is
+        // smooth.
+        let at_v = self.child_at(topo, v, k + 1);
         for e in topo.spokes(v) {
             let s = self.edge[e as usize].at(k);
-            if s.is_sharp() && s.value() <= 1.0 {
+            let ends = match &at_v {
+                Some(at_v) => !at_v(e).is_sharp(),
+                None => s.value() <= 1.0,
+            };
+            if s.is_sharp() && ends {
                 sum += s.value();
                 count += 1;
             }
@@ -587,6 +723,9 @@ impl Resolved {
 
     /// The steps after which nothing changes: the largest finite sharpness.
     pub fn changing_steps(&self) -> usize {
+        if self.chaikin() {
+            return self.chaikin_steps;
+        }
         self.edge
             .iter()
             .chain(&self.vertex)
@@ -649,5 +788,47 @@ impl Features {
             &mut self.corners.iter().map(|&(v, _)| [v, 0]),
         )?;
         repeated(FeatureList::Holes, &mut self.holes.iter().map(|&f| [f, 0]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Chaikin's children (`Crease::SubdivideEdgeSharpnessAtVertex`), worked by hand: at a
+    /// vertex of semi-sharp edges 2 and 4, ¾ of each and ¼ of the other, less 1; where an edge
+    /// is the only semi-sharp one at its end (or infinitely sharp), s − 1; smooth at 0.
+    #[test]
+    fn chaikin_children_average_the_semi_sharp_edges_at_each_end() {
+        let s = |x: f64| Sharpness::from_f64(x).unwrap();
+        let features = Features {
+            // 0 –2– 1 –4– 2 –inf– 3, and 1 –0.5– 4.
+            creases: vec![
+                ([0, 1], s(2.0)),
+                ([1, 2], s(4.0)),
+                ([2, 3], Sharpness::INFINITE),
+                ([1, 4], s(0.5)),
+            ],
+            creasing: Creasing::Chaikin,
+            ..Features::default()
+        };
+        let children = features.children();
+        // At 1 the semi-sharp edges are 2, 4 and 0.5 (sum 6.5, three).
+        let at_1 = |e: f32| 0.75 * e + 0.25 * (6.5 - e) / 2.0 - 1.0;
+        assert_eq!(children[0], [s(1.0), Sharpness(at_1(2.0))]);
+        assert_eq!(children[1], [Sharpness(at_1(4.0)), s(3.0)]);
+        assert_eq!(children[2], [Sharpness::INFINITE; 2]);
+        // 0.75 · 0.5 + 0.25 · 3 − 1 = 0.125 at 1; alone at 4: smooth.
+        assert_eq!(children[3], [Sharpness(at_1(0.5)), Sharpness::SMOOTH]);
+        assert_eq!(at_1(0.5), 0.125);
+        // Uniform creasing: every child s − 1.
+        let uniform = Features {
+            creasing: Creasing::Uniform,
+            ..features.clone()
+        };
+        let decremented = uniform.creases.iter().map(|c| [c.1.decremented(); 2]);
+        assert!(uniform.children().into_iter().eq(decremented));
+        // Semi-sharp for four steps: 4's child at 2 is 3, then 2, then 1.
+        assert_eq!(features.semi_sharp_steps(), 4);
     }
 }

@@ -328,6 +328,7 @@ pub fn separate(m: &PolyMesh, features: &Features) -> Result<Option<Separated>, 
         boundary: features.boundary,
         holes: features.holes.clone(),
         triangles: features.triangles,
+        creasing: features.creasing,
         ..Features::default()
     };
     // Creases: a manifold edge's tag moves to its copy; every copy of a non-manifold edge is

@@ -48,7 +48,7 @@
 //! the scheme needs.
 
 use crate::curve::rewrite;
-use crate::features::{Features, Resolved, VertexRule};
+use crate::features::{Creasing, Features, Resolved, VertexRule};
 use crate::grid::{along_edge, corner_at, TOWARD_NEXT};
 use crate::mesh::QuadMesh;
 use crate::real::Real;
@@ -68,6 +68,7 @@ mod limit;
 mod near;
 mod numbering;
 mod plan;
+mod rebase;
 mod reference;
 mod stream;
 mod vertices;
@@ -389,6 +390,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             return Err(SurfaceError::Axiom);
         };
         let resolved = Resolved::new(topo, features).map_err(SurfaceError::Features)?;
+        if resolved.chaikin() && steps > 1 {
+            return Err(SurfaceError::Unsupported(
+                "Chaikin creasing is refined one step at a time: each refiner takes one \
+                 (`patch::subdivide_with` and `patch::limit_with` take the others)"
+                    .into(),
+            ));
+        }
         let base = Base::new(topo, resolved, steps)?;
         let plain = base.features.is_plain();
         let lookup = t.word_index();
@@ -1122,11 +1130,16 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
 
     /// The output quads: every face of the base mesh but the holes becomes an N × N grid.
     pub fn faces(&self) -> Vec<[u32; 4]> {
+        self.quads(false)
+    }
+
+    /// [`Refiner::faces`], with the holes' children where `holes`.
+    fn quads(&self, holes: bool) -> Vec<[u32; 4]> {
         let num = &self.out_num;
         let n = num.n;
         let nf = self.base.topo.face_count();
         let mut faces = Vec::with_capacity(nf * (n * n) as usize);
-        for f in (0..nf).filter(|&f| !self.base.features.is_hole(f as u32)) {
+        for f in (0..nf).filter(|&f| holes || !self.base.features.is_hole(f as u32)) {
             for y in 0..n {
                 for x in 0..n {
                     let i = |x, y| num.index(f, x, y).0 as u32;
@@ -1422,9 +1435,14 @@ pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
     steps: usize,
     threads: usize,
 ) -> Result<QuadMesh<T>, SurfaceError> {
+    let level = rebase::before_last(scheme, (mesh, topo, features), steps, threads)?;
+    let (mesh, topo, features, steps) = match &level {
+        Some(l) => (&l.mesh, &l.topo, &l.features, 1),
+        None => (mesh, topo, features, steps),
+    };
     let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
     r.refine(&mesh.positions)?;
-    let faces = r.faces();
+    let faces = in_base_order(&level, r.faces());
     let kept = used(&faces, r.output_vertices(), r.base.features.has_holes());
     Ok(QuadMesh {
         positions: keep(&kept, r.into_positions()),
@@ -1454,6 +1472,14 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
     steps: usize,
     threads: usize,
 ) -> Result<Refined<T>, SurfaceError> {
+    if features.creasing == Creasing::Chaikin {
+        limit::sharp_until(features.semi_sharp_steps(), steps)?;
+    }
+    let level = rebase::before_last(scheme, (mesh, topo, features), steps, threads)?;
+    let (mesh, topo, features, steps) = match &level {
+        Some(l) => (&l.mesh, &l.topo, &l.features, 1),
+        None => (mesh, topo, features, steps),
+    };
     let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
     r.refine(&mesh.positions)?;
     let SurfaceLimit {
@@ -1461,7 +1487,7 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
         normals,
         approximate,
     } = r.limit()?;
-    let faces = r.faces();
+    let faces = in_base_order(&level, r.faces());
     let kept = used(&faces, positions.len(), r.base.features.has_holes());
     let approximate = match &kept {
         Some(map) => approximate
@@ -1483,6 +1509,15 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
 
 /// With holes, each vertex's index once the vertices no face uses are dropped (`u32::MAX`:
 /// dropped, the others in their order); without, none: every vertex is used.
+/// A refinement's quads in one refinement's order ([`rebase::Level::in_base_order`]) where
+/// its steps but the last were taken one at a time.
+fn in_base_order(level: &Option<rebase::Level>, faces: Vec<[u32; 4]>) -> Vec<[u32; 4]> {
+    match level {
+        Some(level) => level.in_base_order(faces),
+        None => faces,
+    }
+}
+
 fn used(faces: &[[u32; 4]], vertices: usize, holes: bool) -> Option<Vec<u32>> {
     holes.then(|| renumbering(faces.iter().flatten().copied(), vertices))
 }

@@ -17,7 +17,7 @@
 //! sharpness, so the rules are those of the current sharpness). Holes are refined like every
 //! face; their children are holes.
 
-use crate::features::{FeatureError, Features, Sharpness, Triangles, VertexRule};
+use crate::features::{Creasing, FeatureError, Features, Sharpness, Triangles, VertexRule};
 use crate::mesh::QuadMesh;
 use crate::topology::{check_corners, TopologyError};
 use std::collections::{HashMap, HashSet};
@@ -299,6 +299,19 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             *e = s;
         }
     }
+    // Each edge's children's sharpness at its two ends ([`Features::children`]).
+    let mut children: Vec<[Sharpness; 2]> =
+        sharpness.iter().map(|s| [s.decremented(); 2]).collect();
+    for (&([a, b], _), [sa, sb]) in features.creases.iter().zip(features.children()) {
+        let e = edge_of([a, b]) as usize;
+        if !sharpness[e].is_infinite() {
+            children[e] = if edges.ends[e][0] == a {
+                [sa, sb]
+            } else {
+                [sb, sa]
+            };
+        }
+    }
     let mut corner = vec![Sharpness::SMOOTH; nv];
     for &(v, s) in &features.corners {
         corner[v as usize] = s;
@@ -376,9 +389,9 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             false => (0.0, 0),
         })
         .collect();
-    for (&[a, b], s) in edges.ends.iter().zip(&sharpness) {
-        for (v, other) in [(a, b), (b, a)] {
-            for (level, s) in [*s, s.decremented()].into_iter().enumerate() {
+    for ((&[a, b], s), child) in edges.ends.iter().zip(&sharpness).zip(&children) {
+        for (end, (v, other)) in [(a, b), (b, a)].into_iter().enumerate() {
+            for (level, s) in [*s, child[end]].into_iter().enumerate() {
                 let e = &mut sharp_ends[v as usize][level];
                 if s.is_sharp() {
                     if e.0 < 2 {
@@ -387,7 +400,13 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
                     e.0 += 1;
                 }
             }
-            if s.is_sharp() && s.value() <= 1.0 {
+            // `ComputeFractionalWeightAtVertex`: the sharp edges that end at v (uniform: those
+            // of sharpness ≤ 1).
+            let ends = match features.creasing {
+                Creasing::Uniform => s.value() <= 1.0,
+                Creasing::Chaikin => !child[end].is_sharp(),
+            };
+            if s.is_sharp() && ends {
                 let t = &mut transition[v as usize];
                 *t = (t.0 + s.value(), t.1 + 1);
             }
@@ -447,12 +466,12 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     let edge_point = |e: [u32; 2]| nv as u32 + edge_of(e);
     let features = Features {
         boundary: features.boundary,
-        creases: (features.creases.iter())
-            .filter_map(|&([a, b], s)| {
-                let (s, m) = (s.decremented(), edge_point([a, b]));
-                s.is_sharp().then_some([([a, m], s), ([m, b], s)])
+        creases: (features.creases.iter().zip(features.children()))
+            .flat_map(|(&([a, b], _), [sa, sb])| {
+                let m = edge_point([a, b]);
+                [([a, m], sa), ([m, b], sb)]
             })
-            .flatten()
+            .filter(|c| c.1.is_sharp())
             .collect(),
         corners: (features.corners.iter())
             .map(|&(v, s)| (v, s.decremented()))
@@ -464,6 +483,7 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             .collect(),
         fins: features.fins.clone(),
         triangles: features.triangles,
+        creasing: features.creasing,
     };
     Ok(Split {
         mesh: QuadMesh { positions, faces },

@@ -90,6 +90,20 @@ pub fn limit_available<S: SurfaceScheme>(
     ruled(scheme, topo, &resolved, steps).map(|_| ())
 }
 
+/// Refused where a semi-sharp crease or corner is sharp for `changing` steps, more than
+/// `steps`: its limit depends on steps not taken.
+pub(super) fn sharp_until(changing: usize, steps: usize) -> Result<(), SurfaceError> {
+    if changing <= steps {
+        return Ok(());
+    }
+    Err(SurfaceError::Unsupported(format!(
+        "the limit after {steps} step{}: a semi-sharp crease or corner is still sharp (for \
+         {changing} steps), so the limit depends on steps not taken; refine at least {changing} \
+         steps",
+        if steps == 1 { "" } else { "s" },
+    )))
+}
+
 /// Per base vertex, whether its child is set by a rule at the limit; refused, naming the
 /// reason, for a degree without limit masks, a semi-sharp feature still sharp after the last
 /// step (its limit depends on steps not taken), and interior EVs before their configuration
@@ -109,14 +123,7 @@ fn ruled<S: SurfaceScheme>(
         ));
     }
     let after = format!("after {steps} step{}", if steps == 1 { "" } else { "s" });
-    if features.changing_steps() > steps {
-        return unsupported(format!(
-            "the limit {after}: a semi-sharp crease or corner of sharpness {} is still \
-             sharp, so the limit depends on steps not taken; refine at least {} steps",
-            features.changing_steps(),
-            features.changing_steps()
-        ));
-    }
+    sharp_until(features.changing_steps(), steps)?;
     let special: Vec<bool> = (0..topo.vertex_count() as u32)
         .map(|v| {
             if features.is_plain() {
