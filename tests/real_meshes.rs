@@ -364,31 +364,21 @@ fn chaikin_creasing_takes_its_steps_one_level_at_a_time() {
     let tags = "t crease 2/1/0 0 1 2.5\nt crease 2/1/0 2 3 1.5\nt crease 2/1/0 6 7 10\n\
                 t corner 1/1/0 5 2\nt hole 1/0/0 4\n";
     let chaikin = "t creasemethod 0/0/1 chaikin\n";
-    let apart = format!("{CUBE}{tags}");
-    let (uniform, _) = refine(dir.path(), ("u.obj", &apart), "uniform-binary", 3, &[]);
-    let (stepped, _) = refine(
-        dir.path(),
-        ("c.obj", &(apart.clone() + chaikin)),
-        "uniform-binary",
-        3,
-        &[],
-    );
-    // The same quads in the same order, corner for corner (the levels number their points
-    // their own way).
-    let gap = corner_gap(&uniform, &stepped);
-    assert!(gap < 1e-12, "apart by {gap:e}");
+    // How far uniform creasing's and Chaikin's refinements of `text` are apart, corner for
+    // corner of the same quads in the same order (the levels number their points their own
+    // way).
+    let gap = |text: &str| {
+        let (uniform, _) = refine(dir.path(), ("u.obj", text), "uniform-binary", 3, &[]);
+        let text = text.to_string() + chaikin;
+        let (stepped, _) = refine(dir.path(), ("c.obj", &text), "uniform-binary", 3, &[]);
+        corner_gap(&uniform, &stepped)
+    };
+    let apart = gap(&format!("{CUBE}{tags}"));
+    assert!(apart < 1e-12, "apart by {apart:e}");
     // Where semi-sharp creases of 2 and 4 meet, their children there are 1.5 and 2.5, not 1
     // and 3: the surfaces differ (tests/opensubdiv_shapes.rs compares them with OpenSubdiv's).
     let meeting = format!("{CUBE}t crease 2/1/0 0 1 2\nt crease 2/1/0 1 2 4\n");
-    let (uniform, _) = refine(dir.path(), ("mu.obj", &meeting), "uniform-binary", 3, &[]);
-    let (stepped, _) = refine(
-        dir.path(),
-        ("mc.obj", &(meeting.clone() + chaikin)),
-        "uniform-binary",
-        3,
-        &[],
-    );
-    let apart = corner_gap(&uniform, &stepped);
+    let apart = gap(&meeting);
     assert!(
         apart > 1e-3,
         "Chaikin's surface is uniform creasing's: {apart:e}"
