@@ -349,6 +349,70 @@ fn chaikin_creasing_after_a_polygon_step_equals_opensubdiv() {
     }
 }
 
+/// Chaikin's rule transitions: at a vertex of semi-sharp edges 1.2 and 0.4 (and 3 beyond)
+/// both children are smooth under Chaikin, so the crease turns smooth with weight
+/// (1.2 + 0.4)/2 (uniform creasing: 0.4 alone, the 1.2 edge's child still sharp). On a 4 × 4
+/// grid, and with a quad cut into triangles (the polygon step's transitions), levels 1–3.
+#[test]
+fn chaikin_rule_transitions_equal_opensubdiv() {
+    let Some((_, tmp, osd)) = setup() else {
+        return;
+    };
+    let n = 4;
+    let id = |i: usize, j: usize| i * (n + 1) + j;
+    let mut text = String::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            text += &format!("v {j} {i} {}\n", 0.15 * ((i * 7 + j * 3) % 5) as f64);
+        }
+    }
+    let quads: Vec<[usize; 4]> = (0..n * n)
+        .map(|q| (q / n, q % n))
+        .map(|(i, j)| [id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)])
+        .collect();
+    let face = |f: &[usize]| {
+        f.iter()
+            .fold("f".to_string(), |s, v| s + &format!(" {}", v + 1))
+    };
+    let (v, east, north) = (id(2, 2), id(2, 3), id(1, 2));
+    let tags = format!(
+        "t crease 2/1/0 {v} {east} 1.2\nt crease 2/1/0 {v} {north} 0.4\n\
+         t crease 2/1/0 {east} {} 3\nt creasemethod 0/0/1 chaikin\n",
+        id(2, 4)
+    );
+    let all: Vec<String> = quads.iter().map(|q| face(q)).collect();
+    let [a, b, c, d] = quads[0];
+    let cut = [face(&[a, b, c]), face(&[a, c, d])];
+    let meshes = [
+        ("grid", all.join("\n")),
+        (
+            "cut",
+            all[1..]
+                .iter()
+                .chain(&cut)
+                .cloned()
+                .collect::<Vec<_>>()
+                .join("\n"),
+        ),
+    ];
+    let out = tmp.path().join("out.obj");
+    let options = ["edge-and-corner", "chaikin", "catmark"].map(String::from);
+    for (name, faces) in meshes {
+        let obj = tmp.path().join(format!("{name}.obj"));
+        std::fs::write(&obj, format!("{text}{faces}\n{tags}")).unwrap();
+        let obj = obj.to_str().unwrap();
+        for level in 1..=3 {
+            let ours = uniform_binary(obj, level, &options[0], &out, &[]);
+            assert!(ours.status.success(), "{}", stderr(&ours));
+            let osd_mesh = reference(&osd, obj, level, &options, &[]);
+            let our_mesh = parse(&std::fs::read_to_string(&out).unwrap(), true);
+            if let Some(why) = compare(&osd_mesh, &our_mesh, false) {
+                panic!("{name}, level {level}: {why}");
+            }
+        }
+    }
+}
+
 /// OpenSubdiv's face-varying modes and `--uv`'s names for them.
 const MODES: &[(&str, &str)] = &[
     ("none", "smooth"),
