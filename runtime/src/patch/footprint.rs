@@ -155,12 +155,21 @@ pub fn footprint(
         let new = n(first).saturating_add(1);
         let near = new.saturating_mul(new).saturating_add(side(first - 1));
         let near = near.saturating_mul(4).saturating_add(5);
+        // The level before a step cut open with its ghosts, as positions (the largest, before
+        // the last step).
+        let (lv, le, lf) = level0;
+        let extended = cut.map_or(0, |_| {
+            output_counts(lv, le, lf, n(first - 1)).0.saturating_mul(24)
+        });
         let one = reference::bound(t, level0, first)
             .saturating_add(f0.saturating_mul(near))
-            .saturating_add(made);
-        // A sharpness below 1 at the step runs it twice (`patch/blend.rs`): a second cut
-        // (along fewer edges) and its maps, its level after the step and a weight per point.
-        let blends = cut.is_some() && base.as_ref().is_some_and(|b| b.features.has_fractions(0));
+            .saturating_add(made)
+            .saturating_add(extended);
+        // A sharpness below 1 at a reference step runs it twice (`patch/blend.rs`): a second
+        // cut (along fewer edges) and its maps, its level after the step and a weight per
+        // point.
+        let fractions = |b: &Base<'_>| (0..first).any(|k| b.features.has_fractions(k));
+        let blends = cut.is_some() && base.as_ref().is_some_and(fractions);
         let second = output_counts(v0, e0, f0, n(first))
             .0
             .saturating_add(ghosts)
