@@ -227,6 +227,24 @@ impl Features {
             .collect()
     }
 
+    /// Per edge of a mesh whose edges have sharpness `sharpness`, its children's at its two
+    /// ends ([`Features::children`]; s − 1 where no crease names it): `edge(ab)` finds crease
+    /// ab's edge and whether a is the end listed first.
+    pub fn edge_children(
+        &self,
+        sharpness: &[Sharpness],
+        edge: impl Fn([u32; 2]) -> Option<(usize, bool)>,
+    ) -> Vec<[Sharpness; 2]> {
+        let mut children: Vec<[Sharpness; 2]> =
+            sharpness.iter().map(|s| [s.decremented(); 2]).collect();
+        for (&(ab, _), [sa, sb]) in self.creases.iter().zip(self.children()) {
+            if let Some((e, forward)) = edge(ab).filter(|&(e, _)| !sharpness[e].is_infinite()) {
+                children[e] = if forward { [sa, sb] } else { [sb, sa] };
+            }
+        }
+        children
+    }
+
     /// The steps at which some crease or corner is semi-sharp (sharp, not infinitely), under
     /// the creasing method: the creases' children followed step by step (their edge points
     /// named from `u32::MAX` down), at most 11 (every finite sharpness is below 10 and each
@@ -244,20 +262,45 @@ impl Features {
             if level.creases.is_empty() && level.corners.is_empty() {
                 return k;
             }
-            let children = level.children();
-            level.creases = (level.creases.iter().zip(children))
-                .flat_map(|(&([a, b], _), [sa, sb])| {
+            // (A semi-sharp edge's children are semi-sharp or smooth; no holes to follow.)
+            level = level.stepped(
+                |_| {
                     next = next.wrapping_sub(1);
-                    [([a, next], sa), ([next, b], sb)]
-                })
-                .filter(|c| semi(c.1))
-                .collect();
-            level.corners = (level.corners.iter())
-                .map(|&(v, s)| (v, s.decremented()))
-                .filter(|c| semi(c.1))
-                .collect();
+                    next
+                },
+                |_| 0..0,
+            );
         }
         11
+    }
+
+    /// These features one step on: each crease ab the edges (a, m) and (m, b), m =
+    /// `edge_point(ab)`, with its children's sharpness ([`Features::children`]), each corner
+    /// its sharpness less one, what becomes smooth dropped; each hole's children
+    /// `children(f)`.
+    pub fn stepped(
+        &self,
+        mut edge_point: impl FnMut([u32; 2]) -> u32,
+        children: impl Fn(u32) -> std::ops::Range<u32>,
+    ) -> Features {
+        Features {
+            boundary: self.boundary,
+            creases: (self.creases.iter().zip(self.children()))
+                .flat_map(|(&([a, b], _), [sa, sb])| {
+                    let m = edge_point([a, b]);
+                    [([a, m], sa), ([m, b], sb)]
+                })
+                .filter(|c| c.1.is_sharp())
+                .collect(),
+            corners: (self.corners.iter())
+                .map(|&(v, s)| (v, s.decremented()))
+                .filter(|c| c.1.is_sharp())
+                .collect(),
+            holes: self.holes.iter().flat_map(|&f| children(f)).collect(),
+            fins: self.fins.clone(),
+            triangles: self.triangles,
+            creasing: self.creasing,
+        }
     }
 
     /// No creases, corners or holes, and the given boundary rule.
@@ -450,18 +493,13 @@ impl Resolved {
                 }
             }
         }
-        let mut children = Vec::new();
-        if features.creasing == Creasing::Chaikin {
-            children = edge.iter().map(|s| [s.decremented(); 2]).collect();
-            for (&([a, b], _), child) in features.creases.iter().zip(features.children()) {
-                if let Some(e) = topo.edge_between(a, b) {
-                    if !edge[e as usize].is_infinite() {
-                        let forward = topo.edge_vertices(e)[0] == a;
-                        children[e as usize] = if forward { child } else { [child[1], child[0]] };
-                    }
-                }
-            }
-        }
+        let children = match features.creasing {
+            Creasing::Chaikin => features.edge_children(&edge, |[a, b]| {
+                let e = topo.edge_between(a, b)?;
+                Some((e as usize, topo.edge_vertices(e)[0] == a))
+            }),
+            Creasing::Uniform => Vec::new(),
+        };
         for &(v, s) in &features.corners {
             vertex[v as usize] = s;
         }

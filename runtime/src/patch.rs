@@ -1436,10 +1436,7 @@ pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
     threads: usize,
 ) -> Result<QuadMesh<T>, SurfaceError> {
     let level = rebase::before_last(scheme, (mesh, topo, features), steps, threads)?;
-    let (mesh, topo, features, steps) = match &level {
-        Some(l) => (&l.mesh, &l.topo, &l.features, 1),
-        None => (mesh, topo, features, steps),
-    };
+    let ((mesh, topo, features), steps) = rebase::remaining(&level, (mesh, topo, features), steps);
     let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
     r.refine(&mesh.positions)?;
     let faces = in_base_order(&level, r.faces());
@@ -1476,10 +1473,7 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
         limit::sharp_until(features.semi_sharp_steps(), steps)?;
     }
     let level = rebase::before_last(scheme, (mesh, topo, features), steps, threads)?;
-    let (mesh, topo, features, steps) = match &level {
-        Some(l) => (&l.mesh, &l.topo, &l.features, 1),
-        None => (mesh, topo, features, steps),
-    };
+    let ((mesh, topo, features), steps) = rebase::remaining(&level, (mesh, topo, features), steps);
     let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
     r.refine(&mesh.positions)?;
     let SurfaceLimit {
@@ -1507,8 +1501,6 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
     })
 }
 
-/// With holes, each vertex's index once the vertices no face uses are dropped (`u32::MAX`:
-/// dropped, the others in their order); without, none: every vertex is used.
 /// A refinement's quads in one refinement's order ([`rebase::Level::in_base_order`]) where
 /// its steps but the last were taken one at a time.
 fn in_base_order(level: &Option<rebase::Level>, faces: Vec<[u32; 4]>) -> Vec<[u32; 4]> {
@@ -1518,6 +1510,8 @@ fn in_base_order(level: &Option<rebase::Level>, faces: Vec<[u32; 4]>) -> Vec<[u3
     }
 }
 
+/// With holes, each vertex's index once the vertices no face uses are dropped (`u32::MAX`:
+/// dropped, the others in their order); without, none: every vertex is used.
 fn used(faces: &[[u32; 4]], vertices: usize, holes: bool) -> Option<Vec<u32>> {
     holes.then(|| renumbering(faces.iter().flatten().copied(), vertices))
 }

@@ -300,18 +300,10 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
         }
     }
     // Each edge's children's sharpness at its two ends ([`Features::children`]).
-    let mut children: Vec<[Sharpness; 2]> =
-        sharpness.iter().map(|s| [s.decremented(); 2]).collect();
-    for (&([a, b], _), [sa, sb]) in features.creases.iter().zip(features.children()) {
+    let children = features.edge_children(&sharpness, |[a, b]| {
         let e = edge_of([a, b]) as usize;
-        if !sharpness[e].is_infinite() {
-            children[e] = if edges.ends[e][0] == a {
-                [sa, sb]
-            } else {
-                [sb, sa]
-            };
-        }
-    }
+        Some((e, edges.ends[e][0] == a))
+    });
     let mut corner = vec![Sharpness::SMOOTH; nv];
     for &(v, s) in &features.corners {
         corner[v as usize] = s;
@@ -463,28 +455,10 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
             face_of.push(f as u32);
         }
     }
-    let edge_point = |e: [u32; 2]| nv as u32 + edge_of(e);
-    let features = Features {
-        boundary: features.boundary,
-        creases: (features.creases.iter().zip(features.children()))
-            .flat_map(|(&([a, b], _), [sa, sb])| {
-                let m = edge_point([a, b]);
-                [([a, m], sa), ([m, b], sb)]
-            })
-            .filter(|c| c.1.is_sharp())
-            .collect(),
-        corners: (features.corners.iter())
-            .map(|&(v, s)| (v, s.decremented()))
-            .filter(|c| c.1.is_sharp())
-            .collect(),
-        holes: (features.holes.iter())
-            .flat_map(|&f| m.offsets[f as usize]..m.offsets[f as usize + 1])
-            .map(|q| q as u32)
-            .collect(),
-        fins: features.fins.clone(),
-        triangles: features.triangles,
-        creasing: features.creasing,
-    };
+    let features = features.stepped(
+        |e| nv as u32 + edge_of(e),
+        |f| (m.offsets[f as usize] as u32)..(m.offsets[f as usize + 1] as u32),
+    );
     Ok(Split {
         mesh: QuadMesh { positions, faces },
         face_of,

@@ -180,6 +180,14 @@ impl<'t> Base<'t> {
         })
     }
 
+    /// Vertex v's α among `alphas` (one per special vertex), 0 where it is not special.
+    pub(super) fn alpha(&self, alphas: &[f64], v: u32) -> f64 {
+        alphas
+            .get(self.special_at[v as usize] as usize)
+            .copied()
+            .unwrap_or(0.0)
+    }
+
     /// Where special vertex v's rule changes across step k with a fractional weight: the
     /// rule of step k + 1 and its weight ([`Resolved::transition`]).
     pub(super) fn transition(&self, v: u32, k: usize) -> Option<(VertexRule, f64)> {

@@ -137,12 +137,8 @@ impl Blend {
     ) {
         let (step, other) = (&self.step, &mut self.other);
         step.apply(&self.map, level, &mut self.extended, other, threads);
-        let alpha = |v: u32| {
-            let i = base.special.binary_search(&v);
-            i.map_or(0.0, |i| alphas[i])
-        };
         let cut = &step.cut;
-        cut.curves(base, (&alpha, ring), (level, num), next_num, other);
+        cut.curves(base, (alphas, ring), (level, num), next_num, other);
         for ((a, b), &w) in next.iter_mut().zip(other.iter()).zip(&self.weight) {
             if w < 1.0 {
                 *a = std::array::from_fn(|i| T::from_f64(w * a[i].to_f64() + (1.0 - w) * b[i]));

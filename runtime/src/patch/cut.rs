@@ -1,6 +1,6 @@
 //! A level of the reference steps cut open along its sharp edges and extended by ghost faces,
 //! for the reference driver's step on a mesh with features (`patch/reference.rs`): a crease
-//! is a boundary for both of its sides, and two layers of ghost faces beyond every boundary
+//! is a boundary for both of its sides, and three layers of ghost faces beyond every boundary
 //! give the scatter the odd reflections the patches use as phantoms (docs/real-meshes.md).
 //! After the step, the points on the sharp lines are set by the scheme's curve rule
 //! ([`Cut::curves`]), a dart's child by its smooth rule.
@@ -36,9 +36,9 @@ pub(super) struct Cut {
 }
 
 impl Cut {
-    /// The cut at step k (`features`' edges sharp at k) of the level of quads `faces` with
-    /// their `labels` over the points of `num`, whose connectivity is `level` (the base mesh
-    /// at k = 0); none if the level is not a manifold. At a dart (one sharp edge at an
+    /// The cut at step k (`features`' edges sharp at k) of the level `level` (the base mesh at
+    /// k = 0) over the points of `num`, its faces labelled `labels`; none if the level is not
+    /// a manifold. At a dart (one sharp edge at an
     /// interior vertex) the cut is at most a slit: the dart keeps one copy, whose child
     /// [`Cut::curves`] sets by the smooth rule.
     pub(super) fn new(
@@ -132,13 +132,13 @@ impl Cut {
     /// it: beyond a crease vertex the line continues along its other sharp edge, beyond a dart
     /// of valence 4 straight on (the line is sharp, the vertex smooth, as in OpenSubdiv),
     /// elsewhere it is odd-reflected. A dart's child is its smooth rule on its 1-ring
-    /// ([`vertex_child`]; `alpha` per vertex, `ring` the step's EV 1-ring weights). The
+    /// ([`vertex_child`]; `alphas` per special vertex, `ring` the step's EV 1-ring weights). The
     /// scatter near a boundary EV drops the entries that pass through it; on the lines, the
     /// principle decides.
     pub(super) fn curves<T: Real>(
         &self,
         base: &Base<'_>,
-        (alpha, ring): (&dyn Fn(u32) -> f64, [f64; 2]),
+        (alphas, ring): (&[f64], [f64; 2]),
         (level, num): (&[[f64; 3]], &Numbering),
         next_num: &Numbering,
         next: &mut [[T; 3]],
@@ -174,7 +174,7 @@ impl Cut {
         }
         let point = |f: u32, x: i64, y: i64| at(num.index(f as usize, x, y).0);
         for &v in &self.darts {
-            let child = (v, VertexRule::Smooth, alpha(v));
+            let child = (v, VertexRule::Smooth, base.alpha(alphas, v));
             let plan = (&self.line, ring, self.k);
             next[v as usize] = vertex_child(base, child, plan, n, point).map(T::from_f64);
         }

@@ -6,7 +6,7 @@
 //! run one at a time, each level's features its children's, and the last by the refiner.
 
 use super::{Refiner, SurfaceError, SurfaceScheme};
-use crate::features::{Creasing, Features, Sharpness};
+use crate::features::{Creasing, Features};
 use crate::mesh::QuadMesh;
 use crate::topology::Topology;
 
@@ -44,37 +44,18 @@ pub(super) fn before_last<S: SurfaceScheme + Sync>(
     }
     let mut level: Option<Level> = None;
     for _ in 1..steps {
-        let (mesh, topo, features) = match &level {
-            Some(l) => (&l.mesh, &l.topo, &l.features),
-            None => (mesh, topo, features),
-        };
+        let ((mesh, topo, features), _) = remaining(&level, (mesh, topo, features), 1);
         let mut r = Refiner::<S, f64>::with_features(scheme, topo, features, 1, threads)?;
         r.refine(&mesh.positions)?;
         let faces = r.quads(true);
         // A file edge's children meet at its edge point, after the vertices (N = 2).
         let nv = topo.vertex_count() as u32;
-        let creases = (features.creases.iter().zip(features.children()))
-            .flat_map(|(&([a, b], _), [sa, sb])| {
-                let e = topo
-                    .edge_between(a, b)
-                    .expect("a resolved crease is an edge");
-                [([a, nv + e], sa), ([nv + e, b], sb)]
-            })
-            .filter(|c| c.1.is_sharp())
-            .collect();
-        let corners = (features.corners.iter())
-            .map(|&(v, s)| (v, s.decremented()))
-            .filter(|c: &(u32, Sharpness)| c.1.is_sharp())
-            .collect();
-        let holes = (features.holes.iter())
-            .flat_map(|&f| 4 * f..4 * f + 4)
-            .collect();
-        let features = Features {
-            creases,
-            corners,
-            holes,
-            ..features.clone()
+        let edge_point = |[a, b]: [u32; 2]| {
+            nv + topo
+                .edge_between(a, b)
+                .expect("a resolved crease is an edge")
         };
+        let features = features.stepped(edge_point, |f| 4 * f..4 * f + 4);
         let mesh = QuadMesh {
             positions: r.into_positions(),
             faces,
@@ -89,6 +70,19 @@ pub(super) fn before_last<S: SurfaceScheme + Sync>(
         });
     }
     Ok(level)
+}
+
+/// What the refiner takes: the level before the last step and that step where the steps
+/// before it were taken one at a time ([`before_last`]), else the mesh and every step.
+pub(super) fn remaining<'a>(
+    level: &'a Option<Level>,
+    mesh: (&'a QuadMesh, &'a Topology, &'a Features),
+    steps: usize,
+) -> ((&'a QuadMesh, &'a Topology, &'a Features), usize) {
+    match level {
+        Some(l) => ((&l.mesh, &l.topo, &l.features), 1),
+        None => (mesh, steps),
+    }
 }
 
 impl Level {

@@ -9,7 +9,7 @@
 //!
 //! The last step scatters only the vertices near the EVs when some faces are far from them
 //! (`patch/near.rs`: those faces take the step by its 1D plan). On a mesh with features every
-//! step runs on its level cut open along the edges sharp at that step and extended by two
+//! step runs on its level cut open along the edges sharp at that step and extended by three
 //! layers of ghost faces (`Cut`, `Ghosts`): the outer ghosts are not scattered, the extended
 //! level's boundary vertices are scattered over the faces they have, and only the real faces'
 //! new points are kept, numbered as the base mesh's points at that level (`Numbering`), where
@@ -202,14 +202,10 @@ impl Reference {
             return;
         };
         step.apply(&self.maps[k], level, &mut self.extended, next, threads);
-        let alpha = |v: u32| {
-            let i = base.special.binary_search(&v);
-            i.map_or(0.0, |i| alphas[i])
-        };
         let ring = self.rings[k];
         let (num, next_num) = (&self.nums[k], &self.nums[k + 1]);
         step.cut
-            .curves(base, (&alpha, ring), (level, num), next_num, next);
+            .curves(base, (alphas, ring), (level, num), next_num, next);
         if let Some(blend) = blend {
             let level = (level, num);
             blend.run(base, (alphas, ring), level, next_num, next, threads);
