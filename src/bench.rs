@@ -116,7 +116,10 @@ fn built(spec: &str, max: u64, boundary: Option<Boundary>) -> Result<Checked, Er
             // Triangles: the first step is a Catmull–Clark step (`runtime::polygon`).
             return split(spec, &icosphere(l), boundary);
         }
-        _ => return crate::limits::read_mesh(std::path::Path::new(spec), max, boundary, None),
+        _ => {
+            let path = std::path::Path::new(spec);
+            return crate::limits::read_mesh(path, max, boundary, None).map(|(mesh, _)| mesh);
+        }
     };
     checked(spec, built, false, Features::default())
 }

@@ -127,10 +127,11 @@ impl Prediction {
             None => format!("{} points", count(self.vertices)),
         };
         Err(Error::input(format!(
-            "{what} would make {made}, {}; --max-memory is {}; use fewer steps or raise --max-memory",
+            "{what} would make {made}, {}; --max-memory is {}",
             size(self.bytes),
             size(u128::from(max))
-        )))
+        ))
+        .with_hint("use fewer steps or raise --max-memory"))
     }
 }
 
@@ -161,12 +162,13 @@ fn holding(path: &std::path::Path, len: u64, per_byte: u128, max: u64) -> Result
     Err(Error::in_file(
         path.display(),
         format!(
-            "the file has {}, and reading it may hold {}; --max-memory is {}; raise --max-memory",
+            "the file has {}, and reading it may hold {}; --max-memory is {}",
             size(u128::from(len)),
             size(bytes),
             size(u128::from(max))
         ),
-    ))
+    )
+    .with_hint("raise --max-memory"))
 }
 
 /// The most bytes of an input file (a mesh or a point file) read under `--max-memory max`: its
@@ -228,10 +230,11 @@ fn refuse_image(what: &str, bytes: u128, max: u64) -> Result<(), Error> {
         return Ok(());
     }
     Err(Error::input(format!(
-        "{what} would hold {}; --max-memory is {}; use a smaller --size or raise --max-memory",
+        "{what} would hold {}; --max-memory is {}",
         size(bytes),
         size(u128::from(max))
-    )))
+    ))
+    .with_hint("use a smaller --size or raise --max-memory"))
 }
 
 /// What a picture holds once drawn ([`crate::picture::Picture::drawing`], or predicted before
@@ -311,7 +314,7 @@ pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path,
 }
 
 /// Reads a mesh (closed or open), its topology and its features from an OBJ or PLY file (by content:
-/// [`lsubdiv::mesh_file::Format::of`]) by [`read_input`]; a PLY file, once read, is refused
+/// [`lsubdiv::mesh_file::Format::of`], returned with it) by [`read_input`]; a PLY file, once read, is refused
 /// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
 /// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
 pub fn read_mesh(
@@ -319,12 +322,14 @@ pub fn read_mesh(
     max: u64,
     boundary: Option<lsubdiv::runtime::features::Boundary>,
     uv_rule: Option<lsubdiv::runtime::facevarying::UvRule>,
-) -> Result<Checked, Error> {
+) -> Result<(Checked, lsubdiv::mesh_file::Format), Error> {
     let (path, bytes) = read_input(path, max)?;
     let name = path.display().to_string();
-    if lsubdiv::mesh_file::Format::of(&name, &bytes) == lsubdiv::mesh_file::Format::Ply {
+    let format = lsubdiv::mesh_file::Format::of(&name, &bytes);
+    if format == lsubdiv::mesh_file::Format::Ply {
         holding(path, bytes.len() as u64, PLY_HELD_PER_BYTE, max)?;
     }
+    let bytes_len = bytes.len() as u128;
     let mut parsed = lsubdiv::mesh_file::read_faces(&name, bytes)?;
     // The rule holds from the first step on (a Catmull–Clark step of a polygon mesh too).
     if let Some(b) = boundary {
@@ -333,33 +338,71 @@ pub fn read_mesh(
     if let Some(rule) = uv_rule {
         parsed.uv_rule = rule;
     }
-    if !parsed.mesh.all_quads() {
-        // The Catmull–Clark split holds, per corner, a quad (16 bytes), its face (4) and half
-        // an edge point (12), per face a face point (24), with its topology (the refiner's
-        // model: about 100 bytes a quad); texture coordinates a quad of indices and a value
-        // (32) per corner more.
-        let corners = parsed.mesh.corners.len() as u128;
-        let faces = parsed.mesh.face_count() as u128;
-        let uv = if parsed.uv.is_some() { 32 } else { 0 };
-        let split = corners * (16 + 4 + 12 + uv + TOPOLOGY_PER_QUAD) + faces * 24;
-        if split > u128::from(max) {
-            return Err(Error::in_file(
-                &name,
-                format!(
-                    "splitting its {} faces into {} quads (a Catmull–Clark step) would hold {}; --max-memory is {}; raise --max-memory",
-                    count(faces),
-                    count(corners),
-                    size(split),
-                    size(u128::from(max))
-                ),
-            ));
-        }
-    }
+    check_reading(&name, &parsed, bytes_len, max)?;
     let read = parsed.check(&name)?;
     for w in &read.warnings {
         eprintln!("{name}: warning: {w}");
     }
-    Ok(read)
+    Ok((read, format))
+}
+
+/// Bytes per face corner that checking a parsed mesh with faces other than quads holds at most
+/// besides the parsed file: its first step (a quad per corner with its positions, face and
+/// edge tables) and the topology of the quads (half-edges, edges and wedges);
+/// `valgrind --tool=massif` of `subdivide --steps 0` measured 167 bytes a corner on two
+/// 200,000-gons with a ring of quads and 190 on a triangulated torus.
+const SPLIT_PER_CORNER: u128 = 208;
+/// Bytes per corner that the first step of texture coordinates adds (measured 120 on the
+/// triangulated torus with `--uv smooth`).
+const SPLIT_UV_PER_CORNER: u128 = 128;
+/// Bytes per corner of a quad mesh checked: its quads (16 bytes a quad) and their topology
+/// ([`TOPOLOGY_PER_QUAD`]), with room for the topology's working vectors; 16 more with
+/// texture coordinates (their quads).
+const QUADS_PER_CORNER: u128 = 48;
+const QUADS_UV_PER_CORNER: u128 = 16;
+
+/// Refuses, before checking it, a mesh (`len` bytes of file, read into `parsed`) whose check
+/// could exceed `max` bytes: the file's bytes (freed, but perhaps not yet given back to the
+/// system), the parsed mesh twice (a copy where it is not a 2-manifold,
+/// `nonmanifold::separate`), and per face corner what the first step and the topology hold
+/// ([`SPLIT_PER_CORNER`], [`QUADS_PER_CORNER`]).
+fn check_reading(
+    name: &str,
+    parsed: &lsubdiv::mesh_file::Parsed,
+    len: u128,
+    max: u64,
+) -> Result<(), Error> {
+    let corners = parsed.mesh.corners.len() as u128;
+    let quads = parsed.mesh.all_quads();
+    let per_corner = match (quads, parsed.uv.is_some()) {
+        (true, uv) => QUADS_PER_CORNER + if uv { QUADS_UV_PER_CORNER } else { 0 },
+        (false, uv) => SPLIT_PER_CORNER + if uv { SPLIT_UV_PER_CORNER } else { 0 },
+    };
+    let held = len
+        .saturating_add(2 * parsed.held_bytes())
+        .saturating_add(corners.saturating_mul(per_corner));
+    if held <= u128::from(max) {
+        return Ok(());
+    }
+    let faces = parsed.mesh.face_count() as u128;
+    let what = if quads {
+        format!("its {} quads", count(faces))
+    } else {
+        format!(
+            "its {} faces, split into {} quads by the first (Catmull–Clark) step,",
+            count(faces),
+            count(corners)
+        )
+    };
+    Err(Error::in_file(
+        name,
+        format!(
+            "checking {what} would hold {}; --max-memory is {}",
+            size(held),
+            size(u128::from(max))
+        ),
+    )
+    .with_hint("raise --max-memory"))
 }
 
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)

@@ -1,6 +1,7 @@
 //! The `lsubdiv` command line: parses the arguments (clap) and dispatches to one module per
 //! command (`commands/`). Every failure is one diagnostic ([`Error`]), rendered here only.
-//! Exit status: 0 ok, 2 bad input (scheme, points, labels, flags), 1 internal error.
+//! Exit status: 0 ok, 2 bad input (scheme, points, labels, flags), 1 internal error; a closed
+//! standard output ends it by SIGPIPE (141 in a shell), as it ends `cat`.
 
 mod commands;
 
@@ -52,6 +53,14 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // A closed standard output (`lsubdiv … | head`) ends the program as it ends `cat`: quietly,
+    // by SIGPIPE (status 141 in a shell). Rust ignores the signal by default, so that each
+    // write fails instead, and `println!` panics on the failure.
+    #[cfg(unix)]
+    // SAFETY: restoring a signal's default action, before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     // Ctrl-C, SIGTERM, SIGHUP: outputs are replaced by a rename only, so an interrupted run
     // leaves the previous ones intact; remove the temporary file being written, if any.
@@ -60,12 +69,43 @@ fn main() -> ExitCode {
         lsubdiv_cli::output::remove_partial_files();
         std::process::exit(130);
     });
+    let hint = where_to_look(cli.command.as_ref());
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            let e = if e.is_internal() {
+                e.or_hint(
+                    "this is a bug in lsubdiv: please report it, with the command and its inputs",
+                )
+            } else {
+                e.or_hint(hint)
+            };
             eprintln!("{e}");
             ExitCode::from(if e.is_internal() { 1 } else { 2 })
         }
+    }
+}
+
+/// The hint of a refusal that has no more particular one: where the command's inputs and
+/// options are described.
+fn where_to_look(command: Option<&Command>) -> &'static str {
+    match command {
+        Some(Command::Subdivide(_) | Command::Bench(_) | Command::Render(_)) => {
+            "docs/cli.md describes mesh files, their tags and the options; docs/real-meshes.md \
+             what each feature does"
+        }
+        Some(Command::Curve(_) | Command::Plot(_)) => {
+            "docs/cli.md describes point files, labels and the options"
+        }
+        Some(
+            Command::Inspect(_)
+            | Command::Graph(_)
+            | Command::Codegen(_)
+            | Command::Ev(_)
+            | Command::Enumerate(_)
+            | Command::Search(_),
+        ) => "docs/schemes.md describes scheme files; `lsubdiv help COMMAND` the options",
+        Some(Command::Schemes) | None => "`lsubdiv help` lists the commands and their options",
     }
 }
 

@@ -48,7 +48,8 @@ pub fn extension(path: &Path) -> Option<String> {
 }
 
 /// The format that `path`'s extension names (any case) among `formats` (extension without the
-/// dot, format); `what` names the kind of file in the error (`picture`, `image`).
+/// dot, format); the first one for a name without an extension (`-`, `/dev/null`, `out`).
+/// `what` names the kind of file in the error (`picture`, `image`).
 pub fn format_by_extension<F: Copy>(
     path: &Path,
     what: &str,
@@ -58,20 +59,26 @@ pub fn format_by_extension<F: Copy>(
     if let Some(&(_, f)) = formats.iter().find(|(e, _)| Some(*e) == ext.as_deref()) {
         return Ok(f);
     }
+    if let (None, Some(&(_, first))) = (&ext, formats.first()) {
+        return Ok(first);
+    }
     let names: Vec<String> = formats.iter().map(|(e, _)| format!(".{e}")).collect();
     let expected = match names.split_last() {
         Some((last, [])) => last.clone(),
         Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
         None => String::new(),
     };
-    let problem = match ext {
-        Some(e) => format!("unknown {what} format `.{e}`"),
-        None => format!("no {what} format"),
-    };
     Err(Error::in_file(
         path.display(),
-        format!("{problem}; the file name must end in {expected}"),
-    ))
+        format!(
+            "unknown {what} format `.{}`; the file name must end in {expected}",
+            ext.unwrap_or_default()
+        ),
+    )
+    .with_hint(format!(
+        "name the output {expected}, or give it no extension for {}",
+        names[0]
+    )))
 }
 
 #[cfg(test)]
@@ -86,11 +93,11 @@ mod tests {
         assert_eq!(of("b.png"), Ok(2));
         assert_eq!(
             of("b.jpg").unwrap_err().to_string(),
-            "b.jpg: error: unknown picture format `.jpg`; the file name must end in .svg or .png"
+            "b.jpg: error: unknown picture format `.jpg`; the file name must end in .svg or .png\n  \
+             hint: name the output .svg or .png, or give it no extension for .svg"
         );
-        assert_eq!(
-            of("b").unwrap_err().to_string(),
-            "b: error: no picture format; the file name must end in .svg or .png"
-        );
+        assert_eq!(of("b"), Ok(1));
+        assert_eq!(of("-"), Ok(1));
+        assert_eq!(of("/dev/null"), Ok(1));
     }
 }

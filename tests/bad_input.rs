@@ -474,7 +474,7 @@ fn too_large_requests_are_refused_before_refining() {
             // 4 steps of binary-ternary on the cube: |π⁴(C)| = 41, so 6·41² quads, fine under
             // the default but not under 1 MiB.
             vec!["subdivide", "binary-ternary", "--steps", "4", "--max-memory", "1M", &cube, "-o", &out_s],
-            "would make 10 088 vertices, 10 086 quads, ~1.2 MiB; --max-memory is ~1.0 MiB; use fewer steps or raise --max-memory",
+            "would make 10 088 vertices, 10 086 quads, ~1.2 MiB; --max-memory is ~1.0 MiB\n  hint: use fewer steps or raise --max-memory",
         ),
         (
             vec!["bench", "--mesh", "cube", "--scheme", "uniform-binary", "--steps", "40"],

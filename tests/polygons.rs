@@ -149,7 +149,7 @@ fn subdivide_takes_the_first_step_by_catmull_clark_then_the_scheme() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        stderr(&o).contains("splitting its 11 faces into 40 quads"),
+        stderr(&o).contains("checking its 11 faces, split into 40 quads by the first (Catmull–Clark) step, would hold"),
         "{}",
         stderr(&o)
     );

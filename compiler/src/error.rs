@@ -116,7 +116,22 @@ impl Error {
 
     /// A file that could not be read or written.
     pub fn io(path: &Path, e: &std::io::Error) -> Error {
-        Error::in_file(path.display(), e.to_string())
+        use std::io::ErrorKind as K;
+        let hint = match e.kind() {
+            K::NotFound => {
+                "check the path: a file read must exist, and so must the folder of one written"
+            }
+            K::PermissionDenied | K::ReadOnlyFilesystem => {
+                "check the permissions of the file and of its folder"
+            }
+            K::StorageFull | K::QuotaExceeded | K::FileTooLarge => {
+                "free some space or write elsewhere; a previous file there is intact"
+            }
+            K::IsADirectory => "name a file, not a folder",
+            K::InvalidData => "the file must be text (UTF-8) where text is read",
+            _ => "check the path, the links along it and the device it is on",
+        };
+        Error::in_file(path.display(), e.to_string()).with_hint(hint)
     }
 
     /// Bad input of no file (a flag, an option of the API).
@@ -143,6 +158,14 @@ impl Error {
     pub fn with_hint(mut self, hint: impl Into<String>) -> Error {
         self.hint = Some(hint.into());
         self
+    }
+
+    /// The same diagnostic, with `hint` if it has none.
+    pub fn or_hint(self, hint: impl Into<String>) -> Error {
+        match self.hint {
+            Some(_) => self,
+            None => self.with_hint(hint),
+        }
     }
 
     /// The same diagnostic with an optional hint.

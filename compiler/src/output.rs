@@ -87,19 +87,32 @@ fn write(
     }
 }
 
-/// The regular file that writing `path` replaces: `path` itself, or the target of a symbolic
-/// link (a dangling link names the file to create, relative to the link's folder); `None` for
-/// `-` and for what is written directly (devices, FIFOs, sockets).
+/// Symbolic links followed from an output to the file it names, as Linux's `MAXSYMLINKS`: a
+/// chain this long is a loop, or too long for the system to open.
+const MAX_LINKS: usize = 40;
+
+/// The regular file that writing `path` replaces: `path` itself, or the end of its chain of
+/// symbolic links (each relative to its link's folder; a dangling end names the file to
+/// create); `None` for `-` and for what is written directly (devices, FIFOs, sockets). A
+/// loop, or a chain past [`MAX_LINKS`], is an error.
 fn destination(path: &Path) -> io::Result<Option<PathBuf>> {
     if path.as_os_str() == "-" || fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
         return Ok(None);
     }
-    if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-        return fs::canonicalize(path)
-            .or_else(|_| fs::read_link(path).map(|t| folder(path).join(t)))
-            .map(Some);
+    let mut end = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match fs::symlink_metadata(&end) {
+            Ok(m) if m.file_type().is_symlink() => end = folder(&end).join(fs::read_link(&end)?),
+            _ => return Ok(Some(end)),
+        }
     }
-    Ok(Some(path.to_path_buf()))
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!(
+            "more than {MAX_LINKS} symbolic links from here (a loop?); \
+             hint: point the link at a file, or write to another path"
+        ),
+    ))
 }
 
 /// Writes `text` to `path` unless it already holds exactly that (so that cargo sees no change

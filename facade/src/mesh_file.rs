@@ -199,10 +199,18 @@ impl Places {
                 },
             ),
         };
+        let hint = match e {
+            FeatureError::Repeated { .. } => "tag each edge, vertex or face once",
+            _ => {
+                "tags number vertices and faces from 0, as OpenSubdiv writes them: an OBJ `v` or \
+                  `f` number less one"
+            }
+        };
         match lines(list).get(k) {
             Some(&l) => Error::at(Location::line(file, l), message),
             None => Error::at(Location::whole(file), e.to_string()),
         }
+        .with_hint(hint)
     }
 
     /// The location of `what` (`face`, `vertex`) number `k` placed at `place`: its line, or the
@@ -321,6 +329,24 @@ impl Places {
 }
 
 impl Parsed {
+    /// Bytes the parsed file holds on the heap: its vectors' capacities (positions, faces,
+    /// places, texture coordinates).
+    pub fn held_bytes(&self) -> u128 {
+        fn of<T>(v: &[T], capacity: usize) -> u128 {
+            (capacity.max(v.len()) * size_of::<T>()) as u128
+        }
+        let (m, p) = (&self.mesh, &self.places);
+        let uv = self.uv.as_ref().map_or(0, |uv| {
+            of(&uv.values, uv.values.capacity()) + of(&uv.corners, uv.corners.capacity())
+        });
+        of(&m.positions, m.positions.capacity())
+            + of(&m.offsets, m.offsets.capacity())
+            + of(&m.corners, m.corners.capacity())
+            + of(&p.vertices, p.vertices.capacity())
+            + of(&p.faces, p.faces.capacity())
+            + uv
+    }
+
     /// Builds the topology of the parsed mesh and checks it and its features (every crease an
     /// edge, every corner a vertex, every hole a face), its errors placed in `file`; a mesh with
     /// faces that are not quads is first taken one Catmull–Clark step with its boundaries and

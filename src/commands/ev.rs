@@ -19,7 +19,8 @@ pub struct EvArgs {
     /// Draw the characteristic map's control net at the (single) valence ([G] Fig. 4).
     #[arg(long, requires = "output")]
     characteristic_map: bool,
-    /// Output picture of --characteristic-map: `.svg` or `.png`.
+    /// Output picture of --characteristic-map: `.svg` or `.png`; SVG for a name without an
+    /// extension (`-`: standard output).
     #[arg(short, long, requires = "characteristic_map")]
     output: Option<std::path::PathBuf>,
     /// Picture size in pixels, WxH.

@@ -36,6 +36,22 @@ pub fn check_output(path: &std::path::Path) -> Result<(), Error> {
     }
 }
 
+/// Refuses two inputs named `-` (`what` names each): standard input can be read once, and the
+/// first would take all of it, leaving the second empty.
+pub fn one_stdin(inputs: &[(&str, &std::path::Path)]) -> Result<(), Error> {
+    let stdin: Vec<&str> = (inputs.iter())
+        .filter(|(_, p)| p.as_os_str() == "-")
+        .map(|(what, _)| *what)
+        .collect();
+    if let [first, second, ..] = stdin[..] {
+        return Err(Error::input(format!(
+            "the {first} and the {second} are both `-`: standard input can be read only once"
+        ))
+        .with_hint(format!("give the {first} or the {second} as a file")));
+    }
+    Ok(())
+}
+
 /// Checks `--degree`: 1 to [`MAX_DEGREE`].
 pub fn check_degree(d: usize) -> Result<(), Error> {
     if d == 0 || d > MAX_DEGREE {

@@ -16,7 +16,8 @@ pub struct PlotArgs {
     /// Input points (2 coordinates per line, as for `curve`); default: a closed regular
     /// hexagon.
     input: Option<std::path::PathBuf>,
-    /// Output picture: `.svg` or `.png` (written whole or not at all).
+    /// Output picture: `.svg` or `.png`; SVG for a name without an extension (`-`: standard
+    /// output). Written whole or not at all.
     #[arg(short, long)]
     output: std::path::PathBuf,
     #[command(flatten)]

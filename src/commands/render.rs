@@ -27,7 +27,8 @@ pub struct RenderArgs {
     /// `prism:N` (n-gon caps), `icosphere:L` (triangles); open `grid`, `tube`, `hole`,
     /// `pentagon-star`; `creased-cube`.
     mesh: String,
-    /// Output image, `.png` or `.ppm` (written whole or not at all).
+    /// Output image, `.png` or `.ppm`; PNG for a name without an extension (`-`: standard
+    /// output). Written whole or not at all.
     #[arg(short, long)]
     output: std::path::PathBuf,
     /// Image size in pixels, WIDTHxHEIGHT.

@@ -2,7 +2,7 @@
 //! OBJ `t` tags) read from an OBJ or PLY file; the refining that `render` shares.
 
 use crate::commands::args::{BoundaryArgs, RefineArgs};
-use crate::commands::{build, check_output, load, threads};
+use crate::commands::{build, check_output, load, one_stdin, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::{Checked, Extras};
 use lsubdiv::runtime::facevarying::{Points, QuadUv, RefineUv, UvError, UvRule};
@@ -20,10 +20,15 @@ pub struct SubdivideArgs {
     refine: RefineArgs,
     /// Input mesh: OBJ or PLY (ASCII or binary), told apart by content; `-` for standard input.
     input: std::path::PathBuf,
-    /// Output mesh: `.obj` or `.ply` (any case), or `-` for OBJ on standard output (written
-    /// whole or not at all).
+    /// Output mesh, in the format `--format` names, else its extension's (`.obj` or `.ply`, any
+    /// case; another is refused), else, for a name without one, the input's (`-`: standard
+    /// output; a device or FIFO such as `/dev/null` is written, never replaced). Written whole
+    /// or not at all.
     #[arg(short, long)]
     output: std::path::PathBuf,
+    /// The output's format; default: the output's extension, else the input's format.
+    #[arg(long, value_enum)]
+    format: Option<MeshFormat>,
     /// Worker threads (the result does not depend on it); default: all cores.
     #[arg(long, value_parser = crate::commands::args::thread_count)]
     threads: Option<usize>,
@@ -74,11 +79,54 @@ impl UvArg {
     }
 }
 
-/// The output formats of `subdivide`, by extension.
-#[derive(Clone, Copy)]
+/// The output formats of `subdivide`.
+#[derive(Clone, Copy, clap::ValueEnum)]
 enum MeshFormat {
+    /// Wavefront OBJ.
     Obj,
+    /// PLY (ASCII, or binary with `--binary`).
     Ply,
+}
+
+impl MeshFormat {
+    /// The format `--format` names, else `output`'s extension's; `None` (the input's) for a
+    /// name without an extension (`-`, `/dev/null`, `out`). Another extension is refused.
+    fn named(
+        flag: Option<MeshFormat>,
+        output: &std::path::Path,
+    ) -> Result<Option<MeshFormat>, Error> {
+        if flag.is_some() || lsubdiv_cli::output::extension(output).is_none() {
+            return Ok(flag);
+        }
+        let formats = [("obj", MeshFormat::Obj), ("ply", MeshFormat::Ply)];
+        format_by_extension(output, "mesh", &formats)
+            .map(Some)
+            .map_err(|e| e.with_hint("add --format obj or --format ply to write it anyway"))
+    }
+
+    /// The input's format.
+    fn of(input: lsubdiv::mesh_file::Format) -> MeshFormat {
+        match input {
+            lsubdiv::mesh_file::Format::Obj => MeshFormat::Obj,
+            lsubdiv::mesh_file::Format::Ply => MeshFormat::Ply,
+        }
+    }
+
+    /// Refuses `--binary` for OBJ (`None`: not known yet).
+    fn check_binary(
+        format: Option<MeshFormat>,
+        binary: bool,
+        output: &std::path::Path,
+    ) -> Result<(), Error> {
+        if binary && matches!(format, Some(MeshFormat::Obj)) {
+            return Err(Error::in_file(
+                output.display(),
+                "--binary: the output is OBJ, a text format",
+            )
+            .with_hint("name a `.ply` output, or add --format ply"));
+        }
+        Ok(())
+    }
 }
 
 /// Reads an OBJ or PLY, refines it (patch path), writes OBJ or PLY atomically.
@@ -92,33 +140,27 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         limit,
         uv,
         binary,
+        format,
     } = a;
     check_output(&output)?;
-    let format = if output.as_os_str() == "-" {
-        MeshFormat::Obj
-    } else {
-        format_by_extension(
-            &output,
-            "mesh",
-            &[("obj", MeshFormat::Obj), ("ply", MeshFormat::Ply)],
-        )?
-    };
-    if binary && matches!(format, MeshFormat::Obj) {
-        return Err(Error::input(format!(
-            "--binary: {} is written as OBJ, a text format; name a `.ply` output",
-            output.display()
-        )));
-    }
+    one_stdin(&[
+        ("scheme", std::path::Path::new(&refine.scheme)),
+        ("mesh", &input),
+    ])?;
+    let named = MeshFormat::named(format, &output)?;
+    MeshFormat::check_binary(named, binary, &output)?;
     let r = load(&refine.scheme, None)?;
     let in_name = input.display().to_string();
     let stages = lsubdiv_cli::progress::Stages::new(3);
     stages.next(format!("reading {in_name}"));
-    let mesh = lsubdiv_cli::limits::read_mesh(
+    let (mesh, input_format) = lsubdiv_cli::limits::read_mesh(
         &input,
         refine.limit.bytes(),
         boundary.rule(),
         uv.map(UvArg::rule),
     )?;
+    let format = named.unwrap_or(MeshFormat::of(input_format));
+    MeshFormat::check_binary(Some(format), binary, &output)?;
     let steps = refine.steps;
     stages.next(format!("refining: {steps} steps of {}", r.ls.name));
     let job = MeshJob {
@@ -244,22 +286,31 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
         input.uv.is_some() && job.uv.is_some(),
     )
     .check(
-        &format!("{steps} steps of {} on {name}", r.ls.name),
+        &steps_of(steps, input.split, &r.ls.name, name),
         job.max_memory,
     )?;
     let implementation = job.path.pick(r, Geometry::Surface)?;
-    // Where the limit is only wanted if available, whether it is, before refining.
+    let error = |e: SurfaceError| surface_error(name, input.split, e, REFUSED_HINT);
+    // Whether the limit is available, before refining: refused, or left out where it is only
+    // wanted if available.
+    let available = || match limit_available(&surface, topology, &input.features, steps) {
+        Err(SurfaceError::Unsupported(why)) => Err(why),
+        // Anything else the refinement itself reports.
+        _ => Ok(()),
+    };
     let (limit, refused) = match job.limit {
         Limit::Off => (false, None),
-        Limit::On => (true, None),
-        Limit::IfAvailable => {
-            match limit_available(&surface, topology, &input.features, steps) {
-                Ok(()) => (true, None),
-                Err(SurfaceError::Unsupported(why)) => (false, Some(why)),
-                // Anything else the refinement itself reports.
-                Err(_) => (true, None),
-            }
+        Limit::On => {
+            available().map_err(|why| {
+                let hint = "take the steps it names, or leave out --limit";
+                surface_error(name, input.split, SurfaceError::Unsupported(why), hint)
+            })?;
+            (true, None)
         }
+        Limit::IfAvailable => match available() {
+            Ok(()) => (true, None),
+            Err(why) => (false, Some(why)),
+        },
     };
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
     let (rest, positions) = lsubdiv_cli::scale::refine_scaled(name, &m.positions, |scaled| {
@@ -279,20 +330,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
             };
             visit(r, implementation, &surface, refine)
         };
-        let fine = run(limit)?.map_err(|e| match e {
-            SurfaceError::Topology(e) => Error::in_file(name, e.to_string()),
-            SurfaceError::Ev(e) => Error::in_file(name, e.to_string()),
-            SurfaceError::Features(e) => Error::in_file(name, e.to_string()),
-            // The runtime counts the scheme's steps; a polygon mesh's first step came before.
-            SurfaceError::Unsupported(m) if input.split => Error::in_file(
-                name,
-                format!("{m} (steps of the scheme: --steps counts one more, the first Catmull–Clark step)"),
-            ),
-            SurfaceError::Unsupported(m) => Error::in_file(name, m),
-            e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
-                Error::internal(None, e.to_string())
-            }
-        })?;
+        let fine = run(limit)?.map_err(error)?;
         let Refined {
             mesh,
             normals,
@@ -338,6 +376,56 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
     };
     Ok(RefinedMesh { fine, uv, refused })
 }
+
+/// What refining the mesh `name` by `steps` steps of `scheme` is, for messages; `split`: after
+/// the first step, a Catmull–Clark step counted apart (`--steps` is one more).
+fn steps_of(steps: usize, split: bool, scheme: &str, name: &str) -> String {
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
+    if split {
+        format!(
+            "{steps} step{} of {scheme} after the first, Catmull–Clark step (--steps {}) on {name}",
+            plural(steps),
+            steps + 1
+        )
+    } else {
+        format!("{steps} step{} of {scheme} on {name}", plural(steps))
+    }
+}
+
+/// The diagnostic for a refinement of the mesh `name` refused or failed by the runtime; `split`:
+/// the mesh had faces other than quads, so its first step came before the scheme's; `hint`: the
+/// hint of a refusal.
+fn surface_error(
+    name: &str,
+    split: bool,
+    e: lsubdiv::runtime::surface::SurfaceError,
+    hint: &str,
+) -> Error {
+    use lsubdiv::runtime::surface::SurfaceError;
+    match e {
+        SurfaceError::Topology(e) => Error::in_file(name, e.to_string())
+            .with_hint("the refined mesh must be a 2-manifold: see docs/real-meshes.md"),
+        SurfaceError::Ev(e) => Error::in_file(name, e.to_string())
+            .with_hint("valences and schemes supported: `lsubdiv ev SCHEME --valence N`"),
+        SurfaceError::Features(e) => Error::in_file(name, e.to_string())
+            .with_hint("check the file's `t crease`, `t corner` and `t hole` tags"),
+        // The runtime counts the scheme's steps; a polygon mesh's first step came before.
+        SurfaceError::Unsupported(m) if split => Error::in_file(
+            name,
+            format!(
+                "{m} (steps of the scheme: --steps counts one more, the first Catmull–Clark step)"
+            ),
+        )
+        .with_hint(hint),
+        SurfaceError::Unsupported(m) => Error::in_file(name, m).with_hint(hint),
+        e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
+            Error::internal(None, e.to_string())
+        }
+    }
+}
+
+/// The hint of a refinement the runtime refuses.
+const REFUSED_HINT: &str = "docs/real-meshes.md lists, per feature, what each scheme refines";
 
 /// What [`refine_mesh`] gives.
 pub struct RefinedMesh {
