@@ -428,6 +428,35 @@ pub fn surface(
     }
 }
 
+/// Bytes per face corner that building a texture layout (`facevarying::Layout::new`) holds:
+/// a value and its corner, the layout's quads, a copy to separate and the separated mesh with
+/// its origins, and its topology; `valgrind --tool=massif` measured about 190 on a quad mesh
+/// whose every edge is a seam.
+const LAYOUT_PER_CORNER: u128 = 224;
+
+/// Bytes that building the texture layout of a mesh of `quads` quads holds at most.
+pub fn layout_building(quads: usize) -> u128 {
+    (4 * quads as u128).saturating_mul(LAYOUT_PER_CORNER)
+}
+
+/// Bytes that refining a texture layout by a smooth rule (`facevarying::Layout`: topology
+/// `topo`, features `features`) holds besides the positions' refinement and its result: the
+/// layout's own [`footprint`] (its mesh and topology, the refiner's buffers or its refined
+/// mesh, positions of f64), and a copy of its mesh where it is separated.
+pub fn layout(
+    t: &CurveTables<'_>,
+    contained_from: usize,
+    topo: &Topology,
+    features: &Features,
+    steps: usize,
+    threads: usize,
+) -> u128 {
+    let fp = footprint(t, contained_from, topo, features, steps, 8, threads);
+    fp.input
+        .saturating_mul(2)
+        .saturating_add(fp.refining.max(fp.output))
+}
+
 /// `steps` steps of a curve scheme on `points` control points of dimension `dim` labelled
 /// `labels` (checked against the tables).
 pub fn curve(

@@ -530,24 +530,31 @@ impl QuadUv {
     }
 }
 
-/// The channel `uv` of the quad mesh `mesh` (topology `topo`, features `features`) refined
-/// `steps` times by `rule`, its faces parallel to [`crate::patch::subdivide_with`]'s (holes
-/// dropped). With `limit`, the smooth rule takes the values to the layout's limit surface
-/// (as [`crate::patch::limit_with`] the positions); the linear rule's values are parameters
-/// and do not move.
-#[allow(clippy::too_many_arguments)]
-pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
-    scheme: &S,
-    mesh: &QuadMesh,
-    topo: &Topology,
-    features: &Features,
-    (uv, points): (&QuadUv, Points<'_>),
-    (rule, limit): (UvRule, bool),
-    steps: usize,
-    threads: usize,
-) -> Result<QuadUv<T>, UvError> {
-    uv.check(mesh)?;
-    if rule.is_smooth() {
+/// The texture layout of a quad mesh as a mesh of its own, what the smooth rules refine: its
+/// vertices the (point, value) pairs ([`Points`]), its seams and chart boundaries edge-only
+/// boundaries, the mesh's features carried onto it by `rule`, its non-manifold places
+/// separated ([`separate`]) and joined after refining.
+pub struct Layout {
+    /// The layout's quads, parallel to the mesh's; its positions are the values (z = 0).
+    pub mesh: QuadMesh,
+    /// Its connectivity.
+    pub topology: Topology,
+    /// Its features.
+    pub features: Features,
+    /// Where it was separated, how to join its refinement again.
+    weld: Option<Weld>,
+}
+
+impl Layout {
+    /// The layout of the channel `uv` of `mesh` (features `features`) refined by the smooth
+    /// rule `rule`.
+    pub fn new(
+        mesh: &QuadMesh,
+        features: &Features,
+        uv: &QuadUv,
+        rule: UvRule,
+        points: Points<'_>,
+    ) -> Result<Layout, UvError> {
         let (positions, corners) = plane(
             &uv.values,
             &flat_corners(&mesh.faces),
@@ -571,12 +578,48 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
             offsets: (0..=layout.faces.len()).map(|f| 4 * f).collect(),
             corners: flat_corners(&layout.faces),
         };
-        let separated = separate(&poly, &lf).map_err(UvError::Layout)?;
-        let (layout, lf) = match separated.clone() {
-            Some(s) => (s.mesh.into_quads().expect("quads stay quads"), s.features),
-            None => (layout, lf),
+        let (mesh, features, weld) = match separate(&poly, &lf).map_err(UvError::Layout)? {
+            Some(s) => (
+                s.mesh.into_quads().expect("quads stay quads"),
+                s.features,
+                Some(Weld::new(&s.origin, &s.edge_origin)),
+            ),
+            None => (layout, lf, None),
         };
-        let lt = Topology::build(&layout).map_err(UvError::Layout)?;
+        let topology = Topology::build(&mesh).map_err(UvError::Layout)?;
+        Ok(Layout {
+            mesh,
+            topology,
+            features,
+            weld,
+        })
+    }
+}
+
+/// The channel `uv` of the quad mesh `mesh` (topology `topo`, features `features`) refined
+/// `steps` times by `rule`, its faces parallel to [`crate::patch::subdivide_with`]'s (holes
+/// dropped). With `limit`, the smooth rule takes the values to the layout's limit surface
+/// (as [`crate::patch::limit_with`] the positions); the linear rule's values are parameters
+/// and do not move.
+#[allow(clippy::too_many_arguments)]
+pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
+    scheme: &S,
+    mesh: &QuadMesh,
+    topo: &Topology,
+    features: &Features,
+    (uv, points): (&QuadUv, Points<'_>),
+    (rule, limit): (UvRule, bool),
+    steps: usize,
+    threads: usize,
+) -> Result<QuadUv<T>, UvError> {
+    uv.check(mesh)?;
+    if rule.is_smooth() {
+        let Layout {
+            mesh: layout,
+            topology: lt,
+            features: lf,
+            weld,
+        } = Layout::new(mesh, features, uv, rule, points)?;
         let fine = if limit {
             limit_with(scheme, &layout, &lt, &lf, steps, threads)
         } else {
@@ -590,8 +633,8 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
             SurfaceError::Features(e) => UvError::Features(e),
             e => UvError::Surface(e),
         })?;
-        let fine = match &separated {
-            Some(s) => Weld::new(&s.origin, &s.edge_origin).apply(&layout.faces, &lf.holes, fine),
+        let fine = match &weld {
+            Some(w) => w.apply(&layout.faces, &lf.holes, fine),
             None => fine,
         }
         .mesh;

@@ -127,6 +127,12 @@ impl TableArgs {
 
     /// Prints the rows and writes the scheme files.
     pub fn emit(&self, rows: &[lsubdiv_explorer::Row]) -> Result<(), Error> {
+        if let Some(dir) = &self.emit_scheme {
+            if dir.exists() && !dir.is_dir() {
+                return Err(Error::in_file(dir.display(), "--emit-scheme: not a folder")
+                    .with_hint("name a folder (it is made if missing)"));
+            }
+        }
         print!("{}", tables::render(rows, self.format()));
         if let Some(dir) = &self.emit_scheme {
             std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, &e))?;

@@ -1,7 +1,7 @@
 //! `lsubdiv curve`: refines a control polygon read from a points file.
 
 use crate::commands::args::{polygon, read_points, PolygonArgs, RefineArgs};
-use crate::commands::{build, check_output, load};
+use crate::commands::{build, check_output, load, one_stdin};
 use lsubdiv::compiler::exact::lsystem::Part;
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericScheme;
@@ -61,6 +61,10 @@ pub fn run(a: CurveArgs) -> Result<(), Error> {
         tangents,
     } = a;
     check_output(&output)?;
+    one_stdin(&[
+        ("scheme", std::path::Path::new(&refine.scheme)),
+        ("points", &input),
+    ])?;
     let r = load(&refine.scheme, polygon.degree)?;
     let implementation = refine.path.pick(&r, Geometry::Curve)?;
     let in_name = input.display().to_string();

@@ -1,7 +1,7 @@
 //! `lsubdiv plot`: control polygons of successive steps and the limit curve ([N] Fig. 2).
 
 use crate::commands::args::{polygon, read_points, MemoryLimit, PolygonArgs};
-use crate::commands::{build, load};
+use crate::commands::{build, load, one_stdin};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericScheme;
 use lsubdiv::points::Points;
@@ -53,6 +53,9 @@ pub fn run(a: PlotArgs) -> Result<(), Error> {
         return Err(Error::input(format!(
             "--steps {steps}: plot draws at most 12 steps"
         )));
+    }
+    if let Some(path) = &input {
+        one_stdin(&[("scheme", std::path::Path::new(&scheme)), ("points", path)])?;
     }
     let r = load(&scheme, degree)?;
     let (pts, closed) = match input {

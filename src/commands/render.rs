@@ -2,7 +2,7 @@
 
 use crate::commands::args::MemoryLimit;
 use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob, RefinedMesh};
-use crate::commands::{load, threads};
+use crate::commands::{load, one_stdin, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::runtime::topology::Topology;
 use lsubdiv_cli::implementation::PathChoice;
@@ -116,6 +116,12 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
         "image",
         &[("png", Format::Png), ("ppm", Format::Ppm)],
     )?;
+    if let Some(scheme) = &a.scheme {
+        one_stdin(&[
+            ("scheme", std::path::Path::new(scheme)),
+            ("mesh", std::path::Path::new(&a.mesh)),
+        ])?;
+    }
     let (width, height) = lsubdiv_cli::picture::parse_size(&a.size)?;
     let (width, height) = (width as usize, height as usize);
     let numbers = render::parse_numbers;

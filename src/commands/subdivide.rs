@@ -5,7 +5,7 @@ use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, one_stdin, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh_file::{Checked, Extras};
-use lsubdiv::runtime::facevarying::{Points, QuadUv, RefineUv, UvError, UvRule};
+use lsubdiv::runtime::facevarying::{Layout, Points, QuadUv, RefineUv, UvError, UvRule};
 use lsubdiv::runtime::mesh::QuadMesh;
 use lsubdiv::runtime::patch::{limit_available, Refined, Subdivide};
 use lsubdiv::runtime::surface::SurfaceVisitor;
@@ -268,9 +268,13 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
         (true, s) => s - 1,
     };
     let surface = lsubdiv::generic::GenericSurface::new(build(r)?)?;
-    lsubdiv_cli::limits::surface(
-        &lsubdiv::CurveScheme::tables(&surface),
-        surface.surface().contained_from,
+    let tables = lsubdiv::CurveScheme::tables(&surface);
+    let contained_from = surface.surface().contained_from;
+    let points = Points(input.weld.as_ref().map_or(&[], |w| w.points()));
+    let what = steps_of(steps, input.split, &r.ls.name, name);
+    let positions = lsubdiv_cli::limits::surface(
+        &tables,
+        contained_from,
         topology,
         &input.features,
         steps,
@@ -284,11 +288,24 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
     .with_extras(
         job.limit != Limit::Off,
         input.uv.is_some() && job.uv.is_some(),
-    )
-    .check(
-        &steps_of(steps, input.split, &r.ls.name, name),
-        job.max_memory,
-    )?;
+    );
+    // A texture layout refined by a smooth rule is a mesh of its own, refined after the
+    // positions: what building it holds is counted before it is built, what refining it
+    // holds from its topology and features.
+    let layout = match (&input.uv, job.uv) {
+        (Some(uv), Some(rule)) if rule.is_smooth() => {
+            let building = lsubdiv_cli::limits::layout_building(m.faces.len());
+            positions.holding(building).check(&what, job.max_memory)?;
+            let layout = Layout::new(m, &input.features, uv, rule, points).map_err(|e| {
+                Error::in_file(name, format!("texture coordinates: {e}"))
+                    .with_hint("use --uv linear")
+            })?;
+            let (lt, lf) = (&layout.topology, &layout.features);
+            lsubdiv_cli::limits::layout(&tables, contained_from, lt, lf, steps, threads)
+        }
+        _ => 0,
+    };
+    positions.holding(layout).check(&what, job.max_memory)?;
     let implementation = job.path.pick(r, Geometry::Surface)?;
     let error = |e: SurfaceError| surface_error(name, input.split, e, REFUSED_HINT);
     // Whether the limit is available, before refining: refused, or left out where it is only
@@ -348,7 +365,7 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
                 topology,
                 features: &input.features,
                 uv,
-                points: Points(input.weld.as_ref().map_or(&[], |w| w.points())),
+                points,
                 rule: (rule, !normals.is_empty()),
                 steps,
                 threads,
