@@ -26,6 +26,8 @@ struct Run {
     peak: u64,
 }
 
+// The child is reaped by `wait4`, which also gives its peak memory.
+#[allow(clippy::zombie_processes)]
 fn run_measured(args: &[&str]) -> Run {
     let mut child = bin()
         .args(args)
