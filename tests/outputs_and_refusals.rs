@@ -349,6 +349,8 @@ fn two_inputs_on_standard_input_are_refused() {
         &[
             "render", "-", "--scheme", "-", "--steps", "1", "-o", "out.png",
         ],
+        &["plot", "-", "-", "-o", "out.svg"],
+        &["bench", "--mesh", "-", "--scheme", "-"],
     ] {
         let o = lsubdiv(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
@@ -357,7 +359,9 @@ fn two_inputs_on_standard_input_are_refused() {
             "{args:?}: {}",
             stderr(&o)
         );
-        assert!(!Path::new("out.obj").exists() && !Path::new("out.txt").exists());
+        for out in ["out.obj", "out.txt", "out.png", "out.svg"] {
+            assert!(!Path::new(out).exists(), "{args:?} wrote {out}");
+        }
     }
 }
 

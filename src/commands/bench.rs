@@ -1,7 +1,7 @@
 //! `lsubdiv bench`: times surface refinement ([`lsubdiv_cli::bench`]).
 
 use crate::commands::args::{BoundaryArgs, MemoryLimit};
-use crate::commands::{build, load};
+use crate::commands::{build, load, one_stdin};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
 use lsubdiv::runtime::patch::Simd;
@@ -90,6 +90,10 @@ pub fn run(a: BenchArgs) -> Result<(), Error> {
         }
         s => s.unwrap_or(best),
     };
+    one_stdin(&[
+        ("scheme", std::path::Path::new(&scheme)),
+        ("mesh", std::path::Path::new(&mesh)),
+    ])?;
     let input = bench::mesh(&mesh, limit.bytes(), boundary.rule())?;
     let (topology, features) = (&input.topology, &input.features);
     let r = load(&scheme, None)?;
