@@ -12,10 +12,25 @@ use std::io::Read as _;
 use std::os::unix::fs::FileTypeExt as _;
 use std::os::unix::process::ExitStatusExt as _;
 use std::path::Path;
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lsubdiv"))
+}
+
+/// `lsubdiv args` started with standard output `stdout` and standard error piped.
+fn spawn(args: &[&str], stdout: Stdio) -> Child {
+    (bin().args(args).stdout(stdout).stderr(Stdio::piped()))
+        .spawn()
+        .expect("runs")
+}
+
+/// All of `child`'s standard error.
+fn read_stderr(child: &mut Child) -> String {
+    let mut err = String::new();
+    let mut stderr = child.stderr.take().unwrap();
+    stderr.read_to_string(&mut err).unwrap();
+    err
 }
 
 /// How a run ended, its standard error and its peak resident memory in bytes (`wait4`'s
@@ -29,19 +44,8 @@ struct Run {
 // The child is reaped by `wait4`, which also gives its peak memory.
 #[allow(clippy::zombie_processes)]
 fn run_measured(args: &[&str]) -> Run {
-    let mut child = bin()
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("runs");
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
+    let mut child = spawn(args, Stdio::null());
+    let err = read_stderr(&mut child);
     let pid = child.id() as libc::pid_t;
     let mut status = 0;
     // SAFETY: `rusage` is plain data; `wait4` reaps our own child, which `child` never waits for.
@@ -110,31 +114,25 @@ fn cube(dir: &Path) -> String {
 /// Runs `args` with standard output a pipe closed after its first byte: the run ends quietly,
 /// by SIGPIPE or successfully (when it wrote everything first), never by a panic or an error.
 fn closed_pipe(args: &[&str]) {
-    let mut child = bin()
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("runs");
+    let mut child = spawn(args, Stdio::piped());
     let mut first = [0u8; 1];
     let _ = child.stdout.as_mut().unwrap().read(&mut first);
     drop(child.stdout.take());
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
+    ends_quietly(child, &format!("{args:?}"));
+}
+
+/// Waits for `child` (`what`), whose output was closed early: it ends by SIGPIPE or
+/// successfully (when it wrote everything first), never by a panic or an error.
+fn ends_quietly(mut child: Child, what: &str) {
+    let err = read_stderr(&mut child);
     let status = child.wait().unwrap();
     assert!(
         status.success() || status.signal() == Some(libc::SIGPIPE),
-        "{args:?}: {status:?}: {err}"
+        "{what}: {status:?}: {err}"
     );
-    assert!(
-        !err.contains("panicked") && !err.contains("Broken pipe") && !err.contains("error"),
-        "{args:?}: {err}"
-    );
+    for bad in ["panicked", "Broken pipe", "error"] {
+        assert!(!err.contains(bad), "{what}: {err}");
+    }
 }
 
 #[test]
@@ -142,71 +140,28 @@ fn every_command_ends_quietly_on_a_closed_pipe() {
     let dir = tempfile::tempdir().unwrap();
     let cube = cube(dir.path());
     let square = write(dir.path(), "sq.txt", "0 0\n1 0\n1 1\n0 1\n");
-    let commands: &[&[&str]] = &[
-        &[],
-        &["schemes"],
-        &["ev", "binary-ternary", "--valence", "3..3000"],
-        &["inspect", "fibonacci", "--json"],
-        &["inspect", "fibonacci"],
-        &["graph", "fibonacci", "--svg"],
-        &["graph", "fibonacci", "--dot"],
-        &["codegen", "fibonacci", "-o", "-"],
-        &[
-            "subdivide",
-            "uniform-binary",
-            &cube,
-            "--steps",
-            "5",
-            "-o",
-            "-",
-        ],
-        &[
-            "subdivide",
-            "uniform-binary",
-            &cube,
-            "--steps",
-            "5",
-            "-o",
-            "-",
-            "--format",
-            "ply",
-            "--binary",
-        ],
-        &[
-            "curve",
-            "fibonacci",
-            &square,
-            "--closed",
-            "--steps",
-            "12",
-            "-o",
-            "-",
-        ],
-        &["plot", "fibonacci", "-o", "-"],
-        &["render", "cube", "--size", "400x300", "-o", "-"],
-        &[
-            "ev",
-            "binary-ternary",
-            "--characteristic-map",
-            "--valence",
-            "5",
-            "-o",
-            "-",
-        ],
-        &["enumerate", "--family", "lcr", "--max-word-len", "4"],
-        &[
-            "search",
-            "--symbols",
-            "3",
-            "--max-word-len",
-            "2",
-            "--limit",
-            "3000",
-        ],
-        &["bench", "--mesh", "cube", "--steps", "2"],
+    // Command lines as words (the temporary folder's paths have no spaces).
+    let commands = [
+        String::new(),
+        "schemes".into(),
+        "ev binary-ternary --valence 3..3000".into(),
+        "inspect fibonacci --json".into(),
+        "inspect fibonacci".into(),
+        "graph fibonacci --svg".into(),
+        "graph fibonacci --dot".into(),
+        "codegen fibonacci -o -".into(),
+        format!("subdivide uniform-binary {cube} --steps 5 -o -"),
+        format!("subdivide uniform-binary {cube} --steps 5 -o - --format ply --binary"),
+        format!("curve fibonacci {square} --closed --steps 12 -o -"),
+        "plot fibonacci -o -".into(),
+        "render cube --size 400x300 -o -".into(),
+        "ev binary-ternary --characteristic-map --valence 5 -o -".into(),
+        "enumerate --family lcr --max-word-len 4".into(),
+        "search --symbols 3 --max-word-len 2 --limit 3000".into(),
+        "bench --mesh cube --steps 2".into(),
     ];
-    for args in commands {
-        closed_pipe(args);
+    for command in &commands {
+        closed_pipe(&command.split_whitespace().collect::<Vec<_>>());
     }
 }
 
@@ -241,23 +196,19 @@ fn symbolic_link_chains_are_followed_and_loops_refused() {
         is_link("a.obj") && is_link("b.obj"),
         "the loop is left as it was"
     );
-    // c → d → e (missing): e is made, c and d stay links.
+    // c → d → e: e is made (missing), then replaced (a file); c and d stay links.
     std::os::unix::fs::symlink("d.obj", d.join("c.obj")).unwrap();
     std::os::unix::fs::symlink("e.obj", d.join("d.obj")).unwrap();
-    let o = subdivide(&d.join("c.obj"));
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(is_link("c.obj") && is_link("d.obj"));
-    assert!(std::fs::read_to_string(d.join("e.obj"))
-        .unwrap()
-        .contains("\nf "));
-    // And again, e now a file: replaced.
-    std::fs::write(d.join("e.obj"), "old").unwrap();
-    let o = subdivide(&d.join("c.obj"));
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(is_link("c.obj") && is_link("d.obj"));
-    assert!(std::fs::read_to_string(d.join("e.obj"))
-        .unwrap()
-        .contains("\nf "));
+    for before in [None, Some("old")] {
+        if let Some(text) = before {
+            std::fs::write(d.join("e.obj"), text).unwrap();
+        }
+        let o = subdivide(&d.join("c.obj"));
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(is_link("c.obj") && is_link("d.obj"));
+        let written = std::fs::read_to_string(d.join("e.obj")).unwrap();
+        assert!(written.contains("\nf "), "{before:?}");
+    }
     // A chain of 41 links is past what the system follows.
     for i in 0..41 {
         std::os::unix::fs::symlink(format!("l{}.obj", i + 1), d.join(format!("l{i}.obj"))).unwrap();
@@ -444,29 +395,31 @@ fn baseline() -> u64 {
 fn the_size_guard_bounds_the_first_polygon_step() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = write(dir.path(), "caps.obj", &capped_cylinder(20_000));
-    let out = dir.path().join("o.obj");
     let base = baseline();
     for max in [16u64, 40] {
-        let limit = format!("{max}M");
-        let r = run_measured(&[
-            "subdivide",
-            "uniform-binary",
-            &mesh,
-            "--steps",
-            "2",
-            "--max-memory",
-            &limit,
-            "-o",
-            out.to_str().unwrap(),
-        ]);
+        let r = guarded(&[&mesh, "--steps", "2"], max, base);
         assert_eq!(r.code, Some(2), "{}", r.stderr);
-        assert!(
-            r.peak <= (max << 20) + base,
-            "{limit}: peak {} bytes, the program alone {base}: {}",
-            r.peak,
-            r.stderr
-        );
     }
+}
+
+/// `subdivide uniform-binary ARGS --max-memory MAXM -o FILE`, whose peak memory, refused or
+/// not, is within the limit beside the program's own pages (`base`).
+fn guarded(args: &[&str], max: u64, base: u64) -> Run {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.obj");
+    let limit = format!("{max}M");
+    let mut all = vec!["subdivide", "uniform-binary"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--max-memory", &limit, "-o", out.to_str().unwrap()]);
+    let r = run_measured(&all);
+    assert!(r.code == Some(0) || r.code == Some(2), "{}", r.stderr);
+    assert!(
+        r.peak <= (max << 20) + base,
+        "{limit}: peak {} bytes, the program alone {base}: {}",
+        r.peak,
+        r.stderr
+    );
+    r
 }
 
 /// `--max-memory` bounds the refinement of a smooth texture layout (a mesh of its own, here
@@ -495,32 +448,11 @@ fn the_size_guard_bounds_a_smooth_texture_layout() {
         }
     }
     let mesh = write(dir.path(), "seams.obj", &text);
-    let out = dir.path().join("o.obj");
     let base = baseline();
     let mut refused = 0;
     for max in [12u64, 20, 24, 64] {
-        let limit = format!("{max}M");
-        let r = run_measured(&[
-            "subdivide",
-            "uniform-binary",
-            &mesh,
-            "--steps",
-            "0",
-            "--uv",
-            "smooth",
-            "--max-memory",
-            &limit,
-            "-o",
-            out.to_str().unwrap(),
-        ]);
-        assert!(r.code == Some(0) || r.code == Some(2), "{}", r.stderr);
+        let r = guarded(&[&mesh, "--steps", "0", "--uv", "smooth"], max, base);
         refused += usize::from(r.code == Some(2));
-        assert!(
-            r.peak <= (max << 20) + base,
-            "{limit}: peak {} bytes, the program alone {base}: {}",
-            r.peak,
-            r.stderr
-        );
     }
     assert!((1..4).contains(&refused), "{refused} of 4 refused");
 }
@@ -577,124 +509,36 @@ fn every_refusal_has_a_hint() {
     let cube = cube(d);
     let out = d.join("o.obj");
     let out = out.to_str().unwrap();
-    let bad_tag = write(
-        d,
-        "tag.obj",
-        &(std::fs::read_to_string(&cube).unwrap() + "t crease 2/1/0 0 6 1\n"),
-    );
-    let twice = write(
-        d,
-        "twice.obj",
-        &(std::fs::read_to_string(&cube).unwrap() + "t crease 2/1/0 0 1 1\nt crease 2/1/0 1 0 2\n"),
-    );
+    let text = std::fs::read_to_string(&cube).unwrap();
+    let tagged = |name: &str, tags: &str| write(d, name, &format!("{text}{tags}"));
+    let bad_tag = tagged("tag.obj", "t crease 2/1/0 0 6 1\n");
+    let twice = tagged("twice.obj", "t crease 2/1/0 0 1 1\nt crease 2/1/0 1 0 2\n");
     let bad_face = write(d, "face.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n");
     let points = write(d, "p.txt", "0 0\n1\n");
-    let ro = d.join("ro");
-    std::fs::create_dir(&ro).unwrap();
-    let cases: Vec<Vec<&str>> = vec![
-        vec![
-            "subdivide",
-            "no-such-scheme",
-            &cube,
-            "--steps",
-            "1",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            "missing.obj",
-            "--steps",
-            "1",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            &bad_tag,
-            "--steps",
-            "1",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            &twice,
-            "--steps",
-            "1",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            &bad_face,
-            "--steps",
-            "1",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "binary-ternary",
-            &cube,
-            "--steps",
-            "1",
-            "--limit",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            &cube,
-            "--steps",
-            "9",
-            "--max-memory",
-            "1M",
-            "-o",
-            out,
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            &cube,
-            "--steps",
-            "1",
-            "-o",
-            "/dev/full",
-        ],
-        vec![
-            "subdivide",
-            "uniform-binary",
-            &cube,
-            "--steps",
-            "1",
-            "-o",
-            "/no/such/dir/o.obj",
-        ],
-        vec!["subdivide", "-", "--steps", "1", "-", "-o", out],
-        vec![
-            "curve",
-            "uniform-binary",
-            &points,
-            "--steps",
-            "1",
-            "-o",
-            "p.out",
-        ],
-        vec!["plot", "uniform-binary", "-o", "x.gif"],
-        vec!["render", "cube", "--size", "3x3", "-o", "x.png"],
-        vec!["ev", "uniform-binary", "--valence", "x"],
-        vec!["inspect", "missing.toml"],
-        vec!["enumerate", "--family", "lcr", "--emit-scheme", "/dev/null"],
-        vec!["codegen", "uniform-binary", "-o", d.to_str().unwrap()],
+    // Command lines as words (the temporary folder's paths have no spaces).
+    let sub = |rest: String| format!("subdivide {rest} -o {out}");
+    let cases = [
+        sub(format!("no-such-scheme {cube} --steps 1")),
+        sub("uniform-binary missing.obj --steps 1".into()),
+        sub(format!("uniform-binary {bad_tag} --steps 1")),
+        sub(format!("uniform-binary {twice} --steps 1")),
+        sub(format!("uniform-binary {bad_face} --steps 1")),
+        sub(format!("binary-ternary {cube} --steps 1 --limit")),
+        sub(format!("uniform-binary {cube} --steps 9 --max-memory 1M")),
+        format!("subdivide uniform-binary {cube} --steps 1 -o /dev/full"),
+        format!("subdivide uniform-binary {cube} --steps 1 -o /no/such/dir/o.obj"),
+        sub("- --steps 1 -".into()),
+        format!("curve uniform-binary {points} --steps 1 -o p.out"),
+        "plot uniform-binary -o x.gif".into(),
+        "render cube --size 3x3 -o x.png".into(),
+        "ev uniform-binary --valence x".into(),
+        "inspect missing.toml".into(),
+        "enumerate --family lcr --emit-scheme /dev/null".into(),
+        format!("codegen uniform-binary -o {}", d.display()),
     ];
-    for args in &cases {
-        let o = lsubdiv(args);
+    for case in &cases {
+        let args: Vec<&str> = case.split_whitespace().collect();
+        let o = lsubdiv(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
         assert!(
             stderr(&o).contains("\n  hint: "),
@@ -830,34 +674,20 @@ fn every_writer_at_every_kind_of_output_path() {
         .status()
         .unwrap()
         .success());
-    let mut child = bin()
-        .args([
-            "subdivide",
-            "uniform-binary",
-            &cube,
-            "--steps",
-            "5",
-            "-o",
-            fifo.to_str().unwrap(),
-        ])
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let fifo_name = fifo.to_str().unwrap();
+    let args = [
+        "subdivide",
+        "uniform-binary",
+        &cube,
+        "--steps",
+        "5",
+        "-o",
+        fifo_name,
+    ];
+    let child = spawn(&args, Stdio::null());
     let mut f = std::fs::File::open(&fifo).unwrap();
     let mut byte = [0u8; 1];
     let _ = f.read(&mut byte);
     drop(f);
-    let mut err = String::new();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut err)
-        .unwrap();
-    let status = child.wait().unwrap();
-    assert!(
-        status.success() || status.signal() == Some(libc::SIGPIPE),
-        "{status:?}: {err}"
-    );
-    assert!(!err.contains("panicked"), "{err}");
+    ends_quietly(child, "a FIFO whose reader went away");
 }

@@ -115,6 +115,10 @@ pub(crate) fn counted(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
+/// The hint of a feature tag naming an element that is not there.
+pub(crate) const TAG_NUMBERS: &str = "tags number vertices and faces from 0, as OpenSubdiv \
+    writes them: an OBJ `v` or `f` number less one";
+
 /// At most this many characters of a token are quoted in messages.
 const TOKEN_CHARS: usize = 32;
 
@@ -201,10 +205,7 @@ impl Places {
         };
         let hint = match e {
             FeatureError::Repeated { .. } => "tag each edge, vertex or face once",
-            _ => {
-                "tags number vertices and faces from 0, as OpenSubdiv writes them: an OBJ `v` or \
-                  `f` number less one"
-            }
+            _ => TAG_NUMBERS,
         };
         match lines(list).get(k) {
             Some(&l) => Error::at(Location::line(file, l), message),

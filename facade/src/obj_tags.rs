@@ -722,7 +722,10 @@ mod tests {
 
     #[test]
     fn features_are_checked_with_the_faces() {
-        let at = |line, message: &str| Err(Error::at(Location::line("t.obj", line), message));
+        let at = |line, message: &str| {
+            let e = Error::at(Location::line("t.obj", line), message);
+            Err(e.with_hint(crate::mesh_file::TAG_NUMBERS))
+        };
         // Quads, checked as they are (the square has a boundary, which the topology refuses
         // after its features are checked); polygons, by their first step.
         for (text, line, message) in [

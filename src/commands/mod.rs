@@ -24,7 +24,9 @@ use lsubdiv_cli::{resolve, Resolved};
 /// Refuses, before any work, an output path that cannot be written: its folder must exist and
 /// it must not be a folder itself (the write itself may still fail, leaving nothing behind).
 pub fn check_output(path: &std::path::Path) -> Result<(), Error> {
-    let fail = |what: &str| Error::in_file(path.display(), what);
+    let fail = |what: &str| {
+        Error::in_file(path.display(), what).with_hint("name a file in an existing folder")
+    };
     if path.is_dir() {
         return Err(fail("is a directory; give a file name"));
     }
