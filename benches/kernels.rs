@@ -3,12 +3,12 @@
 #![allow(missing_docs)] // criterion_group! defines a public function it does not document
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use lsubdiv::runtime::generators::torus;
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::Refiner;
-use lsubdiv::runtime::real::Real;
-use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::generators::torus;
+use lsubdiv::mesh::patch::Refiner;
+use lsubdiv::mesh::real::Real;
+use lsubdiv::mesh::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use std::time::Duration;
 
 /// Benchmarks `Refiner::refine` for one scheme type.

@@ -6,8 +6,8 @@
 //!
 //! `cargo bench --bench render` (set LSUBDIV_BENCH_QUICK=1 for one draw each).
 
-use lsubdiv::runtime::generators::torus;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::generators::torus;
+use lsubdiv::mesh::topology::Topology;
 use lsubdiv_cli::render::{camera::View, Options, Scene, Shading};
 use std::time::Instant;
 

@@ -4,19 +4,19 @@
 use crate::implementation::Implementation;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
-use lsubdiv::mesh_file::Checked;
-use lsubdiv::runtime::features::{Boundary, Features};
-use lsubdiv::runtime::generators::{
+use lsubdiv::mesh::features::{Boundary, Features};
+use lsubdiv::mesh::generators::{
     creased_cube, cube, grid_cube, grid_with_hole, icosphere, open_grid, pentagon_star,
     polygon_prism, star, torus, tube,
 };
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::{output_counts, Refiner, Simd};
-use lsubdiv::runtime::polygon::catmull_clark;
-use lsubdiv::runtime::polygon::PolyMesh;
-use lsubdiv::runtime::real::Real;
-use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::patch::{output_counts, Refiner, Simd};
+use lsubdiv::mesh::polygon::catmull_clark;
+use lsubdiv::mesh::polygon::PolyMesh;
+use lsubdiv::mesh::real::Real;
+use lsubdiv::mesh::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
+use lsubdiv::mesh_file::Checked;
 use lsubdiv::Error;
 use std::time::Instant;
 

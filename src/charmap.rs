@@ -22,9 +22,9 @@ use crate::input_error;
 use crate::picture::{bounds, Anchor, Frame, Picture, Style};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::surface::{refine_surface, LabelledMesh};
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use std::collections::{HashMap, HashSet, VecDeque};
 
 /// Largest ring count tried for the neighbourhood.

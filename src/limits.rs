@@ -10,10 +10,10 @@
 //! the output file, streamed through a buffer.
 
 use lsubdiv::compiler::Error;
+use lsubdiv::mesh::features::Features;
+use lsubdiv::mesh::patch::footprint;
+use lsubdiv::mesh::topology::Topology;
 use lsubdiv::mesh_file::Checked;
-use lsubdiv::runtime::features::Features;
-use lsubdiv::runtime::patch::footprint;
-use lsubdiv::runtime::topology::Topology;
 use lsubdiv::CurveTables;
 
 /// `--max-memory` when the machine's memory cannot be read (no `/proc/meminfo`): 8 GiB.
@@ -320,8 +320,8 @@ pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path,
 pub fn read_mesh(
     path: &std::path::Path,
     max: u64,
-    boundary: Option<lsubdiv::runtime::features::Boundary>,
-    uv_rule: Option<lsubdiv::runtime::facevarying::UvRule>,
+    boundary: Option<lsubdiv::mesh::features::Boundary>,
+    uv_rule: Option<lsubdiv::mesh::facevarying::UvRule>,
 ) -> Result<(Checked, lsubdiv::mesh_file::Format), Error> {
     let (path, bytes) = read_input(path, max)?;
     let name = path.display().to_string();

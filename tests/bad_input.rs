@@ -399,11 +399,11 @@ fn predicted_curve_sizes_are_exact() {
 
 #[test]
 fn predicted_surface_sizes_are_exact() {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::generators::{
+    use lsubdiv::mesh::features::Features;
+    use lsubdiv::mesh::generators::{
         creased_cube, cube, grid_with_hole, open_grid, star, torus, tube,
     };
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     use lsubdiv::CurveScheme;
     for name in ["binary-ternary", "fibonacci", "uniform-binary"] {
         let s = lsubdiv::generic::GenericSurface::new(
@@ -423,8 +423,8 @@ fn predicted_surface_sizes_are_exact() {
         ];
         for (mesh, features) in &meshes {
             for steps in 0..4 {
-                let topo = lsubdiv::runtime::topology::Topology::build(mesh).unwrap();
-                let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+                let topo = lsubdiv::mesh::topology::Topology::build(mesh).unwrap();
+                let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
                     &s, mesh, &topo, features, steps, 1,
                 )
                 .unwrap();
@@ -561,7 +561,7 @@ fn every_mesh_error_names_its_line_or_element() {
     // (one Catmull–Clark topology step): the new vertex has valence 2. `obj::format` writes a
     // comment line first, so vertex 9 is on line 10.
     let valence_two = {
-        let c = lsubdiv::runtime::generators::cube();
+        let c = lsubdiv::mesh::generators::cube();
         let mut polys: Vec<Vec<u32>> = c.faces.iter().map(|f| f.to_vec()).collect();
         for p in &mut polys {
             if let Some(i) = (0..4).find(|&i| {
@@ -573,7 +573,7 @@ fn every_mesh_error_names_its_line_or_element() {
         }
         let mut positions = c.positions.clone();
         positions.push([0.0, -1.0, -1.0]);
-        let m = lsubdiv::runtime::generators::quad_split(&positions, &polys);
+        let m = lsubdiv::mesh::generators::quad_split(&positions, &polys);
         lsubdiv::obj::format(&m).unwrap()
     };
     let accepted: Vec<(&str, String, Option<&str>)> = vec![

@@ -9,10 +9,10 @@ mod common;
 use lsubdiv::compiler::exact::symmetry::rule_mirror;
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::Refiner;
-use lsubdiv::runtime::surface::SurfaceError;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::patch::Refiner;
+use lsubdiv::mesh::surface::SurfaceError;
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv::{refine_ends, CurveScheme, EndCurve};
 use lsubdiv_cli::resolve;
 
@@ -348,8 +348,7 @@ fn boundaries_are_curves(
 ) -> Result<(), SurfaceError> {
     let topo = Topology::build(mesh).unwrap();
     let features = Features::with_boundary(boundary);
-    let fine =
-        lsubdiv::runtime::patch::subdivide_with::<_, f64>(s, mesh, &topo, &features, steps, 2)?;
+    let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(s, mesh, &topo, &features, steps, 2)?;
     let nv = mesh.positions.len() as u32;
     let base = boundary_loops(mesh);
     let refined = boundary_loops(&fine);
@@ -462,13 +461,13 @@ fn pentagon() -> QuadMesh {
             [t.cos(), t.sin(), 0.2 * (2.0 * t).sin()]
         })
         .collect();
-    lsubdiv::runtime::generators::quad_split(&p, &[vec![0, 1, 2, 3, 4]])
+    lsubdiv::mesh::generators::quad_split(&p, &[vec![0, 1, 2, 3, 4]])
 }
 
 /// The cube without its top face: a square rim of boundary vertices with two faces each
 /// (a closed boundary loop) and four interior EVs of valence 3.
 fn open_box() -> QuadMesh {
-    let mut m = lsubdiv::runtime::generators::cube();
+    let mut m = lsubdiv::mesh::generators::cube();
     m.faces.pop();
     m
 }
@@ -515,10 +514,10 @@ mod cli {
     //! reach the refiner, and what it cannot refine is refused with the reason.
 
     use super::common::cli::{lsubdiv, stderr, write};
-    use lsubdiv::runtime::features::{Boundary, Features, Sharpness};
-    use lsubdiv::runtime::generators::open_grid;
-    use lsubdiv::runtime::patch::subdivide_with;
-    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::mesh::features::{Boundary, Features, Sharpness};
+    use lsubdiv::mesh::generators::open_grid;
+    use lsubdiv::mesh::patch::subdivide_with;
+    use lsubdiv::mesh::topology::Topology;
 
     /// A 3 × 3 open grid as OBJ, with `tags` appended.
     fn grid_obj(tags: &str) -> String {
@@ -566,7 +565,7 @@ mod cli {
         }
         features.holes.push(4);
         let topo = Topology::build(&mesh).unwrap();
-        let want: lsubdiv::runtime::mesh::QuadMesh =
+        let want: lsubdiv::mesh::QuadMesh =
             subdivide_with(&s, &mesh, &topo, &features, 3, 1).unwrap();
         assert_eq!(got.faces, want.faces);
         let worst = got
@@ -635,7 +634,7 @@ mod cli {
 /// Meshes with every kind of feature and their features: an open grid in both modes, an L
 /// with a boundary EV, a grid with a hole and a crease, a creased cube.
 fn featured() -> Vec<(&'static str, QuadMesh, Features)> {
-    use lsubdiv::runtime::generators::{creased_cube, grid_with_hole};
+    use lsubdiv::mesh::generators::{creased_cube, grid_with_hole};
     let (hole, mut crease) = grid_with_hole(3);
     crease.creases.push(([4, 5], Sharpness::INFINITE));
     crease.creases.push(([5, 6], Sharpness::steps(1)));
@@ -664,11 +663,11 @@ fn featured() -> Vec<(&'static str, QuadMesh, Features)> {
     ]
 }
 
-use lsubdiv::runtime::features::{Boundary, Features, Sharpness};
+use lsubdiv::mesh::features::{Boundary, Features, Sharpness};
 
 fn refine_with(s: &GenericSurface, mesh: &QuadMesh, f: &Features, steps: usize) -> QuadMesh {
     let topo = Topology::build(mesh).unwrap();
-    lsubdiv::runtime::patch::subdivide_with(s, mesh, &topo, f, steps, 2).unwrap()
+    lsubdiv::mesh::patch::subdivide_with(s, mesh, &topo, f, steps, 2).unwrap()
 }
 
 /// Every new point is an affine combination of the old ones (refining is affine invariant),
@@ -728,9 +727,9 @@ fn new_points_are_convex_combinations_and_corners_stay() {
             }
             // Corners stay (base vertices keep their index; no holes drop one here).
             let topo = Topology::build(&mesh).unwrap();
-            let r = lsubdiv::runtime::features::Resolved::new(&topo, &features).unwrap();
+            let r = lsubdiv::mesh::features::Resolved::new(&topo, &features).unwrap();
             for v in 0..nv as u32 {
-                if r.vertex_rule(&topo, v, 0) == lsubdiv::runtime::features::VertexRule::Corner {
+                if r.vertex_rule(&topo, v, 0) == lsubdiv::mesh::features::VertexRule::Corner {
                     assert_eq!(
                         fine.positions[v as usize], mesh.positions[v as usize],
                         "{name} {what}: corner {v}"
@@ -767,8 +766,8 @@ fn new_points_are_convex_combinations_and_corners_stay() {
 /// creased and holed meshes to the same bits, and take them to the same limit.
 #[test]
 fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
-    use lsubdiv::runtime::patch::Subdivide;
-    use lsubdiv::runtime::surface::SurfaceVisitor;
+    use lsubdiv::mesh::patch::Subdivide;
+    use lsubdiv::mesh::surface::SurfaceVisitor;
     for name in ["uniform-binary", "fibonacci", "found-cubic"] {
         let s = surface(name);
         for (what, mesh, features) in featured() {
@@ -803,7 +802,7 @@ fn generated_and_generic_agree_bit_for_bit_on_featured_meshes() {
 /// (the hexagon) and a crease from boundary to boundary, ending in corners; returned with the
 /// crease's vertices in order along it.
 fn creased_hexagon_grid() -> (QuadMesh, Features, Vec<u32>) {
-    use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
+    use lsubdiv::mesh::polygon::{catmull_clark, PolyMesh};
     let g = grid(4, 4);
     let id = |i: u32, j: u32| i * 5 + j;
     let mut poly = PolyMesh::new();
@@ -981,7 +980,7 @@ fn random_featured_meshes_refine_to_affine_combinations() {
         }
         for (name, s) in &schemes {
             let steps = 1 + pick(3);
-            let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+            let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
                 s, &mesh, &topo, &features, steps, 2,
             )
             .unwrap_or_else(|e| panic!("{name} round {round}: {e}"));
@@ -991,7 +990,7 @@ fn random_featured_meshes_refine_to_affine_combinations() {
                 .positions
                 .iter_mut()
                 .for_each(|p| *p = [0.25, -3.0, 7.5]);
-            let c = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+            let c = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
                 s, &constant, &topo, &features, steps, 1,
             )
             .unwrap();
@@ -1017,7 +1016,7 @@ fn random_featured_meshes_refine_to_affine_combinations() {
 /// three one-face sectors).
 #[test]
 fn limits_of_featured_meshes_are_finite_unit_and_listed() {
-    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::mesh::patch::limit_with;
     let s = surface("fibonacci");
     for (what, mesh, features) in featured() {
         let topo = Topology::build(&mesh).unwrap();
@@ -1065,7 +1064,7 @@ fn a_reused_refiner_equals_a_fresh_one() {
 /// normal is listed as not derived.
 #[test]
 fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
-    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::mesh::patch::limit_with;
     let mesh = grid(4, 4);
     // Along row 2 to the centre, then up column 2: vertex 12 has two adjacent sharp edges.
     let line: Vec<u32> = vec![10, 11, 12, 17, 22];
@@ -1109,15 +1108,15 @@ fn a_crease_turning_at_an_interior_vertex_is_the_schemes_curve() {
 /// Every instruction set this CPU has, the non-temporal writer forced on or off, one or two
 /// threads, wide or one-point strips, and ordinary faces refined alone or in stacks give the
 /// same points: the kernels run the same operations in the same order on every path
-/// ([`lsubdiv::runtime::patch::Simd`]); the fused multiply-adds of AVX2 and AVX-512 give those
+/// ([`lsubdiv::mesh::patch::Simd`]); the fused multiply-adds of AVX2 and AVX-512 give those
 /// two the same bits, within 1e-14 of the baseline's (relative to the mesh's size); in f64 and
 /// f32 (the latter within f32 rounding of the former); on closed meshes (ordinary faces and
 /// fans), open ones and every featured mesh, for every shipped surface scheme.
 #[test]
 fn every_simd_path_and_writer_gives_the_same_points() {
     use lsubdiv::generated;
-    use lsubdiv::runtime::generators::{grid_cube, star, torus};
-    use lsubdiv::runtime::patch::Simd;
+    use lsubdiv::mesh::generators::{grid_cube, star, torus};
+    use lsubdiv::mesh::patch::Simd;
     let mut meshes = featured();
     meshes.push(("torus", torus(6, 5), Features::default()));
     // The same torus with its faces' y against their order (chains taken downward), as
@@ -1214,8 +1213,8 @@ fn every_simd_path_and_writer_gives_the_same_points() {
 /// one triangle (one of them semi-sharp, 2 steps), a sharp vertex on another and a hole,
 /// split into quads: every face at an EV (the triangles' centres).
 fn creased_open_triangles(level: usize) -> (QuadMesh, Features) {
-    use lsubdiv::runtime::generators::icosphere;
-    use lsubdiv::runtime::polygon::catmull_clark;
+    use lsubdiv::mesh::generators::icosphere;
+    use lsubdiv::mesh::polygon::catmull_clark;
     let open = lsubdiv_testkit::meshes::capless(&icosphere(level), 0.6);
     let count = open.faces().count();
     let t = open.faces().nth(7 % count).unwrap().to_vec();
@@ -1234,7 +1233,7 @@ fn creased_open_triangles(level: usize) -> (QuadMesh, Features) {
 /// x, numbered after it), which makes the refiner compose the steps it would take level by
 /// level on the mesh alone.
 fn beside_a_torus(mesh: &QuadMesh, rows: usize) -> (QuadMesh, QuadMesh) {
-    use lsubdiv::runtime::generators::torus;
+    use lsubdiv::mesh::generators::torus;
     let ring = torus(rows, rows);
     let nv = mesh.positions.len() as u32;
     let mut both = mesh.clone();

@@ -522,7 +522,7 @@ fn fs_is_char_device(p: &Path) -> bool {
 fn subdivide_output_format_comes_from_the_extension() {
     let dir = tempfile::tempdir().unwrap();
     let cube = dir.path().join("cube.obj");
-    lsubdiv::obj::write(&cube, &lsubdiv::runtime::generators::cube()).unwrap();
+    lsubdiv::obj::write(&cube, &lsubdiv::mesh::generators::cube()).unwrap();
     let cube = cube.display().to_string();
     let ply = dir.path().join("fine.PLY");
     let o = lsubdiv(&[
@@ -608,7 +608,7 @@ fn byte_order_marks_and_latin1_bytes_in_inputs() {
 
     let mut obj = b"\xEF\xBB\xBF# r\xE9sum\xE9\n".to_vec();
     obj.extend(
-        lsubdiv::obj::format(&lsubdiv::runtime::generators::cube())
+        lsubdiv::obj::format(&lsubdiv::mesh::generators::cube())
             .unwrap()
             .bytes(),
     );

@@ -7,13 +7,13 @@ mod common;
 
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
-use lsubdiv::runtime::facevarying::{refine_uv, Points, PolyUv, QuadUv, UvRule};
-use lsubdiv::runtime::features::{Boundary, Features};
-use lsubdiv::runtime::generators::{open_grid, tube};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::subdivide_with;
-use lsubdiv::runtime::polygon::PolyMesh;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::facevarying::{refine_uv, Points, PolyUv, QuadUv, UvRule};
+use lsubdiv::mesh::features::{Boundary, Features};
+use lsubdiv::mesh::generators::{open_grid, tube};
+use lsubdiv::mesh::patch::subdivide_with;
+use lsubdiv::mesh::polygon::PolyMesh;
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 
 /// The compiled surface scheme `name`.
 fn surface(name: &str) -> GenericSurface {
@@ -153,7 +153,7 @@ fn smooth_uvs_on_a_seamless_chart_are_the_refined_layout() {
 /// library's `limit_with` of (u, v, 0) with edge-only boundaries.
 #[test]
 fn smooth_uvs_go_to_the_layouts_limit() {
-    use lsubdiv::runtime::patch::limit_with;
+    use lsubdiv::mesh::patch::limit_with;
     let (mesh, uv) = grid_with_uv();
     let s = surface("fibonacci");
     let f = Features::with_boundary(Boundary::EdgeOnly);

@@ -6,8 +6,8 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr, write};
-use lsubdiv::runtime::generators::{prism, torus};
-use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::mesh::generators::{prism, torus};
+use lsubdiv::mesh::QuadMesh;
 use std::path::Path;
 
 /// `mesh` with every coordinate multiplied by `s` and shifted by `t`.

@@ -239,10 +239,10 @@ type OneRing = ([f64; 3], Vec<([f64; 3], [f64; 3])>);
 /// 1-ring in rotation order, (radial R_k, diagonal D_k) per wedge, D_k between R_k and
 /// R_{k+1}.
 fn cube_one_ring(s: &lsubdiv::generic::GenericSurface, steps: usize) -> OneRing {
-    use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
-    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::mesh::surface::{refine_surface, LabelledMesh};
+    use lsubdiv::mesh::topology::Topology;
     use lsubdiv::CurveScheme;
-    let mut cube = lsubdiv::runtime::generators::cube();
+    let mut cube = lsubdiv::mesh::generators::cube();
     cube.positions[5] = [1.3, -0.8, 1.1];
     let lm = LabelledMesh::with_axiom(&s.tables(), cube).unwrap();
     let (fine, _) = refine_surface(s, &lm, steps).unwrap();
@@ -272,7 +272,7 @@ fn cube_one_ring(s: &lsubdiv::generic::GenericSurface, steps: usize) -> OneRing 
 /// mask (uniform binary: 4/9, 1/9 per edge neighbour, 1/36 per diagonal one).
 #[test]
 fn ev_limit_points_are_fixed_under_refinement() {
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     let ub = surface("uniform-binary");
     let st = ub.surface();
     let w = st.ev.limit_weights(4, st.alpha(4).unwrap());
@@ -290,7 +290,7 @@ fn ev_limit_points_are_fixed_under_refinement() {
 /// How far the cube's EV limit point, from its 1-ring after `steps` steps, moves with one
 /// more step.
 fn ev_limit_moves(s: &lsubdiv::generic::GenericSurface, steps: usize) -> f64 {
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     let st = s.surface();
     let weights = st.ev.limit_weights(3, st.alpha(3).unwrap());
     let limit = |steps: usize| {
@@ -313,7 +313,7 @@ fn ev_limit_moves(s: &lsubdiv::generic::GenericSurface, steps: usize) -> f64 {
 /// (uniform binary: diagonals a quarter of the edge neighbours, c = √2/4).
 #[test]
 fn ev_limit_tangents_scale_by_lambda1() {
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     let c = surface("uniform-binary")
         .surface()
         .ev
@@ -332,7 +332,7 @@ fn ev_limit_tangents_scale_by_lambda1() {
 /// How far the cube's EV limit tangents, from its 1-ring after `steps` steps, are from λ1
 /// times themselves after one more step, and their size.
 fn ev_tangents_off(s: &lsubdiv::generic::GenericSurface, steps: usize) -> (f64, f64) {
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     let st = s.surface();
     let n = 3;
     let (c, lambda) = (
@@ -429,11 +429,11 @@ fn torus_limit_is_the_tensor_b_spline(
     s: &lsubdiv::generic::GenericSurface,
     steps: usize,
 ) {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::patch::limit_with;
-    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::mesh::features::Features;
+    use lsubdiv::mesh::patch::limit_with;
+    use lsubdiv::mesh::topology::Topology;
     let (rows, cols) = (5, 7);
-    let torus = lsubdiv::runtime::generators::torus(rows, cols);
+    let torus = lsubdiv::mesh::generators::torus(rows, cols);
     let topo = Topology::build(&torus).unwrap();
     let lim = limit_with::<_, f64>(s, &torus, &topo, &Features::default(), steps, 2).unwrap();
     assert!(lim.approximate.is_empty(), "{name}");
@@ -519,7 +519,7 @@ proptest::proptest! {
     /// not move with one more step, and the limit tangents scale by λ1.
     #[test]
     fn random_schemes_ev_limits_hold_under_refinement(sys in common::surface_systems()) {
-        use lsubdiv::runtime::surface::SurfaceScheme;
+        use lsubdiv::mesh::surface::SurfaceScheme;
         use lsubdiv::CurveScheme;
         let Some((text, _, s)) = common::drawn_surface(&sys) else {
             return Ok(());
@@ -541,17 +541,17 @@ proptest::proptest! {
 /// open grid after two steps (read off the refined mesh's own connectivity).
 #[test]
 fn uniform_binary_limit_is_catmull_clark_on_regular_regions_and_boundaries() {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::patch::limit_with;
-    use lsubdiv::runtime::topology::Topology;
-    let mut grid = lsubdiv::runtime::generators::open_grid(3, 4);
+    use lsubdiv::mesh::features::Features;
+    use lsubdiv::mesh::patch::limit_with;
+    use lsubdiv::mesh::topology::Topology;
+    let mut grid = lsubdiv::mesh::generators::open_grid(3, 4);
     for (i, p) in grid.positions.iter_mut().enumerate() {
         p[2] = (i as f64 * 0.7).sin();
     }
     let topo = Topology::build(&grid).unwrap();
     let s = surface("uniform-binary");
     let steps = 2;
-    let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+    let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
         &s,
         &grid,
         &topo,
@@ -602,11 +602,11 @@ fn uniform_binary_limit_is_catmull_clark_on_regular_regions_and_boundaries() {
 /// the limit normal as steps grow (the angle shrinks step by step; the sequence is printed).
 #[test]
 fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::patch::limit_with;
-    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::mesh::features::Features;
+    use lsubdiv::mesh::patch::limit_with;
+    use lsubdiv::mesh::topology::Topology;
     use lsubdiv::CurveScheme;
-    let mut cube = lsubdiv::runtime::generators::cube();
+    let mut cube = lsubdiv::mesh::generators::cube();
     cube.positions[5] = [1.3, -0.8, 1.1];
     let topo = Topology::build(&cube).unwrap();
     for name in EV_SCHEMES {
@@ -654,7 +654,7 @@ fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
         );
         let mut angles = Vec::new();
         for steps in 2..=7 {
-            let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+            let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
                 &s,
                 &cube,
                 &topo,
@@ -696,9 +696,9 @@ fn ev_limit_is_fixed_and_the_one_ring_normals_converge_to_it() {
 /// of its three; nothing approximate.
 #[test]
 fn the_creased_cube_is_its_own_limit() {
-    use lsubdiv::runtime::patch::limit_with;
-    use lsubdiv::runtime::topology::Topology;
-    let (cube, features) = lsubdiv::runtime::generators::creased_cube();
+    use lsubdiv::mesh::patch::limit_with;
+    use lsubdiv::mesh::topology::Topology;
+    let (cube, features) = lsubdiv::mesh::generators::creased_cube();
     let topo = Topology::build(&cube).unwrap();
     for name in EV_SCHEMES {
         let s = surface(name);
@@ -772,7 +772,7 @@ fn subdivide_writes_limit_positions_and_normals() {
     // The positions are the library's limit.
     let mesh = lsubdiv::mesh_file::parse("cube.obj", cube.as_bytes().to_vec()).unwrap();
     let s = surface("fibonacci");
-    let lim = lsubdiv::runtime::patch::limit_with::<_, f64>(
+    let lim = lsubdiv::mesh::patch::limit_with::<_, f64>(
         &s,
         &mesh.mesh,
         &mesh.topology,

@@ -8,7 +8,7 @@
 mod common;
 
 use common::cli::{json, lsubdiv, stderr};
-use lsubdiv::runtime::generators::{cube, star, torus};
+use lsubdiv::mesh::generators::{cube, star, torus};
 use std::io::Write as _;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -449,11 +449,11 @@ fn textured_files_refine_as_the_plain_ones_with_their_uvs() {
     std::fs::write(&plain, lsubdiv::obj::format(&m).unwrap()).unwrap();
     let expected = subdivide(&plain.display().to_string(), &d.join("expected.obj"));
     // Per vertex (seamless) and per corner (a seam at every vertex): OBJ and PLY.
-    let per_vertex = lsubdiv::runtime::facevarying::QuadUv {
+    let per_vertex = lsubdiv::mesh::facevarying::QuadUv {
         values: m.positions.iter().map(|p| [p[0], p[2]]).collect(),
         faces: m.faces.clone(),
     };
-    let per_corner = lsubdiv::runtime::facevarying::QuadUv {
+    let per_corner = lsubdiv::mesh::facevarying::QuadUv {
         values: (0..4 * m.faces.len()).map(|k| [k as f64, 0.5]).collect(),
         faces: (0..m.faces.len() as u32)
             .map(|f| [4 * f, 4 * f + 1, 4 * f + 2, 4 * f + 3])
@@ -485,7 +485,7 @@ fn textured_files_refine_as_the_plain_ones_with_their_uvs() {
             assert!(without_uv.as_bytes() == expected, "{k}-{name}");
             let read = lsubdiv::mesh_file::parse(name, text.into_bytes()).unwrap();
             let back = read.uv.expect("texture coordinates");
-            let at = |uv: &lsubdiv::runtime::facevarying::QuadUv| -> Vec<[f64; 2]> {
+            let at = |uv: &lsubdiv::mesh::facevarying::QuadUv| -> Vec<[f64; 2]> {
                 uv.faces
                     .iter()
                     .flatten()

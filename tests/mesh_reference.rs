@@ -2,8 +2,8 @@
 
 mod common;
 
-use lsubdiv::runtime::generators::{cube, torus};
-use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::mesh::generators::{cube, torus};
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv_testkit::catmull_clark::{catmull_clark, catmull_clark_steps};
 use std::collections::HashMap;
 

@@ -8,11 +8,11 @@
 
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::GenericSurface;
-use lsubdiv::runtime::features::{Boundary, Features, Sharpness};
-use lsubdiv::runtime::generators::{creased_cube, grid_with_hole, open_grid, torus, tube};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::subdivide_with;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::features::{Boundary, Features, Sharpness};
+use lsubdiv::mesh::generators::{creased_cube, grid_with_hole, open_grid, torus, tube};
+use lsubdiv::mesh::patch::subdivide_with;
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv_testkit::catmull_clark::catmull_clark_features_steps;
 
 fn uniform_binary() -> GenericSurface {
@@ -139,8 +139,8 @@ fn a_cube_with_every_edge_sharp() {
 /// are the scheme's.
 #[test]
 fn the_first_step_of_triangles_and_pentagons() {
-    use lsubdiv::runtime::generators::{pentagon_star, pentagonal_pyramid};
-    use lsubdiv::runtime::polygon::catmull_clark;
+    use lsubdiv::mesh::generators::{pentagon_star, pentagonal_pyramid};
+    use lsubdiv::mesh::polygon::catmull_clark;
     for mode in [Boundary::EdgeAndCorner, Boundary::EdgeOnly] {
         let features = Features::with_boundary(mode);
         for (what, poly) in [("star", pentagon_star()), ("pyramid", pentagonal_pyramid())] {

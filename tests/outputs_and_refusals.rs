@@ -107,7 +107,7 @@ fn triangle_torus(m: usize) -> String {
 /// The cube as OBJ in `dir`.
 fn cube(dir: &Path) -> String {
     let path = dir.join("cube.obj");
-    lsubdiv::obj::write(&path, &lsubdiv::runtime::generators::cube()).unwrap();
+    lsubdiv::obj::write(&path, &lsubdiv::mesh::generators::cube()).unwrap();
     path.display().to_string()
 }
 

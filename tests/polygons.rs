@@ -6,10 +6,10 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr, write};
-use lsubdiv::runtime::features::Features;
-use lsubdiv::runtime::generators::{cube, torus};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
+use lsubdiv::mesh::features::Features;
+use lsubdiv::mesh::generators::{cube, torus};
+use lsubdiv::mesh::polygon::{catmull_clark, PolyMesh};
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv_testkit::catmull_clark::catmull_clark_polygons;
 
 /// A pentagonal prism whose top is a fan of five triangles around an apex: a triangle, quad
@@ -221,7 +221,7 @@ fn errors_on_polygon_meshes_name_the_files_faces() {
 #[test]
 fn the_built_in_prisms_have_polygon_caps_split_first() {
     for n in [3, 5, 7] {
-        let m = lsubdiv::runtime::generators::polygon_prism(n);
+        let m = lsubdiv::mesh::generators::polygon_prism(n);
         let faces: Vec<Vec<u32>> = m.faces().map(<[u32]>::to_vec).collect();
         let input = lsubdiv_cli::bench::mesh(&format!("prism:{n}"), u64::MAX, None).unwrap();
         assert!(input.split);

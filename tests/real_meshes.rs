@@ -412,7 +412,7 @@ fn corner_gap(a: &Obj, b: &Obj) -> f64 {
 /// Per number of faces k, the edges of `mesh` with k faces (distinct vertex pairs; a face's
 /// degenerate edges left out).
 fn edges_by_faces(
-    mesh: &lsubdiv::runtime::polygon::PolyMesh,
+    mesh: &lsubdiv::mesh::polygon::PolyMesh,
 ) -> std::collections::BTreeMap<usize, usize> {
     let mut faces: std::collections::HashMap<[u32; 2], usize> = std::collections::HashMap::new();
     for f in mesh.faces() {

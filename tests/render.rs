@@ -5,9 +5,9 @@
 mod common;
 
 use common::cli::{lsubdiv, stderr};
+use lsubdiv::mesh::generators::{cube, torus};
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv::obj;
-use lsubdiv::runtime::generators::{cube, torus};
-use lsubdiv::runtime::mesh::QuadMesh;
 use std::path::Path;
 
 /// A decoded RGB image.
@@ -131,9 +131,13 @@ fn every_mode_draws_the_object_at_the_requested_size() {
 fn curvature_is_uniform_on_a_sphere_and_changes_sign_on_a_fat_torus() {
     let dir = tempfile::tempdir().unwrap();
     // The cube refined three times and pushed onto the unit sphere: H = 1 everywhere.
-    let r = lsubdiv::generated::subdivide::<f64>("binary-ternary", &cube(), 3, 1)
-        .unwrap()
-        .unwrap();
+    let r = lsubdiv::mesh::patch::subdivide::<_, f64>(
+        &lsubdiv::generated::binary_ternary::Scheme,
+        &cube(),
+        3,
+        1,
+    )
+    .unwrap();
     let sphere = QuadMesh {
         positions: r
             .positions

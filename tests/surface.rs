@@ -5,10 +5,10 @@ mod common;
 
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::generators::{cube, grid_cube, icosphere, klein_bottle, prism, star, torus};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::surface::{refine_surface, LabelledMesh, StepStats};
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::generators::{cube, grid_cube, icosphere, klein_bottle, prism, star, torus};
+use lsubdiv::mesh::surface::{refine_surface, LabelledMesh, StepStats};
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv::{generated, Curve, CurveScheme};
 use lsubdiv_cli::resolve;
 use lsubdiv_testkit::catmull_clark::catmull_clark_steps;
@@ -221,13 +221,23 @@ fn non_orientable_meshes_refine() {
 
 #[test]
 fn generic_and_generated_surfaces_are_identical() {
-    use lsubdiv::runtime::patch::subdivide;
+    use lsubdiv::mesh::features::Features;
+    use lsubdiv::mesh::patch::{subdivide, Subdivide};
+    use lsubdiv::mesh::topology::Topology;
+    let mesh = star();
+    let topology = Topology::build(&mesh).unwrap();
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
-        let a = subdivide::<_, f64>(&s, &star(), 3, 1).unwrap();
-        let b = generated::subdivide::<f64>(name, &star(), 3, 2)
-            .unwrap()
-            .unwrap();
+        let a = subdivide::<_, f64>(&s, &mesh, 3, 1).unwrap();
+        let job = Subdivide {
+            mesh: &mesh,
+            topology: &topology,
+            features: &Features::default(),
+            steps: 3,
+            threads: 2,
+            limit: false,
+        };
+        let b = generated::visit_surface(name, job).unwrap().unwrap().mesh;
         assert_eq!(a.faces, b.faces, "{name}");
         let bits = |p: &[[f64; 3]]| p.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(
@@ -259,7 +269,7 @@ fn valences_beyond_the_table_use_the_same_solver() {
 
 #[test]
 fn patch_path_matches_the_reference_driver() {
-    use lsubdiv::runtime::patch::{subdivide, Refiner};
+    use lsubdiv::mesh::patch::{subdivide, Refiner};
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
         for (label, mesh) in [
@@ -301,7 +311,7 @@ fn patch_path_matches_the_reference_driver() {
 /// that the box is given and taken in several shares, the same bits as one share.
 #[test]
 fn a_triangle_mesh_hands_its_rings_on() {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let lockstep =
         |r: &Refiner<'_, _, f64>, steps: usize| steps - r.reference_steps() - r.level_steps();
     let small = split_icosphere(1);
@@ -344,7 +354,7 @@ fn a_triangle_mesh_hands_its_rings_on() {
 /// the same. A mesh of mostly ordinary faces has none past side 2.
 #[test]
 fn a_mesh_of_small_fans_starts_level_by_level() {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let mesh = split_icosphere(3);
     let topo = Topology::build(&mesh).unwrap();
     assert_eq!(mesh.faces.len(), 3840);
@@ -398,7 +408,7 @@ fn split_icosphere(level: usize) -> QuadMesh {
 /// rounding, on one and two threads, alone and before a depth-first step.
 #[test]
 fn reference_step_near_the_evs_only() {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let s = surface("binary-ternary");
     let mesh = grid_cube(12);
     let topo = Topology::build(&mesh).unwrap();
@@ -452,8 +462,8 @@ Y = "W"
 #[test]
 fn two_reference_steps_chain_their_maps() {
     use lsubdiv::compiler::exact::scheme;
-    use lsubdiv::runtime::patch::Refiner;
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::patch::Refiner;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     let ls = scheme::parse("contained-from-two.toml", CONTAINED_FROM_TWO).unwrap();
     let s = GenericSurface::new(Scheme::build(ls).unwrap()).unwrap();
     assert_eq!(s.surface().contained_from, 2);
@@ -497,7 +507,7 @@ fn two_reference_steps_chain_their_maps() {
 /// one on other positions gives a fresh refiner's bits.
 #[test]
 fn reference_steps_are_maps_of_any_positions() {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let s = surface("binary-ternary");
     let refined = |mesh: &QuadMesh, threads: usize, first: Option<&[[f64; 3]]>| {
         let topo = Topology::build(mesh).unwrap();
@@ -538,7 +548,7 @@ fn reference_steps_are_maps_of_any_positions() {
 /// streamed or not, on one or two threads.
 #[test]
 fn large_fan_faces_go_out_row_by_row() {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let s = surface("uniform-binary");
     let mesh = cube();
     let steps = 6;
@@ -561,7 +571,7 @@ fn large_fan_faces_go_out_row_by_row() {
 /// f32, and every SIMD path this CPU has.
 #[test]
 fn large_ordinary_faces_go_out_in_bands() {
-    use lsubdiv::runtime::patch::{Refiner, Simd};
+    use lsubdiv::mesh::patch::{Refiner, Simd};
     for (name, steps) in [("uniform-binary", 6), ("binary-ternary", 4)] {
         let s = surface(name);
         for (label, mesh) in [("torus", torus(3, 4)), ("klein", klein_bottle(4, 5))] {
@@ -593,10 +603,10 @@ fn f32_off(
     s: &GenericSurface,
     (mesh, topo): (&QuadMesh, &Topology),
     steps: usize,
-    simd: lsubdiv::runtime::patch::Simd,
+    simd: lsubdiv::mesh::patch::Simd,
     threads: usize,
 ) -> f64 {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let mut double = Refiner::<_, f64>::new(s, topo, steps, 1).unwrap();
     double.set_simd(simd);
     let mut single = Refiner::<_, f32>::new(s, topo, steps, threads).unwrap();
@@ -617,8 +627,8 @@ fn f32_off(
 #[test]
 fn one_symbol_images_refine_by_the_patches() {
     use lsubdiv::compiler::exact::scheme::parse;
-    use lsubdiv::runtime::generators::open_grid;
-    use lsubdiv::runtime::patch::subdivide;
+    use lsubdiv::mesh::generators::open_grid;
+    use lsubdiv::mesh::patch::subdivide;
     let text = "name = \"delayed\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"A\"\nA = \"AA\"\n";
     let s =
         GenericSurface::new(Scheme::build(parse("delayed.toml", text).unwrap()).unwrap()).unwrap();
@@ -643,7 +653,7 @@ fn one_symbol_images_refine_by_the_patches() {
 #[test]
 fn point_n_across_two_tiles() {
     use lsubdiv::compiler::exact::scheme::parse;
-    use lsubdiv::runtime::patch::{Refiner, Simd};
+    use lsubdiv::mesh::patch::{Refiner, Simd};
     for k in [19, 30] {
         let text = format!(
             "name = \"wide\"\ndegree = 3\naxiom = \"S\"\n[rules]\nS = \"{}\"\nA = \"AA\"\n",
@@ -669,8 +679,8 @@ fn point_n_across_two_tiles() {
 
 #[test]
 fn every_contained_step_runs_depth_first() {
-    use lsubdiv::runtime::patch::Refiner;
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::patch::Refiner;
+    use lsubdiv::mesh::surface::SurfaceScheme;
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
         let contained = s.surface().contained_from;
@@ -691,7 +701,7 @@ fn every_contained_step_runs_depth_first() {
 
 #[test]
 fn results_beyond_u32_indices_are_refused_not_wrapped() {
-    use lsubdiv::runtime::patch::Refiner;
+    use lsubdiv::mesh::patch::Refiner;
     let s = surface("uniform-binary");
     // 2^17 sub-edges per edge of the cube: 6·2^34 quads, more than u32 can index.
     let topo = Topology::build(&cube()).unwrap();
@@ -707,14 +717,14 @@ fn results_beyond_u32_indices_are_refused_not_wrapped() {
 /// bound on the star with Fibonacci).
 #[test]
 fn refined_again_the_buffers_stay_within_the_footprint() {
-    use lsubdiv::runtime::features::Features;
-    use lsubdiv::runtime::patch::{footprint, Refiner};
-    use lsubdiv::runtime::surface::SurfaceScheme;
+    use lsubdiv::mesh::features::Features;
+    use lsubdiv::mesh::patch::{footprint, Refiner};
+    use lsubdiv::mesh::surface::SurfaceScheme;
     let plain = |mesh: QuadMesh| (mesh, Features::default());
     // A crease of sharpness s around one face: a reference step below 1 runs twice.
     let creased = |mesh: QuadMesh, s: f64| {
         let f = mesh.faces[0];
-        let s = lsubdiv::runtime::features::Sharpness::from_f64(s).unwrap();
+        let s = lsubdiv::mesh::features::Sharpness::from_f64(s).unwrap();
         let creases = (0..4).map(|i| ([f[i], f[(i + 1) % 4]], s)).collect();
         let features = Features {
             creases,
@@ -792,7 +802,7 @@ fn refined_again_the_buffers_stay_within_the_footprint() {
 /// kernel meets N', band widths and tile layouts no shipped scheme has.
 mod random_surfaces {
     use super::*;
-    use lsubdiv::runtime::patch::{Refiner, Simd};
+    use lsubdiv::mesh::patch::{Refiner, Simd};
     use proptest::prelude::*;
 
     /// Refined points of a mesh at most (faces × N'²).

@@ -21,7 +21,7 @@ use lsubdiv_compiler::exact::ev::SurfaceAnalysis;
 use lsubdiv_compiler::exact::lsystem::Word;
 use lsubdiv_compiler::exact::{Scheme, Tables};
 use lsubdiv_compiler::Error;
-use lsubdiv_runtime::surface::{SurfaceScheme, SurfaceTables};
+use lsubdiv_mesh::surface::{SurfaceScheme, SurfaceTables};
 use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};
 use std::collections::HashSet;
 

@@ -1,9 +1,10 @@
 //! lsubdiv: exact non-uniform B-spline subdivision schemes from L-systems, for programs.
 //!
-//! The facade re-exports the three crates: [`compiler`] (exact, build-time), [`runtime`] (tiny,
-//! what generated code links against) and [`generated`] (the shipped schemes, compiled); it adds
-//! the dynamic path ([`generic`]: tables computed at run time from any scheme file) and file
-//! formats.
+//! The facade re-exports the four crates: [`compiler`] (exact, build-time), [`runtime`] (tiny,
+//! what generated code links against), [`mesh`] (the mesh refiner: topology, features, the
+//! polygon step, patches, limits, face-varying data) and [`generated`] (the shipped schemes,
+//! compiled); it adds the dynamic path ([`generic`]: tables computed at run time from any
+//! scheme file) and file formats.
 //!
 //! # Quick start: a scheme file at run time
 //!
@@ -43,6 +44,7 @@
 
 pub use lsubdiv_compiler as compiler;
 pub use lsubdiv_generated as generated;
+pub use lsubdiv_mesh as mesh;
 pub use lsubdiv_runtime as runtime;
 pub use lsubdiv_runtime::{
     curve_limit, end_limit, refine, refine_ends, Curve, CurveError, CurveLimit, CurveRefiner,

@@ -5,12 +5,12 @@
 //! placed in the file.
 
 use lsubdiv_compiler::{Error, Location};
-use lsubdiv_runtime::facevarying::{Points, PolyUv, QuadUv, UvError, UvRule};
-use lsubdiv_runtime::features::{FeatureError, FeatureList, Features};
-use lsubdiv_runtime::mesh::QuadMesh;
-use lsubdiv_runtime::nonmanifold::{separate, Weld};
-use lsubdiv_runtime::polygon::{catmull_clark, check_features, PolyMesh, SplitError};
-use lsubdiv_runtime::topology::{Topology, TopologyError};
+use lsubdiv_mesh::facevarying::{Points, PolyUv, QuadUv, UvError, UvRule};
+use lsubdiv_mesh::features::{FeatureError, FeatureList, Features};
+use lsubdiv_mesh::nonmanifold::{separate, Weld};
+use lsubdiv_mesh::polygon::{catmull_clark, check_features, PolyMesh, SplitError};
+use lsubdiv_mesh::topology::{Topology, TopologyError};
+use lsubdiv_mesh::QuadMesh;
 use std::path::Path;
 
 /// What a place in [`Places`] counts.
@@ -39,7 +39,7 @@ pub struct Places {
     /// Lines of the tags of the features.
     pub features: FeatureLines,
     /// The file's vertex of each vertex of the mesh checked, where it was separated
-    /// ([`lsubdiv_runtime::nonmanifold::separate`]); empty where it is the file's own.
+    /// ([`lsubdiv_mesh::nonmanifold::separate`]); empty where it is the file's own.
     pub origin: Vec<u32>,
 }
 
@@ -84,7 +84,7 @@ pub struct Parsed {
 /// A mesh ready to refine: read by [`read`] or [`parse`], a 2-manifold the topology accepts,
 /// with its topology (build it once, pass it along), its features and the reader's warnings. A
 /// file with faces that are not quads is taken one Catmull–Clark step
-/// ([`lsubdiv_runtime::polygon`], boundaries and features included), the first step of its
+/// ([`lsubdiv_mesh::polygon`], boundaries and features included), the first step of its
 /// refinement ([`Checked::split`]).
 #[derive(Clone, Debug)]
 pub struct Checked {
@@ -96,7 +96,7 @@ pub struct Checked {
     /// Its connectivity.
     pub topology: Topology,
     /// Its features, named by the vertices and faces of `mesh`: the file's, or their image
-    /// after the first step ([`lsubdiv_runtime::polygon::Split::features`]).
+    /// after the first step ([`lsubdiv_mesh::polygon::Split::features`]).
     pub features: Features,
     /// Its texture coordinates, faces parallel to `mesh`'s: the file's, or their first step
     /// by [`Parsed::uv_rule`] ([`PolyUv::split`]).
@@ -424,7 +424,7 @@ impl Parsed {
 
 /// One line each for what [`separate`] did to a file: vertices dropped, non-manifold vertices
 /// and edges made sharp.
-fn separation_notes(s: &lsubdiv_runtime::nonmanifold::Separated) -> Vec<String> {
+fn separation_notes(s: &lsubdiv_mesh::nonmanifold::Separated) -> Vec<String> {
     let mut notes = Vec::new();
     if s.isolated > 0 {
         notes.push(format!(
@@ -533,8 +533,8 @@ impl Extras<'_> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use lsubdiv_runtime::features::Boundary;
-    use lsubdiv_runtime::generators::torus;
+    use lsubdiv_mesh::features::Boundary;
+    use lsubdiv_mesh::generators::torus;
 
     /// The torus `torus(rows, cols)` laid out on the grid [0,1]²: vertex (i, j) at
     /// (i / rows, j / cols), so the rows i = 0 and the columns j = 0 have two values each (the

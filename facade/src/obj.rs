@@ -7,10 +7,10 @@
 use crate::mesh_file::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use crate::obj_tags::Tags;
 use lsubdiv_compiler::{Error, Location};
-use lsubdiv_runtime::facevarying::{PolyUv, UvRule};
-use lsubdiv_runtime::mesh::QuadMesh;
-use lsubdiv_runtime::polygon::PolyMesh;
-use lsubdiv_runtime::topology::TopologyError;
+use lsubdiv_mesh::facevarying::{PolyUv, UvRule};
+use lsubdiv_mesh::polygon::PolyMesh;
+use lsubdiv_mesh::topology::TopologyError;
+use lsubdiv_mesh::QuadMesh;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -543,9 +543,9 @@ impl std::fmt::Display for Text<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lsubdiv_runtime::features::{Creasing, Triangles};
-    use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
-    use lsubdiv_runtime::topology::Topology;
+    use lsubdiv_mesh::features::{Creasing, Triangles};
+    use lsubdiv_mesh::generators::{cube, klein_bottle, torus};
+    use lsubdiv_mesh::topology::Topology;
 
     /// Deterministic pseudo-random numbers.
     struct Rng(u64);

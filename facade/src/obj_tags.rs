@@ -29,8 +29,8 @@
 
 use crate::mesh_file::{shorten, FeatureLines};
 use crate::obj::{is_integer, Token};
-use lsubdiv_runtime::facevarying::UvRule;
-use lsubdiv_runtime::features::{Boundary, Creasing, Features, Sharpness, Triangles};
+use lsubdiv_mesh::facevarying::UvRule;
+use lsubdiv_mesh::features::{Boundary, Creasing, Features, Sharpness, Triangles};
 use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
 
@@ -369,7 +369,7 @@ fn triangles((tok, line): Token<'_>) -> Result<Triangles, Failure> {
 mod tests {
     use crate::mesh_file::FeatureLines;
     use lsubdiv_compiler::{Error, Location};
-    use lsubdiv_runtime::features::{Boundary, Features, Sharpness};
+    use lsubdiv_mesh::features::{Boundary, Features, Sharpness};
 
     /// A square (lines 1–5); tags start at line 6.
     const SQUARE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
@@ -684,7 +684,7 @@ mod tests {
     /// numbering (`regression/common/far_utils.h`); without it the rule is linear.
     #[test]
     fn face_varying_modes() {
-        use lsubdiv_runtime::facevarying::UvRule;
+        use lsubdiv_mesh::facevarying::UvRule;
         let rule = |tags: &str| {
             crate::obj::parse("t.obj", &format!("{SQUARE}{tags}"))
                 .unwrap()

@@ -14,11 +14,11 @@
 
 use crate::mesh_file::{shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
-use lsubdiv_runtime::facevarying::{PolyUv, QuadUv};
-use lsubdiv_runtime::features::Features;
-use lsubdiv_runtime::mesh::QuadMesh;
-use lsubdiv_runtime::polygon::PolyMesh;
-use lsubdiv_runtime::topology::TopologyError;
+use lsubdiv_mesh::facevarying::{PolyUv, QuadUv};
+use lsubdiv_mesh::features::Features;
+use lsubdiv_mesh::polygon::PolyMesh;
+use lsubdiv_mesh::topology::TopologyError;
+use lsubdiv_mesh::QuadMesh;
 use std::fmt::{self, Write as _};
 
 /// A scalar type of PLY.
@@ -1292,7 +1292,7 @@ pub fn binary_with(mesh: &QuadMesh, extras: Extras<'_>, big: bool) -> Result<Vec
 mod tests {
     use super::*;
     use crate::mesh_file::Checked;
-    use lsubdiv_runtime::generators::{cube, klein_bottle, torus};
+    use lsubdiv_mesh::generators::{cube, klein_bottle, torus};
 
     /// Parses and checks `bytes` as `t.ply`.
     fn read(bytes: &[u8]) -> Result<Checked, Error> {

@@ -45,7 +45,7 @@ pub struct CurveTables<'a> {
     pub limit_weights: &'a [f64],
     /// The interval length of each symbol (the Perron eigenvector, smallest 1: exact in the
     /// compiler, nearest f64 here): where knots lie, for face-varying data
-    /// ([`crate::facevarying`]).
+    /// (`lsubdiv_mesh::facevarying`).
     pub lengths: &'a [f64],
 }
 
@@ -450,9 +450,9 @@ fn body_points<S: CurveScheme, const D: usize>(
     Ok(())
 }
 
-/// π applied to every label. Rules of up to 8 symbols are written as one 8-byte store each
+/// π applied to every label of `labels`, into `out` (cleared first). Rules of up to 8 symbols are written as one 8-byte store each
 /// (into a buffer sized from the symbol counts), longer ones appended.
-pub(crate) fn rewrite(t: &CurveTables<'_>, labels: &[u8], out: &mut Vec<u8>) {
+pub fn rewrite(t: &CurveTables<'_>, labels: &[u8], out: &mut Vec<u8>) {
     const WIDE: usize = 8;
     out.clear();
     let rules: Vec<&[u8]> = (0..t.symbol_count()).map(|a| t.rule(a as u8)).collect();

@@ -40,7 +40,7 @@ pub struct PolygonArgs {
 }
 
 /// `--boundary`: how boundary vertices with one face are refined (OpenSubdiv's
-/// `VtxBoundaryInterpolation`, see `lsubdiv::runtime::features::Boundary`).
+/// `VtxBoundaryInterpolation`, see `lsubdiv::mesh::features::Boundary`).
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum BoundaryArg {
     /// Boundary edges sharp, vertices with one face interpolated corners (USD's default).
@@ -64,18 +64,18 @@ pub struct BoundaryArgs {
 
 impl BoundaryArgs {
     /// The rule asked for, if any.
-    pub fn rule(&self) -> Option<lsubdiv::runtime::features::Boundary> {
+    pub fn rule(&self) -> Option<lsubdiv::mesh::features::Boundary> {
         self.boundary.map(BoundaryArg::rule)
     }
 }
 
 impl BoundaryArg {
     /// The runtime's boundary rule.
-    pub fn rule(self) -> lsubdiv::runtime::features::Boundary {
+    pub fn rule(self) -> lsubdiv::mesh::features::Boundary {
         match self {
-            BoundaryArg::EdgeAndCorner => lsubdiv::runtime::features::Boundary::EdgeAndCorner,
-            BoundaryArg::EdgeOnly => lsubdiv::runtime::features::Boundary::EdgeOnly,
-            BoundaryArg::None => lsubdiv::runtime::features::Boundary::None,
+            BoundaryArg::EdgeAndCorner => lsubdiv::mesh::features::Boundary::EdgeAndCorner,
+            BoundaryArg::EdgeOnly => lsubdiv::mesh::features::Boundary::EdgeOnly,
+            BoundaryArg::None => lsubdiv::mesh::features::Boundary::None,
         }
     }
 }

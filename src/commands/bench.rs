@@ -4,8 +4,8 @@ use crate::commands::args::{BoundaryArgs, MemoryLimit};
 use crate::commands::{build, load, one_stdin};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::GenericSurface;
-use lsubdiv::runtime::patch::Simd;
-use lsubdiv::runtime::surface::SurfaceScheme;
+use lsubdiv::mesh::patch::Simd;
+use lsubdiv::mesh::surface::SurfaceScheme;
 use lsubdiv_cli::implementation::{Geometry, PathChoice};
 use lsubdiv_cli::{bench, limits};
 

@@ -7,9 +7,9 @@ use crate::commands::{build, load};
 use lsubdiv::compiler::exact::Scheme;
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::patch::Subdivide;
-use lsubdiv::runtime::surface::SurfaceVisitor;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::patch::Subdivide;
+use lsubdiv::mesh::surface::SurfaceVisitor;
+use lsubdiv::mesh::topology::Topology;
 use lsubdiv_cli::implementation::{Geometry, PathChoice};
 use lsubdiv_cli::input_error;
 use std::time::Instant;
@@ -95,7 +95,7 @@ pub fn run() -> Result<(), Error> {
     );
 
     // A surface ([G] §4): the cube's corners are extraordinary vertices.
-    let cube = lsubdiv::runtime::generators::cube();
+    let cube = lsubdiv::mesh::generators::cube();
     let mut valence = vec![0usize; cube.positions.len()];
     cube.faces
         .iter()

@@ -4,7 +4,7 @@ use crate::commands::args::MemoryLimit;
 use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob, RefinedMesh};
 use crate::commands::{load, one_stdin, threads};
 use lsubdiv::compiler::Error;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::topology::Topology;
 use lsubdiv_cli::implementation::PathChoice;
 use lsubdiv_cli::output::{format_by_extension, write_atomic};
 

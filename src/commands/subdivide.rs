@@ -4,11 +4,11 @@
 use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, one_stdin, threads};
 use lsubdiv::compiler::Error;
+use lsubdiv::mesh::facevarying::{Layout, Points, QuadUv, RefineUv, UvError, UvRule};
+use lsubdiv::mesh::patch::{limit_available, Refined, Subdivide};
+use lsubdiv::mesh::surface::SurfaceVisitor;
+use lsubdiv::mesh::QuadMesh;
 use lsubdiv::mesh_file::{Checked, Extras};
-use lsubdiv::runtime::facevarying::{Layout, Points, QuadUv, RefineUv, UvError, UvRule};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::{limit_available, Refined, Subdivide};
-use lsubdiv::runtime::surface::SurfaceVisitor;
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, write_atomic_with};
 use lsubdiv_cli::Resolved;
@@ -245,10 +245,10 @@ pub enum Limit {
 
 /// Refines a mesh (read and checked, with its features) by the picked implementation, after the size guard
 /// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
-/// read as its first step (one Catmull–Clark step, `lsubdiv::runtime::polygon`): the scheme
+/// read as its first step (one Catmull–Clark step, `lsubdiv::mesh::polygon`): the scheme
 /// takes the other steps, and it needs at least one.
 pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<RefinedMesh, Error> {
-    use lsubdiv::runtime::surface::{SurfaceError, SurfaceScheme};
+    use lsubdiv::mesh::surface::{SurfaceError, SurfaceScheme};
     let MeshJob {
         name,
         steps,
@@ -415,10 +415,10 @@ fn steps_of(steps: usize, split: bool, scheme: &str, name: &str) -> String {
 fn surface_error(
     name: &str,
     split: bool,
-    e: lsubdiv::runtime::surface::SurfaceError,
+    e: lsubdiv::mesh::surface::SurfaceError,
     hint: &str,
 ) -> Error {
-    use lsubdiv::runtime::surface::SurfaceError;
+    use lsubdiv::mesh::surface::SurfaceError;
     match e {
         SurfaceError::Topology(e) => Error::in_file(name, e.to_string())
             .with_hint("the refined mesh must be a 2-manifold: see docs/real-meshes.md"),

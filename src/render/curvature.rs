@@ -12,8 +12,8 @@
 //! so what the map shows at an extraordinary vertex is the surface, not the estimator.
 
 use super::surface::{cross, dot, normalize, sub};
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use nalgebra::{Matrix5, Vector5};
 use rayon::prelude::*;
 
@@ -171,8 +171,8 @@ pub fn colour(t: f64) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::render::surface::{normalize, orient, scale};
-    use lsubdiv::runtime::generators::{cube, torus};
-    use lsubdiv::runtime::topology::Topology;
+    use lsubdiv::mesh::generators::{cube, torus};
+    use lsubdiv::mesh::topology::Topology;
 
     fn curvature(m: &QuadMesh) -> Vec<f64> {
         let t = Topology::build(m).unwrap();
@@ -183,9 +183,13 @@ mod tests {
     #[test]
     fn sphere_has_mean_curvature_one_over_radius() {
         // The cube refined 4 times (binary-ternary), pushed onto the sphere of radius 2.
-        let r = lsubdiv::generated::subdivide::<f64>("binary-ternary", &cube(), 4, 1)
-            .unwrap()
-            .unwrap();
+        let r = lsubdiv::mesh::patch::subdivide::<_, f64>(
+            &lsubdiv::generated::binary_ternary::Scheme,
+            &cube(),
+            4,
+            1,
+        )
+        .unwrap();
         let m = QuadMesh {
             positions: r
                 .positions

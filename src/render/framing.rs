@@ -4,7 +4,7 @@
 //! or position (translated by 1e15). Mean curvature is 1/length: it is multiplied back by
 //! 1/scale for the report and the legend.
 
-use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::mesh::QuadMesh;
 
 /// World = centre + scale · normalised.
 #[derive(Clone, Copy, Debug, PartialEq)]

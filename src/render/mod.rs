@@ -18,8 +18,8 @@ pub mod surface;
 use camera::{Camera, View};
 use framing::Framing;
 use image::Image;
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use raster::{clip, plane_value, ClipVertex, Frame, Vertex, EMPTY};
 use rayon::prelude::*;
 
@@ -364,7 +364,7 @@ impl<'c> Projected<'c> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lsubdiv::runtime::generators::cube;
+    use lsubdiv::mesh::generators::cube;
 
     #[test]
     fn given_normals_are_one_a_vertex() {

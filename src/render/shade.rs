@@ -11,7 +11,7 @@ use super::image::Image;
 use super::raster::{Frame, BOUNDARY_LINE, EMPTY, WIRE_LINE};
 use super::surface::{cross, dot, normalize, quad_area_vector, scale, sub};
 use super::{curvature, Shading};
-use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::mesh::QuadMesh;
 use rayon::prelude::*;
 
 const BACKGROUND: [f64; 3] = [1.0, 1.0, 1.0];

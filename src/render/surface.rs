@@ -5,8 +5,8 @@
 //! Nothing assumes the file's windings agree: they are made consistent by a walk over the faces,
 //! and a non-orientable mesh (or a seam the walk cannot avoid) is reported, not hidden.
 
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::topology::Topology;
+use lsubdiv::mesh::QuadMesh;
 use rayon::prelude::*;
 
 /// Faces oriented consistently and vertex normals.
@@ -68,7 +68,7 @@ fn cone_volume6(p: [[f64; 3]; 4]) -> f64 {
 /// edges): a closed component outward (positive enclosed volume), an open one as most of its
 /// faces are wound in the file (an open surface encloses nothing); then averages the vertex
 /// normals, or takes `given` ones (one a vertex, oriented with the winding of the vertex's
-/// first face in `topo`'s rotation, as [`lsubdiv::runtime::patch::limit_with`]'s are on a
+/// first face in `topo`'s rotation, as [`lsubdiv::mesh::patch::limit_with`]'s are on a
 /// consistently wound mesh) negated where that face was flipped.
 pub fn orient(mesh: &QuadMesh, topo: &Topology, given: Option<Vec<[f64; 3]>>) -> Oriented {
     let nf = mesh.faces.len();
@@ -164,7 +164,7 @@ fn vertex_normals(
         .collect();
     let average = |v: u32| {
         let rot = topo.rotation(v);
-        let turn = |w: &lsubdiv::runtime::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
+        let turn = |w: &lsubdiv::mesh::topology::Wedge| w.next_is_plus ^ flip[w.face as usize];
         let first = rot.first().map(turn);
         let mut n = [0.0; 3];
         for w in rot {
@@ -198,7 +198,7 @@ fn vertex_normals(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lsubdiv::runtime::generators::{cube, klein_bottle, torus};
+    use lsubdiv::mesh::generators::{cube, klein_bottle, torus};
 
     fn oriented(m: &QuadMesh) -> Oriented {
         orient(m, &Topology::build(m).unwrap(), None)
@@ -230,8 +230,8 @@ mod tests {
     /// both come out outward.
     #[test]
     fn given_normals_turn_with_the_faces() {
-        use lsubdiv::runtime::features::Features;
-        use lsubdiv::runtime::patch::Subdivide;
+        use lsubdiv::mesh::features::Features;
+        use lsubdiv::mesh::patch::Subdivide;
         for inward in [false, true] {
             let mut m = cube();
             if inward {
@@ -290,8 +290,8 @@ mod tests {
     /// averaged normal, so every normal is still a normal.
     #[test]
     fn given_normals_give_way_where_the_windings_disagree() {
-        use lsubdiv::runtime::features::Features;
-        use lsubdiv::runtime::patch::Subdivide;
+        use lsubdiv::mesh::features::Features;
+        use lsubdiv::mesh::patch::Subdivide;
         let m = klein_bottle(48, 32);
         let topology = Topology::build(&m).unwrap();
         let job = Subdivide {

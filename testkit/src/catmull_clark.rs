@@ -73,8 +73,8 @@
 //! points in face order) · (1/n) and R = (Σ midpoints (v_lo + v_hi) · 0.5 in edge order) · (1/n);
 //! crease vertex = ((a + b) + 6S) · 0.125 with a before b in edge order.
 
-use lsubdiv::runtime::features::{Boundary, Features, Sharpness};
-use lsubdiv::runtime::mesh::QuadMesh;
+use lsubdiv::mesh::features::{Boundary, Features, Sharpness};
+use lsubdiv::mesh::QuadMesh;
 use std::collections::HashMap;
 
 #[cfg(test)]

@@ -12,8 +12,8 @@ use lsubdiv::compiler::exact::lsystem::{LSystem, Source};
 use lsubdiv::compiler::exact::{scheme, symmetry, validity, Scheme};
 use lsubdiv::compiler::Error;
 use lsubdiv::generic::{GenericScheme, GenericSurface};
-use lsubdiv::runtime::surface::{refine_surface, LabelledMesh};
-use lsubdiv::runtime::{generators, patch};
+use lsubdiv::mesh::surface::{refine_surface, LabelledMesh};
+use lsubdiv::mesh::{generators, patch};
 use lsubdiv::{refine, Curve, CurveScheme};
 
 /// File name the checks give the scheme parser (errors must name it).
@@ -90,7 +90,7 @@ pub fn check_obj(data: &[u8]) -> Outcome {
 
 /// Every edge has one or two faces: twice the edges are four per quad and one per boundary
 /// edge.
-fn edges_and_faces(topo: &lsubdiv::runtime::topology::Topology) {
+fn edges_and_faces(topo: &lsubdiv::mesh::topology::Topology) {
     let boundary = (0..topo.face_count() as u32)
         .flat_map(|f| (0..4).map(move |l| (f, l)))
         .filter(|&(f, l)| topo.is_boundary_edge(f, l))
@@ -138,7 +138,7 @@ pub fn check_ply(data: &[u8]) -> Outcome {
     if !checked.split && checked.weld.is_none() {
         assert_eq!(topo.vertex_count(), n);
     }
-    let bits = |m: &lsubdiv::runtime::mesh::QuadMesh| -> Vec<u64> {
+    let bits = |m: &lsubdiv::mesh::QuadMesh| -> Vec<u64> {
         m.positions.iter().flatten().map(|x| x.to_bits()).collect()
     };
     for (how, bytes) in [

@@ -1,8 +1,8 @@
 //! Test meshes built from the runtime's generators.
 
-use lsubdiv::runtime::features::Features;
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::polygon::{catmull_clark, PolyMesh};
+use lsubdiv::mesh::features::Features;
+use lsubdiv::mesh::polygon::{catmull_clark, PolyMesh};
+use lsubdiv::mesh::QuadMesh;
 
 /// `mesh` without the faces whose every vertex lies above `z` (a cap cut off a closed mesh,
 /// leaving a boundary loop), its vertices renumbered in the order the kept faces reach them.

@@ -457,19 +457,6 @@ impl Codegen {
                 }
             }
 
-            /// Refines a closed quad mesh (every edge labelled by the axiom) with the generated
-            /// kernels of the scheme called `name`.
-            pub fn subdivide<T: #rt::real::Real>(
-                name: &str,
-                mesh: &#rt::mesh::QuadMesh,
-                steps: usize,
-                threads: usize,
-            ) -> Option<Result<#rt::mesh::QuadMesh<T>, #rt::surface::SurfaceError>> {
-                match name {
-                    #(#surfaces => Some(#rt::patch::subdivide(&#smods::Scheme, mesh, steps, threads)),)*
-                    _ => None,
-                }
-            }
         };
         render(tokens)
     }

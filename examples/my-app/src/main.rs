@@ -33,13 +33,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (read.mesh, read.topology, read.features)
         }
         None => {
-            let cube = lsubdiv::runtime::generators::cube();
-            let topology = lsubdiv::runtime::topology::Topology::build(&cube)?;
+            let cube = lsubdiv::mesh::generators::cube();
+            let topology = lsubdiv::mesh::topology::Topology::build(&cube)?;
             (cube, topology, Default::default())
         }
     };
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let fine = lsubdiv::runtime::patch::subdivide_with::<_, f64>(
+    let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
         &my_scheme::Scheme,
         &mesh,
         &topology,

@@ -43,7 +43,7 @@ fn refines_the_cube_and_an_obj_file() {
 
     // The same cube as an OBJ file: the same output, to the byte.
     let input = dir.join("in.obj");
-    let cube = lsubdiv::runtime::generators::cube();
+    let cube = lsubdiv::mesh::generators::cube();
     std::fs::write(&input, lsubdiv::obj::format(&cube).unwrap()).unwrap();
     let again = dir.join("again.obj");
     run(&[&again, &input]);

@@ -548,7 +548,7 @@ fn the_closed_reference_refuses_a_boundary() {
 
 #[test]
 fn the_built_in_open_meshes_through_the_reference() {
-    use lsubdiv::runtime::generators::{pentagon_star, tube};
+    use lsubdiv::mesh::generators::{pentagon_star, tube};
     // A tube has no corners: both boundary modes agree, and the boundary loops stay in their
     // planes z = ±1 (crease rule and midpoints of points with the same z).
     let t = tube(2, 8);

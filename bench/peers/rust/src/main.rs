@@ -20,11 +20,11 @@ mod common;
 
 use common::{read_dump, report, write_dump, Args, Obj};
 use lsubdiv::obj;
-use lsubdiv::runtime::features::Features;
-use lsubdiv::runtime::mesh::QuadMesh;
-use lsubdiv::runtime::patch::{output_counts, Refiner};
-use lsubdiv::runtime::surface::{SurfaceScheme, SurfaceVisitor};
-use lsubdiv::runtime::topology::Topology;
+use lsubdiv::mesh::features::Features;
+use lsubdiv::mesh::QuadMesh;
+use lsubdiv::mesh::patch::{output_counts, Refiner};
+use lsubdiv::mesh::surface::{SurfaceScheme, SurfaceVisitor};
+use lsubdiv::mesh::topology::Topology;
 use lsubdiv_cli::bench;
 use lsubdiv_cli::implementation::Implementation;
 use std::collections::{BTreeMap, HashSet};
@@ -145,7 +145,7 @@ fn bench_cmd(a: &Args) -> Result<(), String> {
                 threads: 1,
                 steps: levels,
                 runs,
-                simd: lsubdiv::runtime::patch::Simd::detect(),
+                simd: lsubdiv::mesh::patch::Simd::detect(),
             },
         )?;
         report("lsubdiv", name, levels, m.output_vertices, m.median_seconds);

@@ -2,9 +2,9 @@
 //! knot insertion; \[G\] §2.2, the bivariate step as the tensor product of two of them).
 
 use super::{combine, grown, Passes, Simd};
-use crate::curve::CurveTables;
 use crate::real::{axpy_slab, Real};
 use crate::surface::SurfaceError;
+use lsubdiv_runtime::curve::CurveTables;
 use std::collections::HashMap;
 
 /// The 1D refinement of one extended row (old points x = −1..=N+1) for one step, producing the

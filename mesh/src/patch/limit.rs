@@ -3,7 +3,7 @@
 //!
 //! **Patches.** Away from the vertices a rule sets, the surface is a tensor-product
 //! non-uniform B-spline, so the limit of point (x, y) of a face's last patch is the tensor
-//! product of the 1D limit masks of its two words ([`crate::CurveTables::limit_mask`], the
+//! product of the 1D limit masks of its two words ([`lsubdiv_runtime::CurveTables::limit_mask`], the
 //! word of knot x as the patch plan reads it) on its 3×3 neighbourhood, and the partial
 //! derivatives are the derivative mask one way times the position mask the other. This holds
 //! at any level: the limit at a knot is a B-spline identity, and the three B-splines alive at
@@ -16,7 +16,7 @@
 //! sides' normals on a crease.
 //!
 //! **Vertex rules.** A base vertex whose child a rule sets takes its limit from that rule:
-//! - an interior EV: the stationary 1-ring's left eigenvectors ([`crate::ev::EvLimit`],
+//! - an interior EV: the stationary 1-ring's left eigenvectors ([`lsubdiv_runtime::ev::EvLimit`],
 //!   numeric as α is), valid from the step where the EV configuration is stationary;
 //! - a dart: the same smooth weights, as OpenSubdiv's `Sdc` does for its darts;
 //! - a crease with a sector other than two faces: the curve's limit mask along its two sharp

@@ -47,7 +47,6 @@
 //! edges sharp at that step and extended by ghost faces (`Cut`, `Ghosts`), as many such steps as
 //! the scheme needs.
 
-use crate::curve::rewrite;
 use crate::features::{Creasing, Features, Resolved, VertexRule};
 use crate::grid::{along_edge, corner_at, TOWARD_NEXT};
 use crate::mesh::QuadMesh;
@@ -55,6 +54,7 @@ use crate::real::Real;
 use crate::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
 use crate::threads::in_threads;
 use crate::topology::{Topology, TopologyError};
+use lsubdiv_runtime::curve::rewrite;
 use std::time::Instant;
 
 mod base;

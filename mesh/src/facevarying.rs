@@ -37,7 +37,7 @@ use std::fmt;
 /// How a face-varying channel is refined: OpenSubdiv's `Sdc::Options::FVarLinearInterpolation`.
 /// Every rule but [`UvRule::Linear`] refines the layout by the scheme; they differ in which of
 /// its values are kept as corners, as OpenSubdiv's face-varying level tags them
-/// (`Vtr::FVarLevel::completeTopologyFromFaceValues`, [`UvRule::sharpens`]).
+/// (`Vtr::FVarLevel::completeTopologyFromFaceValues`, `UvRule::sharpens`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum UvRule {
     /// `FVAR_LINEAR_ALL`: bilinear in each base face at the refined vertices' knots.

@@ -5,9 +5,9 @@
 use super::cut::{Ghost, LAYERS};
 use super::numbering::FaceNumbering;
 use super::{direct, handoff, reference, Base, FaceRules};
-use crate::curve::CurveTables;
 use crate::features::{Features, Resolved, VertexRule};
 use crate::topology::Topology;
+use lsubdiv_runtime::curve::CurveTables;
 
 /// Vertices and quads of a quad mesh of V vertices, E edges and F quads after every edge is
 /// split into n: V + E(n − 1) + F(n − 1)², and F n² (saturating).

@@ -18,7 +18,6 @@
 use super::cut::Extended;
 use super::numbering::level_mesh;
 use super::{lifted, output_counts, Base, Blend, Cut, Ghosts, Near, Numbering, Plan};
-use crate::curve::CurveTables;
 use crate::features::{Resolved, VertexRule};
 use crate::mesh::QuadMesh;
 use crate::real::Real;
@@ -26,6 +25,7 @@ use crate::stencil::Stencil;
 use crate::surface::{step_map, weights_per_corner, SurfaceError, SurfaceScheme};
 use crate::threads::in_threads;
 use crate::topology::Topology;
+use lsubdiv_runtime::curve::CurveTables;
 
 /// The maps of the reference steps `0..first` and the levels between them.
 pub(super) struct Reference {

@@ -11,7 +11,7 @@
 //! none or one (a dart), the smooth rule (Q + 2R + (n − 3)v)/n of valence n, Q the mean of the
 //! face points of its faces and R the mean of the midpoints of its edges; two, the crease rule
 //! (a + 6v + b)/8, a and b the other ends of the two; three or more, or a sharp vertex (a
-//! corner tag), or a boundary vertex with one face in [`Boundary::EdgeAndCorner`] mode, the
+//! corner tag), or a boundary vertex with one face in [`Boundary::EdgeAndCorner`](crate::features::Boundary::EdgeAndCorner) mode, the
 //! corner rule v. Integer sharpness s is sharp at this step when s ≥ 1 and leaves children of
 //! sharpness s − 1 (OpenSubdiv's uniform creasing; its rule-transition weight is 1 at integer
 //! sharpness, so the rules are those of the current sharpness). Holes are refined like every

@@ -16,9 +16,9 @@
 //! edges (every base edge is at least one old edge).
 
 use super::{lifted, Base, Numbering, Passes, Plan, STRIP_BYTES};
-use crate::curve::{CurveTables, NO_CHILD};
 use crate::real::Real;
 use crate::topology::Topology;
+use lsubdiv_runtime::curve::{CurveTables, NO_CHILD};
 use std::collections::{HashMap, VecDeque};
 
 /// Where the last reference step runs, and the plan of the faces away from it.

@@ -7,9 +7,9 @@
 
 use super::stream::Stream;
 use super::{ring_layout, Base, Simd};
-use crate::curve::{rewrite, CurveTables};
 use crate::grid::{along_edge, corner_at, site, Site, TOWARD_NEXT, TOWARD_PREV};
 use crate::topology::Topology;
+use lsubdiv_runtime::curve::{rewrite, CurveTables};
 
 /// Where the points of a patch go in the final numbering: base vertices, then N−1 points per
 /// base edge (from its smaller vertex), then (N−1)² per face, row by row.
