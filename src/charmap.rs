@@ -181,7 +181,7 @@ pub struct CharacteristicMap {
     pub iterations: usize,
     /// Final residual |Av − λv| / |Av|.
     pub residual: f64,
-    /// The net: `net[m][i][j]`, scaled and rotated so that R_0 = net[0][1][0] = (1, 0).
+    /// The net: `net[m][i][j]`, scaled and rotated so that R_0 = `net[0][1][0]` = (1, 0).
     pub net: Vec<Vec<Vec<[f64; 2]>>>,
     /// The net refined `refined_steps` times by the scheme: its quads whose corners all depend
     /// on the net only.

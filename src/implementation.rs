@@ -38,7 +38,7 @@ impl Implementation {
     }
 }
 
-/// What is refined: a curve, or a quad mesh (which needs a surface-capable scheme, [G] §4.2).
+/// What is refined: a curve, or a quad mesh (which needs a surface-capable scheme, \[G\] §4.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Geometry {
     /// A control polygon.

@@ -266,7 +266,7 @@ const TREE_GLYPH: u128 = 512;
 
 /// Refuses a picture (`plot`, `graph`, `ev --characteristic-map`) of `width` × `height` pixels
 /// whose rendering would exceed `max` bytes: the text and the document made of it, resvg's
-/// tree of it (per element, point and glyph: [`TREE_ELEMENT`]), the RGBA pixmap and the PNG
+/// tree of it (per element, point and glyph: `TREE_ELEMENT`), the RGBA pixmap and the PNG
 /// encoding.
 pub fn picture(dims: (u32, u32), d: &Drawing, max: u64) -> Result<(), Error> {
     let bytes = picture_bytes(dims, d);
@@ -315,7 +315,7 @@ pub fn read_input(path: &std::path::Path, max: u64) -> Result<(&std::path::Path,
 
 /// Reads a mesh (closed or open), its topology and its features from an OBJ or PLY file (by content:
 /// [`lsubdiv::mesh_file::Format::of`], returned with it) by [`read_input`]; a PLY file, once read, is refused
-/// before parsing if parsing it could exceed the limit ([`PLY_HELD_PER_BYTE`]). Errors name the
+/// before parsing if parsing it could exceed the limit (`PLY_HELD_PER_BYTE`). Errors name the
 /// file's line (or a binary PLY's element and byte), the vertex or edge; warnings go to stderr.
 pub fn read_mesh(
     path: &std::path::Path,
@@ -408,7 +408,7 @@ fn check_reading(
 /// `steps` steps of a surface scheme (tables `t`, masks contained from step `contained_from`)
 /// on the mesh of topology `topo` with `features`, positions of `scalar` bytes. The refiner's
 /// own memory is its [`footprint`]; the output file is streamed from the refined mesh through
-/// a buffer of [`WRITE_BUFFER`] bytes, never held whole.
+/// a buffer of `WRITE_BUFFER` bytes, never held whole.
 pub fn surface(
     t: &CurveTables<'_>,
     contained_from: usize,

@@ -1,4 +1,4 @@
-//! Explorer output ([G] Appendix B columns): JSON (an array), CSV, Markdown and text tables.
+//! Explorer output (\[G\] Appendix B columns): JSON (an array), CSV, Markdown and text tables.
 
 use lsubdiv_explorer::Row;
 use serde_json::{json, Value};

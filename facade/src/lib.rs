@@ -42,15 +42,21 @@
 //! includes it with [`include_scheme!`]: `lsubdiv::include_scheme!(my);` then
 //! `lsubdiv::refine(&my::Scheme, &curve, steps)`. The shipped schemes are in [`generated`].
 
+#[doc(inline)]
 pub use lsubdiv_compiler as compiler;
+#[doc(inline)]
 pub use lsubdiv_generated as generated;
+#[doc(inline)]
 pub use lsubdiv_mesh as mesh;
+#[doc(inline)]
 pub use lsubdiv_runtime as runtime;
+#[doc(inline)]
 pub use lsubdiv_runtime::{
     curve_limit, end_limit, refine, refine_ends, Curve, CurveError, CurveLimit, CurveRefiner,
     CurveScheme, CurveTables, EndCurve,
 };
 
+#[doc(inline)]
 pub use lsubdiv_compiler::{write_atomic, write_atomic_with, Error, Location};
 pub use mesh_file::read as read_mesh;
 

@@ -461,7 +461,7 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
     })
 }
 
-/// Writes `mesh` to `path` as OBJ ([`format`]), whole or not at all, streamed
+/// Writes `mesh` to `path` as OBJ ([`format()`]), whole or not at all, streamed
 /// ([`crate::write_atomic_with`]).
 pub fn write(path: &Path, mesh: &QuadMesh) -> Result<(), Error> {
     let text = Text::new(mesh, Extras::default())?;
@@ -475,7 +475,7 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     format_with(mesh, Extras::default())
 }
 
-/// [`format`] with extras: normals as `vn` lines after the `v` lines, one per vertex in the
+/// [`format()`] with extras: normals as `vn` lines after the `v` lines, one per vertex in the
 /// same order, texture coordinates as `vt` lines after them; faces `f a/ta …`, `f a//a …` or
 /// `f a/ta/a …`.
 pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {

@@ -1099,7 +1099,7 @@ pub fn parse(file: &str, bytes: &[u8]) -> Result<Parsed, Error> {
     }
 }
 
-/// Writes `mesh` to `path` as ASCII PLY ([`format`]), whole or not at all, streamed
+/// Writes `mesh` to `path` as ASCII PLY ([`format()`]), whole or not at all, streamed
 /// ([`crate::write_atomic_with`]).
 pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), Error> {
     let out = Out::new(mesh, Extras::default())?;
@@ -1112,9 +1112,9 @@ pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     format_with(mesh, Extras::default())
 }
 
-/// [`format`] with extras: normals as vertex properties `nx ny nz` (double) after x y z;
+/// [`format()`] with extras: normals as vertex properties `nx ny nz` (double) after x y z;
 /// texture coordinates as vertex properties `u v` (double) after them when every vertex has
-/// one value at all its corners ([`per_vertex`]), else as a face list `texcoord` of u v per
+/// one value at all its corners (`per_vertex`), else as a face list `texcoord` of u v per
 /// corner (`uchar double`) after the vertex indices.
 pub fn format_with(mesh: &QuadMesh, extras: Extras<'_>) -> Result<String, Error> {
     let out = Out::new(mesh, extras)?;

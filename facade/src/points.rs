@@ -89,7 +89,7 @@ pub fn format<const D: usize>(points: &[[f64; D]]) -> Result<String, Error> {
     Ok(Text::new(points)?.to_string())
 }
 
-/// A point file's text, checked ([`format`]) and not yet formatted: `write!` it into any
+/// A point file's text, checked ([`format()`]) and not yet formatted: `write!` it into any
 /// writer (`lsubdiv::write_atomic_with` streams it to a file). Each line holds a point's
 /// coordinates, then those of the same point in each further column set (a limit point's
 /// tangent: [`Text::with_columns`]).

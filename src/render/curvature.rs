@@ -1,4 +1,4 @@
-//! Discrete mean curvature per vertex and the colour map of [G] Fig. 6 (blue negative, green
+//! Discrete mean curvature per vertex and the colour map of \[G\] Fig. 6 (blue negative, green
 //! zero, red positive).
 //!
 //! The estimate fits a degree-2 osculating jet, as in Cazals and Pouget, "Estimating
@@ -151,7 +151,7 @@ impl Range {
     }
 }
 
-/// Colour of `t` in [−1, 1] (clamped): blue, cyan, green, yellow, red as in [G] Fig. 6 (the
+/// Colour of `t` in [−1, 1] (clamped): blue, cyan, green, yellow, red as in \[G\] Fig. 6 (the
 /// Meshlab quality map), slightly muted.
 pub fn colour(t: f64) -> [f64; 3] {
     const STOPS: [[f64; 3]; 5] = [

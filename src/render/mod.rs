@@ -2,7 +2,7 @@
 //!
 //! A perspective camera ([`camera`]), a z-buffered rasteriser with exact edge functions and
 //! supersampling ([`raster`]), deferred per-sample shading ([`shade`]) in four modes — flat,
-//! smooth, the mean-curvature colour map and reflection lines, the two pictures [G] Fig. 6 uses
+//! smooth, the mean-curvature colour map and reflection lines, the two pictures \[G\] Fig. 6 uses
 //! to judge a scheme near extraordinary vertices — and an optional wireframe of the quad edges.
 //! Each quad is drawn as the triangles (0, 1, 2) and (0, 2, 3).
 
@@ -30,9 +30,9 @@ pub enum Shading {
     Flat,
     /// Interpolated vertex normals, diffuse and specular light.
     Smooth,
-    /// Mean curvature: blue negative, green zero, red positive ([G] Fig. 6, fourth row).
+    /// Mean curvature: blue negative, green zero, red positive (\[G\] Fig. 6, fourth row).
     Curvature,
-    /// Reflection lines of light lines at infinity ([G] Fig. 6, third row).
+    /// Reflection lines of light lines at infinity (\[G\] Fig. 6, third row).
     Reflection,
 }
 

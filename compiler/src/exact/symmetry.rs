@@ -65,7 +65,7 @@ pub fn involutions(ls: &LSystem) -> Vec<Vec<Sym>> {
     out
 }
 
-/// σ̄ maps rewriting to rewriting: π(σ(A)) = σ̄(π(A)) for every symbol ([G] eq. (14)), whatever
+/// σ̄ maps rewriting to rewriting: π(σ(A)) = σ̄(π(A)) for every symbol (\[G\] eq. (14)), whatever
 /// the axiom. What reflecting a curve across an interpolated end needs (`lsubdiv_runtime::ends`).
 pub fn mirrors_rules(ls: &LSystem, sigma: &[Sym]) -> bool {
     (0..ls.n()).all(|a| ls.rules[sigma[a] as usize] == ls.mirror(sigma, &ls.rules[a]))

@@ -3,7 +3,7 @@
 //! scheme file, however small, keeps a build script busy without end.
 //!
 //! A unit is about one operation on small rationals; an operation on longer numbers costs the
-//! square of their length in 64-bit limbs ([`op`]). Past the limit, [`charge`] unwinds to the innermost [`bounded`] (without the
+//! square of their length in 64-bit limbs (`op`). Past the limit, [`charge`] unwinds to the innermost [`bounded`] (without the
 //! panic hook: nothing is printed), which returns [`Exhausted`]; callers turn it into an error
 //! located at the scheme's rules. The count is per thread and shared by nested scopes, so a
 //! stage called from another stage spends the outer budget.
