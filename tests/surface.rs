@@ -219,13 +219,18 @@ fn non_orientable_meshes_refine() {
     }
 }
 
+/// The generic path, the generated registry's visitor and a shipped scheme kept as a value
+/// (`AnySurface`, chosen by name) refine alike, bit for bit, on any number of threads.
 #[test]
 fn generic_and_generated_surfaces_are_identical() {
+    use generated::AnySurface;
     use lsubdiv::mesh::features::Features;
     use lsubdiv::mesh::patch::{subdivide, Subdivide};
     use lsubdiv::mesh::topology::Topology;
     let mesh = star();
     let topology = Topology::build(&mesh).unwrap();
+    let bits = |p: &[[f64; 3]]| p.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(AnySurface::ALL.len(), generated::SURFACE_NAMES.len());
     for name in generated::SURFACE_NAMES {
         let s = surface(name);
         let a = subdivide::<_, f64>(&s, &mesh, 3, 1).unwrap();
@@ -238,14 +243,20 @@ fn generic_and_generated_surfaces_are_identical() {
             limit: false,
         };
         let b = generated::visit_surface(name, job).unwrap().unwrap().mesh;
-        assert_eq!(a.faces, b.faces, "{name}");
-        let bits = |p: &[[f64; 3]]| p.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(
-            bits(&a.positions),
-            bits(&b.positions),
-            "{name}: generic 1 thread vs generated 2 threads"
-        );
+        let kept = AnySurface::named(name).expect("a shipped surface scheme");
+        assert_eq!(kept.name(), *name);
+        let c = subdivide::<_, f64>(&kept, &mesh, 3, 3).unwrap();
+        for (other, how) in [(&b, "the registry's visitor"), (&c, "AnySurface")] {
+            assert_eq!(a.faces, other.faces, "{name}: {how}");
+            assert_eq!(
+                bits(&a.positions),
+                bits(&other.positions),
+                "{name}: generic 1 thread vs {how}"
+            );
+        }
     }
+    assert_eq!(AnySurface::named("fibonacci-curve"), None);
+    assert!(generated::AnyCurve::named("fibonacci-curve").is_some());
 }
 
 #[test]

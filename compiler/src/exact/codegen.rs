@@ -411,6 +411,31 @@ impl Codegen {
             .filter(|(t, _)| t.surface().is_some())
             .map(|(t, m)| (t.curve().name, m))
             .unzip();
+        let any_curve = self.by_name(
+            "AnyCurve",
+            "A compiled scheme chosen at run time, as a value a refiner can own: \
+             `AnyCurve::named(\"fibonacci\")`.",
+            &names,
+            &mods,
+        );
+        let smods: Vec<syn::Ident> = smods.into_iter().cloned().collect();
+        let mut any_surface = self.by_name(
+            "AnySurface",
+            "A compiled surface scheme chosen at run time, as a value a refiner can own: \
+             `AnySurface::named(\"binary-ternary\")`.",
+            &surfaces,
+            &smods,
+        );
+        let variants = variant_names(&smods);
+        any_surface.extend(quote! {
+            impl #rt::surface::SurfaceScheme for AnySurface {
+                fn surface(&self) -> #rt::surface::SurfaceTables<'_> {
+                    match self {
+                        #(AnySurface::#variants => #smods::Scheme.surface(),)*
+                    }
+                }
+            }
+        });
         let tokens = quote! {
             #(#modules)*
 
@@ -446,6 +471,10 @@ impl Codegen {
             /// Names of the compiled schemes that refine surfaces.
             pub const SURFACE_NAMES: &[&str] = &[#(#surfaces),*];
 
+            #any_curve
+
+            #any_surface
+
             /// Runs `visitor` with the generated surface scheme called `name`.
             pub fn visit_surface<V: #rt::surface::SurfaceVisitor>(
                 name: &str,
@@ -462,7 +491,123 @@ impl Codegen {
     }
 }
 
+impl Codegen {
+    /// An enum `ty` (documented by `doc`) of the schemes `names` whose modules are `mods`, with
+    /// `named`, `name` and `ALL`, implementing `CurveScheme` by dispatching to each module's
+    /// `Scheme`.
+    fn by_name(&self, ty: &str, doc: &str, names: &[&str], mods: &[syn::Ident]) -> TokenStream {
+        let rt = &self.runtime;
+        let ty = format_ident!("{ty}");
+        let variants = variant_names(mods);
+        quote! {
+            #[doc = #doc]
+            #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+            pub enum #ty {
+                #(#[doc = #names] #variants,)*
+            }
+
+            impl #ty {
+                /// Every one, in the order of the names.
+                pub const ALL: &[#ty] = &[#(#ty::#variants),*];
+
+                /// The scheme called `name`, if it is one.
+                pub fn named(name: &str) -> Option<#ty> {
+                    match name {
+                        #(#names => Some(#ty::#variants),)*
+                        _ => None,
+                    }
+                }
+
+                /// Its name.
+                pub fn name(self) -> &'static str {
+                    match self {
+                        #(#ty::#variants => #names,)*
+                    }
+                }
+            }
+
+            impl #rt::CurveScheme for #ty {
+                fn tables(&self) -> #rt::CurveTables<'_> {
+                    match self {
+                        #(#ty::#variants => #mods::TABLES,)*
+                    }
+                }
+
+                fn contexts(&self) -> #rt::CurveContexts<'_> {
+                    match self {
+                        #(#ty::#variants => #rt::CurveScheme::contexts(&#mods::Scheme),)*
+                    }
+                }
+
+                #[inline(always)]
+                fn gather<const D: usize>(&self, c: u32, p: &[[f64; D]], k: usize, emit: &mut impl FnMut([f64; D])) -> bool {
+                    match self {
+                        #(#ty::#variants => #rt::CurveScheme::gather(&#mods::Scheme, c, p, k, emit),)*
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// CamelCase variant names of scheme modules (`binary_ternary` → `BinaryTernary`,
+/// `delay_queue_3` → `DelayQueue3`, `remark_5_3` → `Remark5_3`), a module's index added where
+/// two would coincide.
+fn variant_names(mods: &[syn::Ident]) -> Vec<syn::Ident> {
+    let camel = |m: &syn::Ident| {
+        let mut out = String::new();
+        for part in m.to_string().split('_') {
+            let mut chars = part.chars();
+            if let Some(first) = chars.next() {
+                // Digits on both sides keep their underscore (the lint's upper camel case).
+                if first.is_ascii_digit() && out.ends_with(|c: char| c.is_ascii_digit()) {
+                    out.push('_');
+                }
+                out.extend(first.to_uppercase());
+                out.push_str(chars.as_str());
+            }
+        }
+        out
+    };
+    let names: Vec<String> = mods.iter().map(camel).collect();
+    (names.iter().enumerate())
+        .map(|(i, n)| {
+            let clash = names.iter().filter(|m| *m == n).count() > 1;
+            if clash {
+                format_ident!("{n}{i}")
+            } else {
+                format_ident!("{n}")
+            }
+        })
+        .collect()
+}
+
 fn render(tokens: TokenStream) -> String {
     let file: syn::File = syn::parse2(tokens).expect("generated tokens parse as a file");
     format!("{HEADER}\n{}", prettyplease::unparse(&file))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variant_names_are_upper_camel_case_and_distinct() {
+        let idents = |names: &[&str]| -> Vec<String> {
+            let mods: Vec<syn::Ident> = names.iter().map(|m| format_ident!("{m}")).collect();
+            variant_names(&mods).iter().map(|v| v.to_string()).collect()
+        };
+        assert_eq!(
+            idents(&[
+                "binary_ternary",
+                "delay_queue_3",
+                "remark_5_3",
+                "a_12",
+                "a1_2"
+            ]),
+            ["BinaryTernary", "DelayQueue3", "Remark5_3", "A12", "A1_2"]
+        );
+        // `a_1b` and `a1b` would both be `A1b`: each takes its index.
+        assert_eq!(idents(&["a_1b", "a1b", "c"]), ["A1b0", "A1b1", "C"]);
+    }
 }
