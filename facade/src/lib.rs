@@ -61,6 +61,7 @@ pub use lsubdiv_compiler::{write_atomic, write_atomic_with, Error, Location};
 pub use mesh_file::read as read_mesh;
 
 pub mod generic;
+pub mod mesh_data;
 pub mod mesh_file;
 pub mod obj;
 pub mod obj_tags;

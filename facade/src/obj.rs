@@ -4,8 +4,8 @@
 //! vertices numbered as in the file), and writing quad meshes. The tags are OpenSubdiv's
 //! ([`crate::obj_tags`]).
 
-use crate::mesh_file::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
-use crate::obj_tags::Tags;
+use crate::mesh_data::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
+use crate::obj_tags::{is_integer, Tags, Token};
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_mesh::facevarying::{PolyUv, UvRule};
 use lsubdiv_mesh::polygon::PolyMesh;
@@ -13,9 +13,6 @@ use lsubdiv_mesh::topology::TopologyError;
 use lsubdiv_mesh::QuadMesh;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// A token of a logical line and the physical line it is on.
-pub(crate) type Token<'a> = (&'a str, usize);
 
 /// Calls `f(line, tokens)` for each logical line of `text` that has tokens: `line` is its first
 /// physical line, `tokens` its tokens (split at ASCII whitespace) with the physical line of
@@ -241,12 +238,6 @@ fn parse_texture(tokens: &[Token<'_>]) -> Result<[f64; 2], (Option<usize>, Strin
     }
     let x = numbers(tokens, 2, "texture coordinate")?;
     Ok([x[0], x[1]])
-}
-
-/// `[+-]?[0-9]+`
-pub(crate) fn is_integer(s: &str) -> bool {
-    let digits = s.strip_prefix(['+', '-']).unwrap_or(s);
-    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
 }
 
 /// One face corner: its vertex, its texture coordinate if it names one, and whether it names
@@ -1067,7 +1058,7 @@ mod tests {
 
     #[test]
     fn texture_coordinates_round_trip() {
-        use crate::mesh_file::tests::{torus_grid_uv, xy_uv};
+        use crate::mesh_data::tests::{torus_grid_uv, xy_uv};
         let m = torus(4, 5);
         let normals: Vec<[f64; 3]> = m.positions.iter().map(|p| [p[2], p[0], -p[1]]).collect();
         for uv in [torus_grid_uv(4, 5), xy_uv(&m)] {

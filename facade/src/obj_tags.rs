@@ -25,14 +25,22 @@
 //! [`Sharpness::from_f64`] (`inf` and 10 or more: infinitely sharp; fractions as OpenSubdiv). A value
 //! repeated with the same sharpness is merged (OpenSubdiv's own shapes repeat creases), with
 //! another refused. Other tags are skipped with a warning. That an edge, vertex or face exists
-//! is checked with the faces ([`crate::mesh_file::Parsed::check`]).
+//! is checked with the faces ([`crate::mesh_data::Parsed::check`]).
 
-use crate::mesh_file::{shorten, FeatureLines};
-use crate::obj::{is_integer, Token};
+use crate::mesh_data::{shorten, FeatureLines};
 use lsubdiv_mesh::facevarying::UvRule;
 use lsubdiv_mesh::features::{Boundary, Creasing, Features, Sharpness, Triangles};
 use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
+
+/// A token of a logical line and the physical line it is on.
+pub(crate) type Token<'a> = (&'a str, usize);
+
+/// `[+-]?[0-9]+`
+pub(crate) fn is_integer(s: &str) -> bool {
+    let digits = s.strip_prefix(['+', '-']).unwrap_or(s);
+    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+}
 
 /// The tags read so far, with the line of each entry; each edge, vertex and face once.
 #[derive(Default)]
@@ -367,7 +375,7 @@ fn triangles((tok, line): Token<'_>) -> Result<Triangles, Failure> {
 
 #[cfg(test)]
 mod tests {
-    use crate::mesh_file::FeatureLines;
+    use crate::mesh_data::FeatureLines;
     use lsubdiv_compiler::{Error, Location};
     use lsubdiv_mesh::features::{Boundary, Features, Sharpness};
 
@@ -710,7 +718,7 @@ mod tests {
     }
 
     /// Parses and checks OBJ text.
-    fn check(text: &str) -> Result<crate::mesh_file::Checked, Error> {
+    fn check(text: &str) -> Result<crate::mesh_data::Checked, Error> {
         crate::obj::parse("t.obj", text)?.check("t.obj")
     }
 
@@ -724,7 +732,7 @@ mod tests {
     fn features_are_checked_with_the_faces() {
         let at = |line, message: &str| {
             let e = Error::at(Location::line("t.obj", line), message);
-            Err(e.with_hint(crate::mesh_file::TAG_NUMBERS))
+            Err(e.with_hint(crate::mesh_data::TAG_NUMBERS))
         };
         // Quads, checked as they are (the square has a boundary, which the topology refuses
         // after its features are checked); polygons, by their first step.

@@ -12,7 +12,7 @@
 //! a binary element's count is checked against the bytes that follow before it is read, and
 //! values are stored only as they are read.
 
-use crate::mesh_file::{shorten, too_few_corners, Extras, Parsed, Places, Unit};
+use crate::mesh_data::{shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use lsubdiv_compiler::{Error, Location};
 use lsubdiv_mesh::facevarying::{PolyUv, QuadUv};
 use lsubdiv_mesh::features::Features;
@@ -1291,7 +1291,7 @@ pub fn binary_with(mesh: &QuadMesh, extras: Extras<'_>, big: bool) -> Result<Vec
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh_file::Checked;
+    use crate::mesh_data::Checked;
     use lsubdiv_mesh::generators::{cube, klein_bottle, torus};
 
     /// Parses and checks `bytes` as `t.ply`.
@@ -1542,7 +1542,7 @@ mod tests {
 
     #[test]
     fn texture_coordinates_round_trip_per_vertex_or_per_corner() {
-        use crate::mesh_file::tests::{canonical, torus_grid_uv, xy_uv};
+        use crate::mesh_data::tests::{canonical, torus_grid_uv, xy_uv};
         let m = torus(4, 5);
         let normals: Vec<[f64; 3]> = m.positions.iter().map(|p| [p[2], p[0], -p[1]]).collect();
         let flat = |uv: &QuadUv| uv.faces.iter().flatten().copied().collect::<Vec<u32>>();

@@ -17,7 +17,7 @@
 //! specialises their stencils with constant weights ([`crate::CurveScheme::gather`]); other
 //! contexts are met at run time and summed from the tables.
 
-use crate::curve::{CurveError, CurveTables};
+use crate::tables::{CurveError, CurveTables};
 use std::collections::{BTreeSet, HashMap};
 
 /// Contexts numbered at build time, in the order generated code uses.

@@ -59,6 +59,7 @@ pub mod ev;
 pub mod gather;
 pub mod limit;
 pub mod surface;
+pub mod tables;
 
 pub use curve::{refine, Curve, CurveError, CurveRefiner, CurveScheme, CurveTables};
 pub use ends::{refine_ends, EndCurve};
