@@ -25,8 +25,14 @@ pub fn write_atomic_with(
     path: &Path,
     content: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
 ) -> Result<(), Error> {
+    registered(path, || lsubdiv::write_atomic_with(path, content))
+}
+
+/// Runs `write`, a write of `path` whole or not at all (such as `lsubdiv::obj::write_with`),
+/// with `path` known to [`remove_partial_files`] meanwhile.
+pub fn registered<R>(path: &Path, write: impl FnOnce() -> R) -> R {
     writing().push(path.to_path_buf());
-    let result = lsubdiv::write_atomic_with(path, content);
+    let result = write();
     writing().retain(|p| p != path);
     result
 }

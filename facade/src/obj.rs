@@ -455,7 +455,13 @@ pub fn parse(file: &str, text: &str) -> Result<Parsed, Error> {
 /// Writes `mesh` to `path` as OBJ ([`format()`]), whole or not at all, streamed
 /// ([`crate::write_atomic_with`]).
 pub fn write(path: &Path, mesh: &QuadMesh) -> Result<(), Error> {
-    let text = Text::new(mesh, Extras::default())?;
+    write_with(path, mesh, Extras::default())
+}
+
+/// [`write()`] with the channels `extras` carries (normals, texture coordinates: [`format_with`]),
+/// checked before anything is written, then streamed.
+pub fn write_with(path: &Path, mesh: &QuadMesh, extras: Extras<'_>) -> Result<(), Error> {
+    let text = Text::new(mesh, extras)?;
     crate::write_atomic_with(path, |out| write!(out, "{text}"))
 }
 
@@ -1054,6 +1060,33 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// `write_with` writes what `format_with` (and PLY's `format_with`, `binary_with`) make.
+    #[test]
+    fn meshes_are_written_with_their_channels() {
+        use crate::mesh_data::tests::torus_grid_uv;
+        let m = torus(3, 4);
+        let uv = torus_grid_uv(3, 4);
+        let normals: Vec<[f64; 3]> = m.positions.iter().map(|p| [p[2], p[0], -p[1]]).collect();
+        let extras = Extras {
+            normals: Some(&normals),
+            uv: Some(&uv),
+        };
+        let dir = std::env::temp_dir().join(format!("lsubdiv-with-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (obj, ply) = (dir.join("t.obj"), dir.join("t.ply"));
+        write_with(&obj, &m, extras).unwrap();
+        let text = std::fs::read_to_string(&obj).unwrap();
+        assert_eq!(text, format_with(&m, extras).unwrap());
+        assert!(text.contains("\nvn ") && text.contains("\nvt "));
+        crate::ply::write_with(&ply, &m, extras, false).unwrap();
+        let text = std::fs::read_to_string(&ply).unwrap();
+        assert_eq!(text, crate::ply::format_with(&m, extras).unwrap());
+        crate::ply::write_with(&ply, &m, extras, true).unwrap();
+        let bytes = std::fs::read(&ply).unwrap();
+        assert_eq!(bytes, crate::ply::binary_with(&m, extras, false).unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -1102,8 +1102,24 @@ pub fn parse(file: &str, bytes: &[u8]) -> Result<Parsed, Error> {
 /// Writes `mesh` to `path` as ASCII PLY ([`format()`]), whole or not at all, streamed
 /// ([`crate::write_atomic_with`]).
 pub fn write(path: &std::path::Path, mesh: &QuadMesh) -> Result<(), Error> {
-    let out = Out::new(mesh, Extras::default())?;
-    crate::write_atomic_with(path, |file| write!(file, "{out}"))
+    write_with(path, mesh, Extras::default(), false)
+}
+
+/// [`write()`] with the channels `extras` carries (normals, texture coordinates: [`format_with`]),
+/// ASCII or, with `binary`, binary little-endian ([`binary_with`]); checked before anything is
+/// written, then streamed.
+pub fn write_with(
+    path: &std::path::Path,
+    mesh: &QuadMesh,
+    extras: Extras<'_>,
+    binary: bool,
+) -> Result<(), Error> {
+    let out = Out::new(mesh, extras)?;
+    if binary {
+        crate::write_atomic_with(path, |file| out.binary(false, file))
+    } else {
+        crate::write_atomic_with(path, |file| write!(file, "{out}"))
+    }
 }
 
 /// ASCII PLY: vertex x y z as double (round-trip precision), faces as a `uchar int` list; a

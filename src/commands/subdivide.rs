@@ -10,7 +10,7 @@ use lsubdiv::mesh::surface::SurfaceVisitor;
 use lsubdiv::mesh::QuadMesh;
 use lsubdiv::mesh_file::{Checked, Extras};
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
-use lsubdiv_cli::output::{format_by_extension, write_atomic_with};
+use lsubdiv_cli::output::{format_by_extension, registered};
 use lsubdiv_cli::Resolved;
 
 /// Arguments of `lsubdiv subdivide`.
@@ -188,20 +188,11 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         uv: uv.as_ref(),
     };
     // Checked first, then streamed to the file: the text is never held whole in memory.
-    match format {
-        MeshFormat::Obj => {
-            let text = lsubdiv::obj::Text::new(&fine.mesh, extras)?;
-            write_atomic_with(&output, |out| write!(out, "{text}"))
-        }
-        MeshFormat::Ply => {
-            let ply = lsubdiv::ply::Out::new(&fine.mesh, extras)?;
-            if binary {
-                write_atomic_with(&output, |out| ply.binary(false, out))
-            } else {
-                write_atomic_with(&output, |out| write!(out, "{ply}"))
-            }
-        }
-    }
+    let mesh = &fine.mesh;
+    registered(&output, || match format {
+        MeshFormat::Obj => lsubdiv::obj::write_with(&output, mesh, extras),
+        MeshFormat::Ply => lsubdiv::ply::write_with(&output, mesh, extras, binary),
+    })
 }
 
 /// The note for a limit with vertices not derived in closed form, if it has any.
