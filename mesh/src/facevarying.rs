@@ -555,6 +555,7 @@ impl Layout {
         rule: UvRule,
         points: Points<'_>,
     ) -> Result<Layout, UvError> {
+        uv.check(mesh)?;
         let (positions, corners) = plane(
             &uv.values,
             &flat_corners(&mesh.faces),
@@ -594,6 +595,41 @@ impl Layout {
             weld,
         })
     }
+
+    /// The layout refined `steps` times by `scheme`, to its limit surface with `limit`, joined
+    /// again where it was separated: the channel's values, faces parallel to the mesh's
+    /// refinement ([`crate::patch::subdivide_with`]).
+    pub fn refine<S: SurfaceScheme + Sync, T: Real>(
+        &self,
+        scheme: &S,
+        limit: bool,
+        steps: usize,
+        threads: usize,
+    ) -> Result<QuadUv<T>, UvError> {
+        let (layout, lt, lf) = (&self.mesh, &self.topology, &self.features);
+        let fine = if limit {
+            limit_with(scheme, layout, lt, lf, steps, threads)
+        } else {
+            subdivide_with(scheme, layout, lt, lf, steps, threads).map(|mesh| Refined {
+                mesh,
+                normals: Vec::new(),
+                approximate: Vec::new(),
+            })
+        }
+        .map_err(|e| match e {
+            SurfaceError::Features(e) => UvError::Features(e),
+            e => UvError::Surface(e),
+        })?;
+        let fine = match &self.weld {
+            Some(w) => w.apply(&layout.faces, &lf.holes, fine),
+            None => fine,
+        }
+        .mesh;
+        Ok(QuadUv {
+            values: fine.positions.iter().map(|p| [p[0], p[1]]).collect(),
+            faces: fine.faces,
+        })
+    }
 }
 
 /// The channel `uv` of the quad mesh `mesh` (topology `topo`, features `features`) refined
@@ -612,37 +648,11 @@ pub fn refine_uv<S: SurfaceScheme + Sync, T: Real>(
     steps: usize,
     threads: usize,
 ) -> Result<QuadUv<T>, UvError> {
-    uv.check(mesh)?;
     if rule.is_smooth() {
-        let Layout {
-            mesh: layout,
-            topology: lt,
-            features: lf,
-            weld,
-        } = Layout::new(mesh, features, uv, rule, points)?;
-        let fine = if limit {
-            limit_with(scheme, &layout, &lt, &lf, steps, threads)
-        } else {
-            subdivide_with(scheme, &layout, &lt, &lf, steps, threads).map(|mesh| Refined {
-                mesh,
-                normals: Vec::new(),
-                approximate: Vec::new(),
-            })
-        }
-        .map_err(|e| match e {
-            SurfaceError::Features(e) => UvError::Features(e),
-            e => UvError::Surface(e),
-        })?;
-        let fine = match &weld {
-            Some(w) => w.apply(&layout.faces, &lf.holes, fine),
-            None => fine,
-        }
-        .mesh;
-        return Ok(QuadUv {
-            values: fine.positions.iter().map(|p| [p[0], p[1]]).collect(),
-            faces: fine.faces,
-        });
+        let layout = Layout::new(mesh, features, uv, rule, points)?;
+        return layout.refine(scheme, limit, steps, threads);
     }
+    uv.check(mesh)?;
     linear(scheme, topo, features, uv, steps)
 }
 
@@ -731,6 +741,26 @@ pub struct RefineUv<'m> {
     pub steps: usize,
     /// Worker threads (the result does not depend on it).
     pub threads: usize,
+}
+
+/// [`Layout::refine`] for a surface scheme known only by name
+/// ([`crate::surface::SurfaceVisitor`]).
+pub struct RefineLayout<'m> {
+    /// The layout.
+    pub layout: &'m Layout,
+    /// Whether its values go to its limit surface.
+    pub limit: bool,
+    /// Refinement steps.
+    pub steps: usize,
+    /// Worker threads (the result does not depend on it).
+    pub threads: usize,
+}
+
+impl crate::surface::SurfaceVisitor for RefineLayout<'_> {
+    type Output = Result<QuadUv, UvError>;
+    fn visit<S: SurfaceScheme + Sync>(self, scheme: &S) -> Self::Output {
+        (self.layout).refine(scheme, self.limit, self.steps, self.threads)
+    }
 }
 
 impl crate::surface::SurfaceVisitor for RefineUv<'_> {

@@ -4,7 +4,7 @@
 use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, one_stdin, threads};
 use lsubdiv::compiler::Error;
-use lsubdiv::mesh::facevarying::{Layout, Points, QuadUv, RefineUv, UvError, UvRule};
+use lsubdiv::mesh::facevarying::{Layout, Points, QuadUv, RefineLayout, RefineUv, UvError, UvRule};
 use lsubdiv::mesh::patch::{limit_available, Refined, Subdivide};
 use lsubdiv::mesh::surface::SurfaceVisitor;
 use lsubdiv::mesh::QuadMesh;
@@ -283,20 +283,29 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
     // A texture layout refined by a smooth rule is a mesh of its own, refined after the
     // positions: what building it holds is counted before it is built, what refining it
     // holds from its topology and features.
-    let layout = match (&input.uv, job.uv) {
+    // It is built once, here, and refined after the positions.
+    let uv_error = |e: UvError| {
+        let error = Error::in_file(name, format!("texture coordinates: {e}"));
+        match e {
+            UvError::Layout(_) => error.with_hint("use --uv linear"),
+            _ => error,
+        }
+    };
+    let (layout, layout_bytes) = match (&input.uv, job.uv) {
         (Some(uv), Some(rule)) if rule.is_smooth() => {
             let building = lsubdiv_cli::limits::layout_building(m.faces.len());
             positions.holding(building).check(&what, job.max_memory)?;
-            let layout = Layout::new(m, &input.features, uv, rule, points).map_err(|e| {
-                Error::in_file(name, format!("texture coordinates: {e}"))
-                    .with_hint("use --uv linear")
-            })?;
+            let layout = Layout::new(m, &input.features, uv, rule, points).map_err(uv_error)?;
             let (lt, lf) = (&layout.topology, &layout.features);
-            lsubdiv_cli::limits::layout(&tables, contained_from, lt, lf, steps, threads)
+            let bytes =
+                lsubdiv_cli::limits::layout(&tables, contained_from, lt, lf, steps, threads);
+            (Some(layout), bytes)
         }
-        _ => 0,
+        _ => (None, 0),
     };
-    positions.holding(layout).check(&what, job.max_memory)?;
+    positions
+        .holding(layout_bytes)
+        .check(&what, job.max_memory)?;
     let implementation = job.path.pick(r, Geometry::Surface)?;
     let error = |e: SurfaceError| surface_error(name, input.split, e, REFUSED_HINT);
     // Whether the limit is available, before refining: refused, or left out where it is only
@@ -349,26 +358,29 @@ pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<R
     let (faces, normals, approximate, refused) = rest;
     // The texture coordinates (which do not scale) by the rule they were read with, to the
     // layout's limit where the positions went to theirs.
-    let uv = match (&input.uv, job.uv) {
-        (Some(uv), Some(rule)) => {
+    let limit = !normals.is_empty();
+    let uv = match (&input.uv, job.uv, &layout) {
+        (_, _, Some(layout)) => {
+            let job = RefineLayout {
+                layout,
+                limit,
+                steps,
+                threads,
+            };
+            Some(visit(r, implementation, &surface, job)?.map_err(uv_error)?)
+        }
+        (Some(uv), Some(rule), None) => {
             let job = RefineUv {
                 mesh: m,
                 topology,
                 features: &input.features,
                 uv,
                 points,
-                rule: (rule, !normals.is_empty()),
+                rule: (rule, limit),
                 steps,
                 threads,
             };
-            let refined = visit(r, implementation, &surface, job)?.map_err(|e| {
-                let error = Error::in_file(name, format!("texture coordinates: {e}"));
-                match e {
-                    UvError::Layout(_) => error.with_hint("use --uv linear"),
-                    _ => error,
-                }
-            })?;
-            Some(refined)
+            Some(visit(r, implementation, &surface, job)?.map_err(uv_error)?)
         }
         _ => None,
     };
