@@ -108,10 +108,7 @@ fn destination(path: &Path) -> io::Result<Option<PathBuf>> {
     }
     Err(io::Error::new(
         io::ErrorKind::InvalidInput,
-        format!(
-            "more than {MAX_LINKS} symbolic links from here (a loop?); \
-             hint: point the link at a file, or write to another path"
-        ),
+        format!("more than {MAX_LINKS} symbolic links from here: a loop, or a chain too long"),
     ))
 }
 
