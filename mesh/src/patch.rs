@@ -1435,16 +1435,19 @@ pub fn subdivide_with<S: SurfaceScheme + Sync, T: Real>(
     steps: usize,
     threads: usize,
 ) -> Result<QuadMesh<T>, SurfaceError> {
-    let level = rebase::before_last(scheme, (mesh, topo, features), steps, threads)?;
-    let ((mesh, topo, features), steps) = rebase::remaining(&level, (mesh, topo, features), steps);
-    let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
-    r.refine(&mesh.positions)?;
-    let faces = in_base_order(&level, r.faces());
-    let kept = used(&faces, r.output_vertices(), r.base.features.has_holes());
-    Ok(QuadMesh {
-        positions: keep(&kept, r.into_positions()),
-        faces: renumbered(&kept, faces),
-    })
+    refined(
+        scheme,
+        (mesh, topo, features),
+        steps,
+        threads,
+        |r, faces| {
+            let kept = used(&faces, r.output_vertices(), r.base.features.has_holes());
+            Ok(QuadMesh {
+                positions: keep(&kept, r.into_positions()),
+                faces: renumbered(&kept, faces),
+            })
+        },
+    )
 }
 
 /// A refined mesh on its limit surface ([`limit_with`]).
@@ -1472,42 +1475,57 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
     if features.creasing == Creasing::Chaikin {
         limit::sharp_until(features.semi_sharp_steps(), steps)?;
     }
-    let level = rebase::before_last(scheme, (mesh, topo, features), steps, threads)?;
-    let ((mesh, topo, features), steps) = rebase::remaining(&level, (mesh, topo, features), steps);
-    let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
-    r.refine(&mesh.positions)?;
-    let SurfaceLimit {
-        positions,
-        normals,
-        approximate,
-    } = r.limit()?;
-    let faces = in_base_order(&level, r.faces());
-    let kept = used(&faces, positions.len(), r.base.features.has_holes());
-    let approximate = match &kept {
-        Some(map) => approximate
-            .into_iter()
-            .map(|v| map[v as usize])
-            .filter(|&v| v != u32::MAX)
-            .collect(),
-        None => approximate,
-    };
-    Ok(Refined {
-        mesh: QuadMesh {
-            positions: keep(&kept, positions),
-            faces: renumbered(&kept, faces),
+    refined(
+        scheme,
+        (mesh, topo, features),
+        steps,
+        threads,
+        |r, faces| {
+            let SurfaceLimit {
+                positions,
+                normals,
+                approximate,
+            } = r.limit()?;
+            let kept = used(&faces, positions.len(), r.base.features.has_holes());
+            let approximate = match &kept {
+                Some(map) => approximate
+                    .into_iter()
+                    .map(|v| map[v as usize])
+                    .filter(|&v| v != u32::MAX)
+                    .collect(),
+                None => approximate,
+            };
+            Ok(Refined {
+                mesh: QuadMesh {
+                    positions: keep(&kept, positions),
+                    faces: renumbered(&kept, faces),
+                },
+                normals: keep(&kept, normals),
+                approximate,
+            })
         },
-        normals: keep(&kept, normals),
-        approximate,
-    })
+    )
 }
 
-/// A refinement's quads in one refinement's order ([`rebase::Level::in_base_order`]) where
-/// its steps but the last were taken one at a time.
-fn in_base_order(level: &Option<rebase::Level>, faces: Vec<[u32; 4]>) -> Vec<[u32; 4]> {
-    match level {
-        Some(level) => level.in_base_order(faces),
-        None => faces,
-    }
+/// Hands `finish` a refiner that has refined `mesh` `steps` times (the steps but the last one
+/// at a time under Chaikin creasing, [`rebase`]) and its quads, in one refinement's order
+/// ([`rebase::Level::in_base_order`]).
+fn refined<S: SurfaceScheme + Sync, T: Real, R>(
+    scheme: &S,
+    base: (&QuadMesh, &Topology, &Features),
+    steps: usize,
+    threads: usize,
+    finish: impl FnOnce(Refiner<'_, S, T>, Vec<[u32; 4]>) -> Result<R, SurfaceError>,
+) -> Result<R, SurfaceError> {
+    let level = rebase::before_last(scheme, base, steps, threads)?;
+    let ((mesh, topo, features), steps) = rebase::remaining(&level, base, steps);
+    let mut r = Refiner::with_features(scheme, topo, features, steps, threads)?;
+    r.refine(&mesh.positions)?;
+    let faces = match &level {
+        Some(level) => level.in_base_order(r.faces()),
+        None => r.faces(),
+    };
+    finish(r, faces)
 }
 
 /// With holes, each vertex's index once the vertices no face uses are dropped (`u32::MAX`:
