@@ -17,7 +17,7 @@ use lsubdiv::mesh::surface::{SurfaceScheme, SurfaceVisitor};
 use lsubdiv::mesh::topology::Topology;
 use lsubdiv::mesh::QuadMesh;
 use lsubdiv::mesh_file::Checked;
-use lsubdiv::Error;
+use lsubdiv::Diagnostic as Error;
 use std::time::Instant;
 
 /// Faces of the largest built-in torus (about 0.7 GB of mesh): larger ones are refused

@@ -14,7 +14,6 @@ pub mod plot;
 pub mod progress;
 pub mod render;
 pub mod report;
-pub mod scale;
 pub mod tables;
 
 use lsubdiv::compiler::exact::{lsystem::LSystem, scheme};

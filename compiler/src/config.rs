@@ -1,11 +1,11 @@
 //! The build-script API, in the style of `prost_build::Config`: compile scheme files into
 //! `OUT_DIR` (or any directory).
 
-use crate::error::{Error, Location};
 use crate::exact::codegen::{module_name, Codegen, DEFAULT_RUNTIME_PATH};
 use crate::exact::pipeline::Scheme;
 use crate::exact::scheme;
 use crate::exact::tables::Tables;
+use crate::{Error, Location};
 use std::path::{Path, PathBuf};
 
 /// Build-script configuration, in the style of `prost_build::Config`.
@@ -109,12 +109,12 @@ impl Config {
                 directive(format!("cargo:warning={w}"));
             }
             let file = out_dir.join(format!("{}.rs", module_name(name)));
-            crate::output::write_if_changed(&file, &codegen.scheme(&t))?;
+            crate::write_if_changed(&file, &codegen.scheme(&t))?;
             compiled.push(t);
         }
         if let Some(r) = &self.registry {
             let all: Vec<&Tables> = compiled.iter().collect();
-            crate::output::write_if_changed(&out_dir.join(r), &codegen.registry(&all))?;
+            crate::write_if_changed(&out_dir.join(r), &codegen.registry(&all))?;
         }
         Ok(compiled
             .into_iter()

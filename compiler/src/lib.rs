@@ -71,12 +71,11 @@
 #![allow(clippy::needless_doctest_main)]
 
 mod config;
-mod error;
 pub mod exact;
-mod input;
-mod output;
 
 pub use config::{compile, Config};
-pub use error::{Error, Kind, Location};
-pub use input::{read_bytes, read_text, text};
-pub use output::{temporary_files, write_atomic, write_atomic_with, write_if_changed};
+#[doc(inline)]
+pub use lsubdiv_io::{
+    read_bytes, read_text, temporary_files, text, write_atomic, write_atomic_with,
+    write_if_changed, Error, Kind, Location,
+};

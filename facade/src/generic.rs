@@ -20,7 +20,7 @@
 use lsubdiv_compiler::exact::ev::SurfaceAnalysis;
 use lsubdiv_compiler::exact::lsystem::Word;
 use lsubdiv_compiler::exact::{Scheme, Tables};
-use lsubdiv_compiler::Error;
+use lsubdiv_io::Error;
 use lsubdiv_mesh::surface::{SurfaceScheme, SurfaceTables};
 use lsubdiv_runtime::{Curve, CurveScheme, CurveTables};
 use std::collections::HashSet;
@@ -73,43 +73,89 @@ impl CurveScheme for GenericScheme {
 /// A surface scheme whose tables, surface data included, are computed at run time.
 #[derive(Clone, Debug)]
 pub struct GenericSurface {
-    tables: Tables,
+    curve: GenericScheme,
 }
 
 impl GenericSurface {
     /// Checks the surface conditions (\[G\] §4.2) and prepares the tables; the error names the
     /// condition that fails.
     pub fn new(scheme: Scheme) -> Result<GenericSurface, Error> {
-        let tables = Tables::new(scheme)?;
-        match tables.curves_only() {
-            Some(e) => Err(e.clone()),
-            None => Ok(GenericSurface { tables }),
+        match Compiled::new(scheme)? {
+            Compiled::Surface(s) => Ok(s),
+            Compiled::Curves(_, why) => Err(why),
         }
     }
 
     /// The surface analysis.
     pub fn analysis(&self) -> &SurfaceAnalysis {
-        self.tables
+        self.curve
+            .tables
             .surface_analysis()
             .expect("checked by GenericSurface::new")
     }
 
     /// The exact scheme.
     pub fn scheme(&self) -> &Scheme {
-        self.tables.scheme()
+        self.curve.scheme()
     }
 }
 
 impl CurveScheme for GenericSurface {
     fn tables(&self) -> CurveTables<'_> {
-        self.tables.curve()
+        self.curve.tables()
     }
 }
 
 impl SurfaceScheme for GenericSurface {
     fn surface(&self) -> SurfaceTables<'_> {
-        self.tables
+        self.curve
+            .tables
             .surface()
             .expect("checked by GenericSurface::new")
+    }
+}
+
+/// A scheme file's tables, computed once: a surface scheme, or a curve scheme with the reason
+/// it refines curves only.
+#[derive(Clone, Debug)]
+pub enum Compiled {
+    /// Curves only, and why (\[G\] §4.2).
+    Curves(GenericScheme, Error),
+    /// Curves and surfaces.
+    Surface(GenericSurface),
+}
+
+impl Compiled {
+    /// The tables of `scheme` ([`GenericScheme::new`]), sorted by what they refine.
+    pub fn new(scheme: Scheme) -> Result<Compiled, Error> {
+        let curve = GenericScheme::new(scheme)?;
+        Ok(match curve.tables.curves_only() {
+            Some(why) => {
+                let why = why.clone();
+                Compiled::Curves(curve, why)
+            }
+            None => Compiled::Surface(GenericSurface { curve }),
+        })
+    }
+
+    /// The scheme's name.
+    pub fn name(&self) -> &str {
+        &self.curve().scheme().ls.name
+    }
+
+    /// The scheme for curves.
+    pub fn curve(&self) -> &GenericScheme {
+        match self {
+            Compiled::Curves(c, _) => c,
+            Compiled::Surface(s) => &s.curve,
+        }
+    }
+
+    /// The scheme for surfaces, or why it refines curves only.
+    pub fn surface(&self) -> Result<&GenericSurface, &Error> {
+        match self {
+            Compiled::Curves(_, why) => Err(why),
+            Compiled::Surface(s) => Ok(s),
+        }
     }
 }

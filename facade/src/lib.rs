@@ -42,6 +42,7 @@
 //! includes it with [`include_scheme!`]: `lsubdiv::include_scheme!(my);` then
 //! `lsubdiv::refine(&my::Scheme, &curve, steps)`. The shipped schemes are in [`generated`].
 
+#[cfg(feature = "compiler")]
 #[doc(inline)]
 pub use lsubdiv_compiler as compiler;
 #[doc(inline)]
@@ -56,10 +57,19 @@ pub use lsubdiv_runtime::{
     CurveScheme, CurveTables, EndCurve,
 };
 
+pub use error::Error;
 #[doc(inline)]
-pub use lsubdiv_compiler::{write_atomic, write_atomic_with, Error, Location};
-pub use mesh_file::read as read_mesh;
+pub use lsubdiv_io::{write_atomic, write_atomic_with, Error as Diagnostic, Location};
+#[doc(inline)]
+pub use lsubdiv_mesh::facevarying::UvRule;
+#[doc(inline)]
+pub use lsubdiv_mesh::features::Boundary;
+pub use mesh_file::{read as read_mesh, Mesh};
+pub use refiner::{Limit, Options, Plan, Refined, Refiner};
+pub use scheme::Scheme;
 
+mod error;
+#[cfg(feature = "compiler")]
 pub mod generic;
 pub mod mesh_data;
 pub mod mesh_file;
@@ -67,6 +77,9 @@ pub mod obj;
 pub mod obj_tags;
 pub mod ply;
 pub mod points;
+mod refiner;
+pub mod scale;
+mod scheme;
 
 /// Includes the scheme `name` compiled by `lsubdiv_compiler` into `OUT_DIR` as `pub mod name`,
 /// naming the runtime through this crate (`lsubdiv::runtime`): a crate that depends on `lsubdiv`

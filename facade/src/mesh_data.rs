@@ -4,7 +4,7 @@
 //! v, edge a–b — and the features' are placed in the file, the check shared by OBJ and PLY
 //! ([`Parsed::check`] → [`Checked`]), and what a written mesh carries ([`Extras`]).
 
-use lsubdiv_compiler::{Error, Location};
+use lsubdiv_io::{Error, Location};
 use lsubdiv_mesh::facevarying::{Points, PolyUv, QuadUv, UvError, UvRule};
 use lsubdiv_mesh::features::{FeatureError, FeatureList, Features};
 use lsubdiv_mesh::nonmanifold::{separate, Weld};

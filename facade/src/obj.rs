@@ -6,7 +6,7 @@
 
 use crate::mesh_data::{counted, shorten, too_few_corners, Extras, Parsed, Places, Unit};
 use crate::obj_tags::{is_integer, Tags, Token};
-use lsubdiv_compiler::{Error, Location};
+use lsubdiv_io::{Error, Location};
 use lsubdiv_mesh::facevarying::{PolyUv, UvRule};
 use lsubdiv_mesh::polygon::PolyMesh;
 use lsubdiv_mesh::topology::TopologyError;

@@ -376,7 +376,7 @@ fn triangles((tok, line): Token<'_>) -> Result<Triangles, Failure> {
 #[cfg(test)]
 mod tests {
     use crate::mesh_data::FeatureLines;
-    use lsubdiv_compiler::{Error, Location};
+    use lsubdiv_io::{Error, Location};
     use lsubdiv_mesh::features::{Boundary, Features, Sharpness};
 
     /// A square (lines 1–5); tags start at line 6.

@@ -13,7 +13,7 @@
 //! values are stored only as they are read.
 
 use crate::mesh_data::{shorten, too_few_corners, Extras, Parsed, Places, Unit};
-use lsubdiv_compiler::{Error, Location};
+use lsubdiv_io::{Error, Location};
 use lsubdiv_mesh::facevarying::{PolyUv, QuadUv};
 use lsubdiv_mesh::features::Features;
 use lsubdiv_mesh::polygon::PolyMesh;

@@ -1,7 +1,7 @@
 //! Point files: one point per line, coordinates separated by white space (2 or 3 of them).
 //! Blank lines and lines starting with `#` are skipped on input; output has nothing else in it.
 
-use lsubdiv_compiler::{Error, Location};
+use lsubdiv_io::{Error, Location};
 
 /// Points of dimension 2 or 3.
 #[derive(Clone, Debug, PartialEq)]

@@ -3,4 +3,4 @@
 //! Generated code must compile warning-free.
 #![deny(warnings)]
 
-include!(concat!(env!("OUT_DIR"), "/registry.rs"));
+include!("schemes/registry.rs");

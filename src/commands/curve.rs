@@ -152,7 +152,7 @@ impl CurveJob<'_> {
         labels: usize,
         ends: Option<usize>,
     ) -> Result<(), Error> {
-        let p = prediction.holding(lsubdiv_cli::scale::copy_bytes(input, labels as u128));
+        let p = prediction.holding(lsubdiv::scale::copy_bytes(input, labels as u128));
         let p = match self.limit {
             true => p.with_curve_limit(D, ends),
             false => p,
@@ -222,7 +222,7 @@ fn refine_cli<const D: usize>(
         None,
     )?;
     // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
-    let (labels, points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
+    let (labels, points) = lsubdiv::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| lsubdiv::Curve {
             points,
             labels: curve.labels.clone(),
@@ -295,7 +295,7 @@ fn refine_ends_cli<const D: usize>(
         curve.labels.len(),
         Some(t.degree),
     )?;
-    let (labels, points) = lsubdiv_cli::scale::refine_scaled(job.file, &curve.points, |scaled| {
+    let (labels, points) = lsubdiv::scale::refine_scaled(job.file, &curve.points, |scaled| {
         let scaled = scaled.map(|points| EndCurve {
             points,
             labels: curve.labels.clone(),

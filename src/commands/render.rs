@@ -1,7 +1,7 @@
 //! `lsubdiv render`: draws a quad mesh, closed or open, with the software renderer ([G] Fig. 6).
 
 use crate::commands::args::MemoryLimit;
-use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob, RefinedMesh};
+use crate::commands::subdivide::{approximate_note, refine_mesh, Limit, MeshJob};
 use crate::commands::{load, one_stdin, threads};
 use lsubdiv::compiler::Error;
 use lsubdiv::mesh::topology::Topology;
@@ -192,13 +192,12 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
                 threads: threads(a.threads),
                 max_memory: a.limit.bytes(),
                 limit,
-                uv: None,
+                uv: false,
                 // Drawn as the 2-manifold pieces a non-manifold mesh is refined as.
                 join: false,
             };
-            let RefinedMesh { fine, refused, .. } =
-                refine_mesh(&load(scheme, None)?, &input, &job)?;
-            if let Some(why) = refused {
+            let fine = refine_mesh(&load(scheme, None)?, input, &job)?;
+            if let Some(why) = &fine.limit_refused {
                 stages.note(&format!(
                     "{}: note: shaded with the refined mesh's normals, not the limit surface's: {why}",
                     a.mesh
@@ -211,8 +210,7 @@ pub fn run(a: &RenderArgs) -> Result<(), Error> {
             // mesh's pieces are not joined).
             let t =
                 Topology::build(&fine.mesh).map_err(|e| Error::internal(None, e.to_string()))?;
-            let normals = (!fine.normals.is_empty()).then_some(fine.normals);
-            (fine.mesh, t, normals)
+            (fine.mesh, t, fine.normals)
         }
         _ => {
             if input.split {

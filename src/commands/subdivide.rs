@@ -4,11 +4,10 @@
 use crate::commands::args::{BoundaryArgs, RefineArgs};
 use crate::commands::{build, check_output, load, one_stdin, threads};
 use lsubdiv::compiler::Error;
-use lsubdiv::mesh::facevarying::{Layout, Points, QuadUv, RefineLayout, RefineUv, UvError, UvRule};
-use lsubdiv::mesh::patch::{limit_available, Refined, Subdivide};
-use lsubdiv::mesh::surface::SurfaceVisitor;
-use lsubdiv::mesh::QuadMesh;
-use lsubdiv::mesh_file::{Checked, Extras};
+use lsubdiv::mesh::facevarying::UvRule;
+use lsubdiv::mesh_file::Checked;
+pub use lsubdiv::Limit;
+use lsubdiv::{Options, Plan, Refined, Scheme};
 use lsubdiv_cli::implementation::{Geometry, Implementation, PathChoice};
 use lsubdiv_cli::output::{format_by_extension, registered};
 use lsubdiv_cli::Resolved;
@@ -170,10 +169,10 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         threads: threads(t),
         max_memory: refine.limit.bytes(),
         limit: if limit { Limit::On } else { Limit::Off },
-        uv: Some(mesh.uv_rule),
+        uv: true,
         join: true,
     };
-    let RefinedMesh { fine, uv, .. } = refine_mesh(&r, &mesh, &job)?;
+    let fine = refine_mesh(&r, mesh, &job)?;
     if let Some(note) = approximate_note(&in_name, &fine) {
         eprintln!("{note}");
     }
@@ -183,10 +182,7 @@ pub fn run(a: SubdivideArgs) -> Result<(), Error> {
         fine.mesh.faces.len(),
         output.display()
     ));
-    let extras = Extras {
-        normals: limit.then_some(fine.normals.as_slice()),
-        uv: uv.as_ref(),
-    };
+    let extras = fine.extras();
     // Checked first, then streamed to the file: the text is never held whole in memory.
     let mesh = &fine.mesh;
     registered(&output, || match format {
@@ -213,188 +209,122 @@ pub struct MeshJob<'a> {
     pub max_memory: u64,
     /// Whether to take the vertices to the limit surface, with normals.
     pub limit: Limit,
-    /// Whether to refine the input's texture coordinates, and by which rule (the one they
-    /// were read with).
-    pub uv: Option<UvRule>,
+    /// Whether to refine the input's texture coordinates (by the rule they were read with).
+    pub uv: bool,
     /// Whether the refined copies of a non-manifold mesh's points are joined (a file's
     /// vertices, as OpenSubdiv's), or kept apart (each fan its own 2-manifold, for drawing).
     pub join: bool,
 }
 
-/// Whether [`refine_mesh`] takes the vertices to the limit surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Limit {
-    /// The refined control points.
-    Off,
-    /// The limit surface, or the runtime's refusal as the error.
-    On,
-    /// The limit surface where the runtime has it; where it refuses it (too few steps for the
-    /// EVs' limit, a semi-sharp feature still sharp: `patch::limit_available`, asked before
-    /// refining) the refined control points.
-    IfAvailable,
-}
-
-/// Refines a mesh (read and checked, with its features) by the picked implementation, after the size guard
-/// (`--max-memory`) has accepted the prediction. A mesh that had faces other than quads was
-/// read as its first step (one Catmull–Clark step, `lsubdiv::mesh::polygon`): the scheme
-/// takes the other steps, and it needs at least one.
-pub fn refine_mesh(r: &Resolved, input: &Checked, job: &MeshJob<'_>) -> Result<RefinedMesh, Error> {
-    use lsubdiv::mesh::surface::{SurfaceError, SurfaceScheme};
+/// Refines a mesh (read and checked, with its features) through the library's plan
+/// (`lsubdiv::Plan`), by the picked implementation, after the size guard (`--max-memory`) has
+/// accepted the prediction. A mesh that had faces other than quads was read as its first step
+/// (one Catmull–Clark step, `lsubdiv::mesh::polygon`): the scheme takes the other steps, and
+/// it needs at least one.
+pub fn refine_mesh(r: &Resolved, input: Checked, job: &MeshJob<'_>) -> Result<Refined, Error> {
     let MeshJob {
         name,
         steps,
         threads,
         ..
     } = *job;
-    let (m, topology) = (&input.mesh, &input.topology);
-    let steps = match (input.split, steps) {
-        (false, s) => s,
-        (true, 0) => {
-            return Err(Error::in_file(
-                name,
-                "the mesh has faces that are not quads: its first step is a Catmull–Clark step, so it takes at least one step",
-            )
-            .with_hint("use --steps 1 or more"))
-        }
-        (true, s) => s - 1,
-    };
-    let surface = lsubdiv::generic::GenericSurface::new(build(r)?)?;
-    let tables = lsubdiv::CurveScheme::tables(&surface);
-    let contained_from = surface.surface().contained_from;
-    let points = Points(input.weld.as_ref().map_or(&[], |w| w.points()));
-    let what = steps_of(steps, input.split, &r.ls.name, name);
+    let error = |e| cli_error(name, e);
+    let steps_of_scheme = Plan::scheme_steps(name, &input, steps).map_err(error)?;
+    // A shipped scheme on the generated path runs no exact computation: its tables are
+    // compiled in.
+    let scheme = match job.path.pick(r, Geometry::Surface)? {
+        Implementation::Generated => Scheme::shipped(&r.ls.name),
+        Implementation::Generic => Scheme::from_exact(build(r)?),
+    }
+    .map_err(error)?;
+    let tables = lsubdiv::CurveScheme::tables(&scheme);
+    let contained_from = scheme.contained_from().map_err(error)?;
+    let what = steps_of(steps_of_scheme, input.split, &r.ls.name, name);
+    let m = &input.mesh;
     let positions = lsubdiv_cli::limits::surface(
         &tables,
         contained_from,
-        topology,
+        &input.topology,
         &input.features,
-        steps,
+        steps_of_scheme,
         8,
         threads,
     )
-    .holding(lsubdiv_cli::scale::copy_bytes(
+    .holding(lsubdiv::scale::copy_bytes(
         &m.positions,
         16 * m.faces.len() as u128,
     ))
-    .with_extras(
-        job.limit != Limit::Off,
-        input.uv.is_some() && job.uv.is_some(),
-    );
-    // A texture layout refined by a smooth rule is a mesh of its own, refined after the
-    // positions: what building it holds is counted before it is built, what refining it
-    // holds from its topology and features.
-    // It is built once, here, and refined after the positions.
-    let uv_error = |e: UvError| {
-        let error = Error::in_file(name, format!("texture coordinates: {e}"));
-        match e {
-            UvError::Layout(_) => error.with_hint("use --uv linear"),
-            _ => error,
-        }
+    .with_extras(job.limit != Limit::Off, input.uv.is_some() && job.uv);
+    // A texture layout refined by a smooth rule is a mesh of its own, built by the plan: what
+    // building it holds is counted before it is built, what refining it holds from its
+    // topology and features.
+    if input.uv.is_some() && job.uv && input.uv_rule.is_smooth() {
+        let building = lsubdiv_cli::limits::layout_building(m.faces.len());
+        positions.holding(building).check(&what, job.max_memory)?;
+    }
+    let options = Options {
+        steps,
+        threads,
+        boundary: None,
+        uv_rule: None,
+        uv: job.uv,
+        limit: job.limit,
+        join: job.join,
     };
-    let (layout, layout_bytes) = match (&input.uv, job.uv) {
-        (Some(uv), Some(rule)) if rule.is_smooth() => {
-            let building = lsubdiv_cli::limits::layout_building(m.faces.len());
-            positions.holding(building).check(&what, job.max_memory)?;
-            let layout = Layout::new(m, &input.features, uv, rule, points).map_err(uv_error)?;
-            let (lt, lf) = (&layout.topology, &layout.features);
-            let bytes =
-                lsubdiv_cli::limits::layout(&tables, contained_from, lt, lf, steps, threads);
-            (Some(layout), bytes)
-        }
-        _ => (None, 0),
-    };
+    let plan = Plan::new(&scheme, name, input, options).map_err(error)?;
+    let layout_bytes = plan.layout().map_or(0, |layout| {
+        let (lt, lf) = (&layout.topology, &layout.features);
+        lsubdiv_cli::limits::layout(&tables, contained_from, lt, lf, steps_of_scheme, threads)
+    });
     positions
         .holding(layout_bytes)
         .check(&what, job.max_memory)?;
-    let implementation = job.path.pick(r, Geometry::Surface)?;
-    let error = |e: SurfaceError| surface_error(name, input.split, e, REFUSED_HINT);
-    // Whether the limit is available, before refining: refused, or left out where it is only
-    // wanted if available.
-    let available = || match limit_available(&surface, topology, &input.features, steps) {
-        Err(SurfaceError::Unsupported(why)) => Err(why),
-        // Anything else the refinement itself reports.
-        _ => Ok(()),
+    plan.refine().map_err(error)
+}
+
+/// The command line's diagnostic for the library's error about the mesh `name`: the same
+/// message, with a hint that names the flags.
+fn cli_error(name: &str, e: lsubdiv::Error) -> Error {
+    use lsubdiv::mesh::facevarying::UvError;
+    use lsubdiv::mesh::surface::SurfaceError;
+    let with_note = |m: String, note: Option<String>| match note {
+        Some(note) => format!("{m} ({note})"),
+        None => m,
     };
-    let (limit, refused) = match job.limit {
-        Limit::Off => (false, None),
-        Limit::On => {
-            available().map_err(|why| {
-                let hint = "take the steps it names, or leave out --limit";
-                surface_error(name, input.split, SurfaceError::Unsupported(why), hint)
-            })?;
-            (true, None)
+    match e {
+        lsubdiv::Error::File(d) | lsubdiv::Error::Scheme(d) => d,
+        lsubdiv::Error::CurvesOnly { why, .. } => *why,
+        lsubdiv::Error::NoSteps { .. } => Error::in_file(
+            name,
+            "the mesh has faces that are not quads: its first step is a Catmull–Clark step, so it takes at least one step",
+        )
+        .with_hint("use --steps 1 or more"),
+        lsubdiv::Error::NoLimit { why, note, .. } => Error::in_file(name, with_note(why, note))
+            .with_hint("take the steps it names, or leave out --limit"),
+        lsubdiv::Error::Uv { error, .. } => {
+            let hint = matches!(error, UvError::Layout(_));
+            let e = Error::in_file(name, format!("texture coordinates: {error}"));
+            if hint {
+                e.with_hint("use --uv linear")
+            } else {
+                e
+            }
         }
-        Limit::IfAvailable => match available() {
-            Ok(()) => (true, None),
-            Err(why) => (false, Some(why)),
+        lsubdiv::Error::Refine { error, note, .. } => match error {
+            SurfaceError::Topology(e) => Error::in_file(name, e.to_string())
+                .with_hint("the refined mesh must be a 2-manifold: see docs/real-meshes.md"),
+            SurfaceError::Ev(e) => Error::in_file(name, e.to_string())
+                .with_hint("valences and schemes supported: `lsubdiv ev SCHEME --valence N`"),
+            SurfaceError::Features(e) => Error::in_file(name, e.to_string())
+                .with_hint("check the file's `t crease`, `t corner` and `t hole` tags"),
+            SurfaceError::Unsupported(m) => Error::in_file(name, with_note(m, note))
+                .with_hint("docs/real-meshes.md lists, per feature, what each scheme refines"),
+            e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
+                Error::internal(None, e.to_string())
+            }
         },
-    };
-    // Huge or tiny coordinates are refined scaled to magnitude 1 (`lsubdiv_cli::scale`).
-    let (rest, positions) = lsubdiv_cli::scale::refine_scaled(name, &m.positions, |scaled| {
-        let scaled = scaled.map(|positions| QuadMesh {
-            positions,
-            faces: m.faces.clone(),
-        });
-        let mesh = scaled.as_ref().unwrap_or(m);
-        let run = |limit: bool| {
-            let refine = Subdivide {
-                mesh,
-                topology,
-                features: &input.features,
-                steps,
-                threads,
-                limit,
-            };
-            visit(r, implementation, &surface, refine)
-        };
-        let fine = run(limit)?.map_err(error)?;
-        let Refined {
-            mesh,
-            normals,
-            approximate,
-        } = fine;
-        Ok(((mesh.faces, normals, approximate, refused), mesh.positions))
-    })?;
-    let (faces, normals, approximate, refused) = rest;
-    // The texture coordinates (which do not scale) by the rule they were read with, to the
-    // layout's limit where the positions went to theirs.
-    let limit = !normals.is_empty();
-    let uv = match (&input.uv, job.uv, &layout) {
-        (_, _, Some(layout)) => {
-            let job = RefineLayout {
-                layout,
-                limit,
-                steps,
-                threads,
-            };
-            Some(visit(r, implementation, &surface, job)?.map_err(uv_error)?)
-        }
-        (Some(uv), Some(rule), None) => {
-            let job = RefineUv {
-                mesh: m,
-                topology,
-                features: &input.features,
-                uv,
-                points,
-                rule: (rule, limit),
-                steps,
-                threads,
-            };
-            Some(visit(r, implementation, &surface, job)?.map_err(uv_error)?)
-        }
-        _ => None,
-    };
-    let fine = Refined {
-        mesh: QuadMesh { positions, faces },
-        normals,
-        approximate,
-    };
-    // A mesh that was not a 2-manifold: the refined copies of each point joined again.
-    let fine = match &input.weld {
-        Some(weld) if job.join => weld.apply(&m.faces, &input.features.holes, fine),
-        _ => fine,
-    };
-    Ok(RefinedMesh { fine, uv, refused })
+        e => Error::internal(None, e.to_string()),
+    }
 }
 
 /// What refining the mesh `name` by `steps` steps of `scheme` is, for messages; `split`: after
@@ -409,68 +339,5 @@ fn steps_of(steps: usize, split: bool, scheme: &str, name: &str) -> String {
         )
     } else {
         format!("{steps} step{} of {scheme} on {name}", plural(steps))
-    }
-}
-
-/// The diagnostic for a refinement of the mesh `name` refused or failed by the runtime; `split`:
-/// the mesh had faces other than quads, so its first step came before the scheme's; `hint`: the
-/// hint of a refusal.
-fn surface_error(
-    name: &str,
-    split: bool,
-    e: lsubdiv::mesh::surface::SurfaceError,
-    hint: &str,
-) -> Error {
-    use lsubdiv::mesh::surface::SurfaceError;
-    match e {
-        SurfaceError::Topology(e) => Error::in_file(name, e.to_string())
-            .with_hint("the refined mesh must be a 2-manifold: see docs/real-meshes.md"),
-        SurfaceError::Ev(e) => Error::in_file(name, e.to_string())
-            .with_hint("valences and schemes supported: `lsubdiv ev SCHEME --valence N`"),
-        SurfaceError::Features(e) => Error::in_file(name, e.to_string())
-            .with_hint("check the file's `t crease`, `t corner` and `t hole` tags"),
-        // The runtime counts the scheme's steps; a polygon mesh's first step came before.
-        SurfaceError::Unsupported(m) if split => Error::in_file(
-            name,
-            format!(
-                "{m} (steps of the scheme: --steps counts one more, the first Catmull–Clark step)"
-            ),
-        )
-        .with_hint(hint),
-        SurfaceError::Unsupported(m) => Error::in_file(name, m).with_hint(hint),
-        e @ (SurfaceError::Axiom | SurfaceError::UnknownWord(_)) => {
-            Error::internal(None, e.to_string())
-        }
-    }
-}
-
-/// The hint of a refinement the runtime refuses.
-const REFUSED_HINT: &str = "docs/real-meshes.md lists, per feature, what each scheme refines";
-
-/// What [`refine_mesh`] gives.
-pub struct RefinedMesh {
-    /// The refined mesh, on the limit surface with normals if asked.
-    pub fine: Refined,
-    /// Its texture coordinates, if the input had some and the job asked for them.
-    pub uv: Option<QuadUv>,
-    /// With [`Limit::IfAvailable`], the reason the limit was refused, if it was.
-    pub refused: Option<String>,
-}
-
-/// Runs `job` on the scheme by the picked implementation: the generated registry's, or the
-/// dynamic path's `surface`.
-fn visit<V: SurfaceVisitor>(
-    r: &Resolved,
-    implementation: Implementation,
-    surface: &lsubdiv::generic::GenericSurface,
-    job: V,
-) -> Result<V::Output, Error> {
-    match implementation {
-        Implementation::Generated => {
-            lsubdiv::generated::visit_surface(&r.ls.name, job).ok_or_else(|| {
-                Error::internal(None, format!("`{}` is not in the registry", r.ls.name))
-            })
-        }
-        Implementation::Generic => Ok(job.visit(surface)),
     }
 }

@@ -77,14 +77,14 @@ pub fn parse_numbers(
     flag: &str,
     text: &str,
     n: std::ops::RangeInclusive<usize>,
-) -> Result<Vec<f64>, lsubdiv::Error> {
+) -> Result<Vec<f64>, lsubdiv::Diagnostic> {
     let values: Vec<f64> = text
         .split(',')
         .map(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
         .collect::<Option<_>>()
         .filter(|v: &Vec<f64>| n.contains(&v.len()))
         .ok_or_else(|| {
-            lsubdiv::Error::input(format!(
+            lsubdiv::Diagnostic::input(format!(
                 "{flag} `{text}`: expected {} comma-separated numbers",
                 if n.start() == n.end() {
                     n.start().to_string()

@@ -6,12 +6,12 @@
 //! are ξ_s and the EV's radial word is σ̄(ξ_s)ξ_s. Lines through an EV continue with the mirrored
 //! labels (\[G\] §2.2.2: "the labels of edges beyond the EV are … the symmetric symbols").
 
-use crate::error::Error;
 use crate::exact::field::Elem;
 use crate::exact::lsystem::{LSystem, Part, Sym, Word};
 use crate::exact::pipeline::Scheme;
 use crate::exact::symmetry::{involutions, is_symmetry};
 use crate::exact::work;
+use crate::Error;
 use lsubdiv_runtime::ev::EvCoefficients;
 
 /// The EV configuration at one step.

@@ -3,7 +3,7 @@
 //! Symbols are small integers (`Sym`) indexing [`LSystem::symbols`]; a word is a `Vec<Sym>`.
 //! π rewrites every symbol of a word simultaneously (\[N\] eq. (1)).
 
-use crate::error::{Error, Location};
+use crate::{Error, Location};
 use lsubdiv_runtime::curve::format_word;
 
 /// A symbol, as an index into the alphabet.

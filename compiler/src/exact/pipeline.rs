@@ -1,7 +1,6 @@
 //! The exact pipeline: L-system → Q(ρ) → lengths → masks → graph, with the certificates that
 //! make compilation fail when an identity that must hold exactly does not.
 
-use crate::error::Error;
 use crate::exact::field::Elem;
 use crate::exact::graph::{reach, Reach};
 use crate::exact::limit::{self, limit_mask, LimitMask};
@@ -10,6 +9,7 @@ use crate::exact::masks::{mask, Mask};
 use crate::exact::symmetry::check_symmetry;
 use crate::exact::validity::{analyse, Analysis};
 use crate::exact::work;
+use crate::Error;
 use std::borrow::Cow;
 
 /// A compiled scheme: every reachable mask, exact.

@@ -1,8 +1,8 @@
 //! Scheme files (TOML): `name`, `degree`, `axiom`, `[rules]`, optional `[symmetry]` and
 //! `[lengths]`. Parsing keeps byte spans so that every error names file, line and column.
 
-use crate::error::{Error, Location};
 use crate::exact::lsystem::{parse_word, LSystem, Source, Sym, Word, WordError};
+use crate::{Error, Location};
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::Zero;

@@ -1,8 +1,8 @@
 //! Symmetric L-systems (\[G\] §4.1): involutions σ with π(σ(A)) = σ̄(π(A)) for every symbol and a
 //! symmetric axiom (Proposition 4.2).
 
-use crate::error::Error;
 use crate::exact::lsystem::{LSystem, Part, Sym};
+use crate::Error;
 
 /// True when σ makes the L-system symmetric (Proposition 4.2).
 pub fn is_symmetry(ls: &LSystem, sigma: &[Sym]) -> bool {

@@ -7,13 +7,13 @@
 //!
 //! f64 appears here only as the nearest double of exact values, and in the runtime's α solver.
 
-use crate::error::Error;
 use crate::exact::ev::{self, SurfaceAnalysis};
 use crate::exact::field::Elem;
 use crate::exact::graph::reach_from;
 use crate::exact::lsystem::{Part, Word};
 use crate::exact::pipeline::Scheme;
 use crate::exact::work;
+use crate::Error;
 use lsubdiv_runtime::curve::NO_CHILD;
 use lsubdiv_runtime::ev::{EvCoefficients, EvLimit};
 use lsubdiv_runtime::surface::SurfaceTables;

@@ -6,12 +6,12 @@
 //! of G(M): it exists iff the *basic* classes (spectral radius ρ) are exactly the *final* classes
 //! (no edge leaving them) — Berman & Plemmons, Nonnegative Matrices, Thm 2.3.10.
 
-use crate::error::Error;
 use crate::exact::field::{parse_expr, Elem, Field, FieldRef};
 use crate::exact::linalg::{null_space, shifted, transpose};
 use crate::exact::lsystem::{LSystem, Part};
 use crate::exact::poly::{char_poly, factor, isolate_real_roots, QPoly, Sturm};
 use crate::exact::work;
+use crate::Error;
 use petgraph::algo::tarjan_scc;
 use petgraph::graph::DiGraph;
 

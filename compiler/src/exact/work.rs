@@ -8,8 +8,8 @@
 //! located at the scheme's rules. The count is per thread and shared by nested scopes, so a
 //! stage called from another stage spends the outer budget.
 
-use crate::error::Error;
 use crate::exact::lsystem::{LSystem, Part};
+use crate::Error;
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use std::cell::Cell;

@@ -9,7 +9,7 @@
 //! Inputs whose largest |coordinate| lies in [2^-500, 2^500] are refined as they are, so their
 //! outputs are bit for bit those of the unscaled computation.
 
-use lsubdiv::compiler::Error;
+use lsubdiv_io::Error;
 
 /// Largest |coordinate| refined unscaled is below 2^`UNSCALED`, smallest above 2^-`UNSCALED`.
 const UNSCALED: i32 = 500;
@@ -51,7 +51,7 @@ pub fn copy_bytes<const D: usize>(points: &[[f64; D]], with: u128) -> u128 {
 }
 
 /// Refines `points` by `refine`, which is given the points scaled to magnitude 1 when they are
-/// outside the unscaled range (`None`: refine them as they are); refuses (exit 2, naming `what`, the input's scale and the f64 limit) a result
+/// outside the unscaled range (`None`: refine them as they are); refuses (naming `what`, the input's scale and the f64 limit) a result
 /// that is not finite once scaled back.
 pub fn refine_scaled<const D: usize, R>(
     what: &str,

@@ -1,0 +1,433 @@
+//! Refining a mesh at the front door, in OpenSubdiv's two stages: a [`Refiner`] (the scheme, the
+//! mesh and named options, as a builder) builds a [`Plan`] once — the mesh checked, its first
+//! Catmull–Clark step when it has faces other than quads, its texture layout, whether its limit
+//! is available — and the plan refines: positions, limit positions and normals, texture
+//! coordinates ([`Refined`], written whole with every channel by [`Refined::write`]).
+//!
+//! Steps count as the command line counts them: `steps(3)` on a triangle mesh is its
+//! Catmull–Clark step and two steps of the scheme.
+
+use crate::error::Error;
+use crate::mesh_data::Extras;
+use crate::mesh_file::{Checked, Mesh};
+use crate::scheme::{Scheme, Surface};
+use lsubdiv_mesh::facevarying::{Layout, Points, QuadUv, UvRule};
+use lsubdiv_mesh::features::Boundary;
+use lsubdiv_mesh::patch::{limit_available, limit_with, subdivide_with, Refined as Fine};
+use lsubdiv_mesh::surface::SurfaceError;
+use lsubdiv_mesh::QuadMesh;
+use std::path::Path;
+
+/// Whether a plan takes the refined vertices to the limit surface.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Limit {
+    /// The refined control points.
+    #[default]
+    Off,
+    /// The limit surface with normals, or the refusal as the error (a limit asked before the
+    /// step from which it is derived, a semi-sharp feature still sharp).
+    On,
+    /// The limit surface where it is available, else the refined control points and the
+    /// reason ([`Refined::limit_refused`]).
+    IfAvailable,
+}
+
+/// The options of a refinement, each named ([`Refiner`] sets them).
+#[derive(Clone, Copy, Debug)]
+pub struct Options {
+    /// Refinement steps, the first Catmull–Clark step of a mesh with faces other than quads
+    /// included (default 1).
+    pub steps: usize,
+    /// Worker threads (default: the machine's; results do not depend on it).
+    pub threads: usize,
+    /// The boundary rule, if not the file's (OBJ `t interpolateboundary`) or the default
+    /// (edge and corner).
+    pub boundary: Option<Boundary>,
+    /// How texture coordinates are refined, if not the file's (OBJ `t facevaryinginterpolation`)
+    /// or the default (linear).
+    pub uv_rule: Option<UvRule>,
+    /// Whether texture coordinates, if the mesh has some, are refined (default yes).
+    pub uv: bool,
+    /// Whether the vertices go to the limit surface.
+    pub limit: Limit,
+    /// Whether the refined copies of a point where the mesh is not a 2-manifold are joined
+    /// again (default yes, as OpenSubdiv keeps the file's vertices), or each fan kept a
+    /// 2-manifold of its own.
+    pub join: bool,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            steps: 1,
+            threads: std::thread::available_parallelism().map_or(1, usize::from),
+            boundary: None,
+            uv_rule: None,
+            uv: true,
+            limit: Limit::Off,
+            join: true,
+        }
+    }
+}
+
+/// The builder of a [`Plan`]: a scheme, a mesh and named options.
+///
+/// ```
+/// # fn main() -> Result<(), lsubdiv::Error> {
+/// let scheme = lsubdiv::Scheme::shipped("fibonacci")?;
+/// let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
+///            f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nf 4 3 2 1\n";
+/// let mesh = lsubdiv::Mesh::parse("pyramid.obj", obj.as_bytes().to_vec())?;
+/// let plan = lsubdiv::Refiner::new(&scheme, &mesh).steps(3).limit(true).build()?;
+/// let fine = plan.refine()?;
+/// assert_eq!(fine.normals.as_ref().map(Vec::len), Some(fine.mesh.positions.len()));
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug)]
+pub struct Refiner<'a> {
+    scheme: &'a Scheme,
+    mesh: &'a Mesh,
+    options: Options,
+}
+
+impl<'a> Refiner<'a> {
+    /// `mesh` refined by `scheme`, with the default [`Options`].
+    pub fn new(scheme: &'a Scheme, mesh: &'a Mesh) -> Refiner<'a> {
+        Refiner {
+            scheme,
+            mesh,
+            options: Options::default(),
+        }
+    }
+
+    /// Refinement steps, counted as the command line counts them (a polygon mesh's first
+    /// Catmull–Clark step included).
+    pub fn steps(mut self, steps: usize) -> Self {
+        self.options.steps = steps;
+        self
+    }
+
+    /// Worker threads (at least one; results do not depend on it).
+    pub fn threads(mut self, threads: usize) -> Self {
+        self.options.threads = threads.max(1);
+        self
+    }
+
+    /// The boundary rule, over the file's.
+    pub fn boundary(mut self, boundary: Boundary) -> Self {
+        self.options.boundary = Some(boundary);
+        self
+    }
+
+    /// The rule texture coordinates are refined by, over the file's.
+    pub fn uv_rule(mut self, rule: UvRule) -> Self {
+        self.options.uv_rule = Some(rule);
+        self
+    }
+
+    /// Whether texture coordinates are refined (when the mesh has some).
+    pub fn uv(mut self, on: bool) -> Self {
+        self.options.uv = on;
+        self
+    }
+
+    /// Whether the vertices go to the limit surface, with normals ([`Limit::On`]).
+    pub fn limit(mut self, on: bool) -> Self {
+        self.options.limit = if on { Limit::On } else { Limit::Off };
+        self
+    }
+
+    /// Every option at once.
+    pub fn options(mut self, options: Options) -> Self {
+        self.options = options;
+        self
+    }
+
+    /// Checks the mesh (its topology and features, the first step of a polygon mesh, its
+    /// texture layout) and the options against the scheme: the plan, or why not.
+    pub fn build(self) -> Result<Plan<'a>, Error> {
+        let Refiner {
+            scheme,
+            mesh,
+            options,
+        } = self;
+        let mut parsed = mesh.parsed().clone();
+        if let Some(b) = options.boundary {
+            parsed.features.boundary = b;
+        }
+        if let Some(rule) = options.uv_rule {
+            parsed.uv_rule = rule;
+        }
+        let checked = parsed.check(mesh.name()).map_err(Error::File)?;
+        Plan::new(scheme, mesh.name(), checked, options)
+    }
+}
+
+/// A refinement derived once: the scheme's surface tables, the checked mesh (its first step
+/// taken), the scheme's own steps, the texture layout a smooth rule refines, and whether the
+/// limit is available. [`Plan::refine`] refines with it.
+pub struct Plan<'s> {
+    scheme: Surface<'s>,
+    name: String,
+    input: Checked,
+    /// The scheme's steps: the options' less the first Catmull–Clark step of a polygon mesh.
+    steps: usize,
+    options: Options,
+    /// Whether the vertices go to the limit, and why not where asked only if available.
+    limit: bool,
+    limit_refused: Option<String>,
+    /// The texture layout refined by a smooth rule.
+    layout: Option<Layout>,
+}
+
+impl std::fmt::Debug for Plan<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Plan")
+            .field("mesh", &self.name)
+            .field("steps", &self.steps)
+            .field("options", &self.options)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'s> Plan<'s> {
+    /// The plan of `input` (a mesh read and checked, called `name` in messages) refined by
+    /// `scheme` with `options` (whose boundary and texture rules `input` was checked with).
+    pub fn new(
+        scheme: &'s Scheme,
+        name: &str,
+        input: Checked,
+        options: Options,
+    ) -> Result<Plan<'s>, Error> {
+        let scheme = scheme.surface()?;
+        let steps = Plan::scheme_steps(name, &input, options.steps)?;
+        let layout = match (&input.uv, options.uv) {
+            (Some(uv), true) if input.uv_rule.is_smooth() => {
+                let points = Points(input.weld.as_ref().map_or(&[], |w| w.points()));
+                let layout = Layout::new(&input.mesh, &input.features, uv, input.uv_rule, points)
+                    .map_err(|error| Error::Uv {
+                    mesh: name.to_string(),
+                    error,
+                })?;
+                Some(layout)
+            }
+            _ => None,
+        };
+        let mut plan = Plan {
+            scheme,
+            name: name.to_string(),
+            input,
+            steps,
+            options,
+            limit: false,
+            limit_refused: None,
+            layout,
+        };
+        // Whether the limit is available, before refining: refused, or left out where it is
+        // only wanted if available.
+        let available = || {
+            match limit_available(
+                &plan.scheme,
+                &plan.input.topology,
+                &plan.input.features,
+                steps,
+            ) {
+                Err(SurfaceError::Unsupported(why)) => Err(why),
+                // Anything else the refinement itself reports.
+                _ => Ok(()),
+            }
+        };
+        (plan.limit, plan.limit_refused) = match options.limit {
+            Limit::Off => (false, None),
+            Limit::On => {
+                available().map_err(|why| Error::NoLimit {
+                    mesh: plan.name.clone(),
+                    why,
+                    note: plan.steps_note(),
+                })?;
+                (true, None)
+            }
+            Limit::IfAvailable => match available() {
+                Ok(()) => (true, None),
+                Err(why) => (false, Some(why)),
+            },
+        };
+        Ok(plan)
+    }
+
+    /// The scheme's steps of `steps` on `input` (called `name`): one less where its first step
+    /// was a Catmull–Clark step, which it needs.
+    pub fn scheme_steps(name: &str, input: &Checked, steps: usize) -> Result<usize, Error> {
+        match (input.split, steps) {
+            (false, s) => Ok(s),
+            (true, 0) => Err(Error::NoSteps {
+                mesh: name.to_string(),
+            }),
+            (true, s) => Ok(s - 1),
+        }
+    }
+
+    /// How steps count, where the mesh took a Catmull–Clark step first.
+    fn steps_note(&self) -> Option<String> {
+        self.input.split.then(|| {
+            "steps of the scheme: --steps counts one more, the first Catmull–Clark step".into()
+        })
+    }
+
+    /// The mesh as checked: its quads (the first step of a polygon mesh), topology, features
+    /// and texture coordinates.
+    pub fn input(&self) -> &Checked {
+        &self.input
+    }
+
+    /// The scheme's steps: the options' less the first Catmull–Clark step of a polygon mesh.
+    pub fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// The texture layout a smooth rule refines, if the plan refines one.
+    pub fn layout(&self) -> Option<&Layout> {
+        self.layout.as_ref()
+    }
+
+    /// The refusal `e` of the refinement, placed at the mesh; the steps explained where the
+    /// mesh took a Catmull–Clark step first.
+    fn refused(&self, error: SurfaceError) -> Error {
+        let note = match error {
+            SurfaceError::Unsupported(_) => self.steps_note(),
+            _ => None,
+        };
+        Error::Refine {
+            mesh: self.name.clone(),
+            error,
+            note,
+        }
+    }
+
+    /// Refines the mesh's positions as read: the refined mesh (on the limit surface with
+    /// normals if asked), its texture coordinates if it has some and the plan refines them.
+    /// Huge or tiny coordinates are refined scaled to magnitude 1 ([`crate::scale`]).
+    pub fn refine(&self) -> Result<Refined, Error> {
+        let (m, topology, features) =
+            (&self.input.mesh, &self.input.topology, &self.input.features);
+        let (steps, threads) = (self.steps, self.options.threads);
+        let (rest, positions) = crate::scale::refine_scaled(&self.name, &m.positions, |scaled| {
+            let scaled = scaled.map(|positions| QuadMesh {
+                positions,
+                faces: m.faces.clone(),
+            });
+            let mesh = scaled.as_ref().unwrap_or(m);
+            let fine = if self.limit {
+                limit_with(&self.scheme, mesh, topology, features, steps, threads)
+            } else {
+                subdivide_with(&self.scheme, mesh, topology, features, steps, threads).map(|mesh| {
+                    Fine {
+                        mesh,
+                        normals: Vec::new(),
+                        approximate: Vec::new(),
+                    }
+                })
+            };
+            // A refusal comes out beside no positions (nothing to scale back).
+            Ok(match fine {
+                Ok(fine) => (
+                    Ok((fine.mesh.faces, fine.normals, fine.approximate)),
+                    fine.mesh.positions,
+                ),
+                Err(e) => (Err(e), Vec::new()),
+            })
+        })
+        .map_err(Error::File)?;
+        let (faces, normals, approximate) = rest.map_err(|e| self.refused(e))?;
+        // The texture coordinates (which do not scale) by the rule they were read with, to the
+        // layout's limit where the positions went to theirs.
+        let limit = !normals.is_empty();
+        let uv_error = |error| Error::Uv {
+            mesh: self.name.clone(),
+            error,
+        };
+        let uv = match (&self.input.uv, &self.layout) {
+            (_, Some(layout)) => Some(
+                layout
+                    .refine(&self.scheme, limit, steps, threads)
+                    .map_err(uv_error)?,
+            ),
+            (Some(uv), None) if self.options.uv => {
+                let points = Points(self.input.weld.as_ref().map_or(&[], |w| w.points()));
+                Some(
+                    lsubdiv_mesh::facevarying::refine_uv(
+                        &self.scheme,
+                        m,
+                        topology,
+                        features,
+                        (uv, points),
+                        (self.input.uv_rule, limit),
+                        steps,
+                        threads,
+                    )
+                    .map_err(uv_error)?,
+                )
+            }
+            _ => None,
+        };
+        let fine = Fine {
+            mesh: QuadMesh { positions, faces },
+            normals,
+            approximate,
+        };
+        // A mesh that was not a 2-manifold: the refined copies of each point joined again.
+        let fine = match &self.input.weld {
+            Some(weld) if self.options.join => weld.apply(&m.faces, &features.holes, fine),
+            _ => fine,
+        };
+        Ok(Refined {
+            normals: limit.then_some(fine.normals),
+            mesh: fine.mesh,
+            approximate: fine.approximate,
+            uv,
+            limit_refused: self.limit_refused.clone(),
+        })
+    }
+}
+
+/// A refined mesh and its channels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refined {
+    /// The quads, each vertex refined (or at its limit point).
+    pub mesh: QuadMesh,
+    /// The unit limit normal of each vertex, on the limit surface.
+    pub normals: Option<Vec<[f64; 3]>>,
+    /// The refined texture coordinates, faces parallel to the mesh's.
+    pub uv: Option<QuadUv>,
+    /// On the limit surface, the vertices whose limit normal is not derived in closed form
+    /// (`lsubdiv_mesh::patch::Refined::approximate`).
+    pub approximate: Vec<u32>,
+    /// Why the limit was left out, where it was asked only if available.
+    pub limit_refused: Option<String>,
+}
+
+impl Refined {
+    /// The channels [`crate::obj::write_with`] and [`crate::ply::write_with`] write.
+    pub fn extras(&self) -> Extras<'_> {
+        Extras {
+            normals: self.normals.as_deref(),
+            uv: self.uv.as_ref(),
+        }
+    }
+
+    /// Writes the mesh with its normals and texture coordinates, whole or not at all, streamed:
+    /// PLY (ASCII) for a name ending in `.ply`, OBJ otherwise.
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<(), Error> {
+        let path = path.as_ref();
+        let ply = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+        if ply {
+            crate::ply::write_with(path, &self.mesh, self.extras(), false)
+        } else {
+            crate::obj::write_with(path, &self.mesh, self.extras())
+        }
+        .map_err(Error::File)
+    }
+}
