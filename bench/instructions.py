@@ -1,4 +1,4 @@
-"""Instructions a kernel runs, by the line of lsubdiv's source they come from (issue 17).
+"""Instructions a kernel runs, by the line of lsubdiv's source they come from.
 
 callgrind counts instructions, repeatably, where this shared host's timings move 20-30 %
 between batches. valgrind has no AVX-512, so the kernels run their AVX2 path under it.

@@ -2,7 +2,7 @@
 //! two tori of 16 384 quads each, one of 128 × 128 quads and two of very long, narrow quads
 //! (4 × 4096 and 4096 × 4: each quad a quarter of one circle long and 1/4096 of the other
 //! wide), drawn at 800 × 600 (3 × 3 samples per pixel) in the default view. Prints the median
-//! of 5 draws each and the thin/normal ratios (issue 14: they were about 20 to 35).
+//! of 5 draws each and the thin/normal ratios.
 //!
 //! `cargo bench --bench render` (set LSUBDIV_BENCH_QUICK=1 for one draw each).
 

@@ -79,7 +79,7 @@ pub struct Prediction {
 }
 
 impl Prediction {
-    /// The prediction with what a refined mesh's limit and texture coordinates add (issue 16):
+    /// The prediction with what a refined mesh's limit and texture coordinates add:
     /// with `limit`, the limit pass's f64 positions and normals and the kept normals (72 bytes
     /// a vertex); with `uv`, up to four values a quad with their index (about 80 bytes: the
     /// value, its key and the hash table's share) and the quads' indices (16). The file is

@@ -909,7 +909,7 @@ fn an_interrupted_run_leaves_the_previous_output_and_no_temporary_file() {
     panic!("could not interrupt a run while it wrote its output");
 }
 
-/// `n` symbols `A0 …`, rule i given by `rule(i)`: the large alphabets of issue 14 (kind 4).
+/// `n` symbols `A0 …`, rule i given by `rule(i)`: large alphabets.
 fn alphabet(n: usize, rule: impl Fn(usize) -> String) -> String {
     let rules: String = (0..n)
         .map(|i| format!("A{i} = \"{}\"\n", rule(i)))

@@ -1,4 +1,4 @@
-//! Open meshes (issue 15): a boundary is a line of odd symmetry, so an open regular grid
+//! Open meshes: a boundary is a line of odd symmetry, so an open regular grid
 //! refined by any scheme with interpolated corners (edge-and-corner) is exactly the tensor
 //! product of the 1D refinements of its rows and columns with interpolated ends
 //! (`runtime::ends`), and a tube's boundary loops are the closed-curve refinement of the
@@ -1009,7 +1009,7 @@ fn random_featured_meshes_refine_to_affine_combinations() {
     assert!(refined > 200, "only {refined} refinements");
 }
 
-/// The limit of every featured mesh (issue 16): finite positions, unit normals, one of each
+/// The limit of every featured mesh: finite positions, unit normals, one of each
 /// per refined vertex; the vertices without a derived limit are exactly the darts, the
 /// creases with a sector other than two faces and the corners with a sector of more than one
 /// face (here: the darts mesh's two darts, and none on the creased cube, whose corners have

@@ -1,4 +1,4 @@
-//! Texture coordinates (issue 16, `runtime::facevarying`): the linear rule is bilinear
+//! Texture coordinates (`lsubdiv::mesh::facevarying`): the linear rule is bilinear
 //! interpolation at the refined vertices' knots, exactly; the smooth rule on a seamless chart
 //! is the scheme refining (u, v) as positions; seams keep their two sides apart; the refined
 //! channel has one value index per refined face corner.
@@ -389,7 +389,7 @@ fn subdivide_refines_texture_coordinates() {
     assert!(!near(&smooth, &[0.0, 0.0]));
 }
 
-/// A layout that is not a 2-manifold (issue 39; the spot models have such): on a 2 × 2 grid,
+/// A layout that is not a 2-manifold (the spot models have such): on a 2 × 2 grid,
 /// the two diagonal faces share the middle value and the other two each have their own, so
 /// the middle value's faces form two fans. The smooth rule refines it as OpenSubdiv's
 /// `FVAR_LINEAR_NONE` does: the value is a corner of each fan (it stays).

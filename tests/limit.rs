@@ -1,4 +1,4 @@
-//! Limit masks of curves (issue 16, `compiler::exact::limit`): for every reachable word of
+//! Limit masks of curves (`compiler::exact::limit`): for every reachable word of
 //! every shipped cubic scheme, the exact weights agree with an independent evaluation of the
 //! non-uniform B-spline (de Boor, `lsubdiv_testkit::spline`) at the point's middle knot, and
 //! the tangent weights with its derivative there.

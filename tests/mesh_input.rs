@@ -1,4 +1,4 @@
-//! Mesh inputs as a user gives them (issue 14, kind 5): PLY (ASCII, binary of both byte orders,
+//! Mesh inputs as a user gives them: PLY (ASCII, binary of both byte orders,
 //! any case of extension, on a pipe) refines exactly as the same OBJ does, what `subdivide`
 //! writes as PLY reads back, bad PLY files are refused at their place with exit 2, pipes and
 //! devices are read only up to `--max-memory`, OBJ lines continued by a `\` are read, and

@@ -1,4 +1,4 @@
-//! Triangles and n-gons (issue 15, in part: closed meshes): a mesh with faces that are not quads
+//! Triangles and n-gons: a mesh with faces that are not quads
 //! is taken one Catmull–Clark step first (OpenSubdiv's Catmark: every n-gon becomes n quads),
 //! then the scheme's steps follow. The step is checked against the independent reference of
 //! `lsubdiv_testkit::catmull_clark`, bit for bit, through the library and the command line.

@@ -1,4 +1,4 @@
-//! Meshes as people have them (issue 39), every surface scheme: non-manifold edges and
+//! Meshes as people have them, every surface scheme: non-manifold edges and
 //! vertices, faces that repeat a vertex, vertices no face uses, boundary interpolation none,
 //! fractional sharpness. Each is checked against the same surface reached another way: a
 //! non-manifold mesh against its manifold pieces refined alone with OpenSubdiv's tags, unused
@@ -430,7 +430,7 @@ fn edges_by_faces(
     hist
 }
 
-/// The public models of `../shared/models/` (issue 39's acceptance): every one refines with
+/// The public models of `../shared/models/`: every one refines with
 /// every surface scheme (those over 5,000 faces by two or three of them), two steps, and
 /// without cracks: each boundary edge (one face) and each
 /// non-manifold edge (three or more) of the file becomes a run of as many refined edges with

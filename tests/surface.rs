@@ -76,7 +76,7 @@ fn schemes_on_the_torus_are_tensor_products_of_their_curves() {
         ("low-ratio", 4),
         ("remark-5-3", 4),
         ("fibonacci-alt", 4),
-        // Found by `lsubdiv search` (issue: scheme explorer) and shipped as a scheme file.
+        // Found by `lsubdiv search` and shipped as a scheme file.
         ("found-cubic", 4),
     ] {
         let (ours, stats) = refine(&surface(name), t.clone(), steps);

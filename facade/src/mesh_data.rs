@@ -442,7 +442,7 @@ fn separation_notes(s: &lsubdiv_mesh::nonmanifold::Separated) -> Vec<String> {
     notes
 }
 
-/// What a written mesh carries beside its positions and faces (issue 16).
+/// What a written mesh carries beside its positions and faces.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Extras<'a> {
     /// One unit normal per vertex, in the vertices' order (OBJ `vn` with faces `v//vn`, PLY

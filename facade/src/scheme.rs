@@ -20,6 +20,9 @@ enum Kind {
     /// Compiled into `lsubdiv-generated`: const tables and specialised kernels; its surface
     /// part, if it has one.
     Shipped(AnyCurve, Option<AnySurface>),
+    /// Compiled by a program's build script (`include_scheme!`): its const tables, refined by
+    /// the table-driven kernels.
+    Tables(Box<(CurveTables<'static>, Option<SurfaceTables<'static>>)>),
     /// Compiled at run time: the tables of the exact pipeline.
     #[cfg(feature = "compiler")]
     File(Box<crate::generic::Compiled>),
@@ -38,6 +41,22 @@ impl Scheme {
                 name: name.to_string(),
                 shipped: lsubdiv_generated::NAMES.join(", "),
             }),
+        }
+    }
+
+    /// A surface scheme a build script compiled (`lsubdiv_compiler::compile` in `build.rs`,
+    /// then `lsubdiv::include_scheme!(my)`): `Scheme::compiled(&my::Scheme)`.
+    pub fn compiled<S: SurfaceScheme>(scheme: &'static S) -> Scheme {
+        Scheme {
+            kind: Kind::Tables(Box::new((scheme.tables(), Some(scheme.surface())))),
+        }
+    }
+
+    /// A curve scheme a build script compiled ([`Scheme::compiled`] for schemes that refine
+    /// curves only).
+    pub fn compiled_curve<S: CurveScheme>(scheme: &'static S) -> Scheme {
+        Scheme {
+            kind: Kind::Tables(Box::new((scheme.tables(), None))),
         }
     }
 
@@ -65,6 +84,7 @@ impl Scheme {
     pub fn name(&self) -> &str {
         match &self.kind {
             Kind::Shipped(s, _) => s.name(),
+            Kind::Tables(t) => t.0.name,
             #[cfg(feature = "compiler")]
             Kind::File(c) => c.name(),
         }
@@ -80,6 +100,7 @@ impl Scheme {
         match &self.kind {
             Kind::Shipped(s, _) => lsubdiv_generated::refine_curve(s.name(), curve, steps)
                 .expect("a shipped scheme is in the registry"),
+            Kind::Tables(..) => lsubdiv_runtime::refine(self, curve, steps),
             #[cfg(feature = "compiler")]
             Kind::File(c) => lsubdiv_runtime::refine(c.curve(), curve, steps),
         }
@@ -101,13 +122,20 @@ impl Scheme {
             scheme: self.name().to_string(),
             why: Box::new(why),
         };
+        let no_surface = || {
+            lsubdiv_io::Error::input(
+                "surfaces need a degree-3 scheme whose labels around an extraordinary vertex \
+                 settle ([G] §4.2)",
+            )
+        };
         match &self.kind {
-            Kind::Shipped(_, s) => s.as_ref().map(Surface::Shipped).ok_or_else(|| {
-                curves_only(lsubdiv_io::Error::input(
-                    "surfaces need a degree-3 scheme whose labels around an extraordinary \
-                         vertex settle ([G] §4.2)",
-                ))
-            }),
+            Kind::Shipped(_, s) => s
+                .as_ref()
+                .map(Surface::Shipped)
+                .ok_or_else(|| curves_only(no_surface())),
+            Kind::Tables(t) => (t.1.as_ref())
+                .map(|surface| Surface::Tables(&t.0, surface))
+                .ok_or_else(|| curves_only(no_surface())),
             #[cfg(feature = "compiler")]
             Kind::File(c) => c
                 .surface()
@@ -121,6 +149,7 @@ impl CurveScheme for Scheme {
     fn tables(&self) -> CurveTables<'_> {
         match &self.kind {
             Kind::Shipped(s, _) => s.tables(),
+            Kind::Tables(t) => t.0,
             #[cfg(feature = "compiler")]
             Kind::File(c) => c.curve().tables(),
         }
@@ -129,6 +158,7 @@ impl CurveScheme for Scheme {
     fn contexts(&self) -> CurveContexts<'_> {
         match &self.kind {
             Kind::Shipped(s, _) => s.contexts(),
+            Kind::Tables(..) => CurveContexts::NONE,
             #[cfg(feature = "compiler")]
             Kind::File(c) => c.curve().contexts(),
         }
@@ -140,6 +170,7 @@ impl CurveScheme for Scheme {
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Surface<'s> {
     Shipped(&'s AnySurface),
+    Tables(&'s CurveTables<'static>, &'s SurfaceTables<'static>),
     #[cfg(feature = "compiler")]
     File(&'s crate::generic::GenericSurface),
 }
@@ -148,6 +179,7 @@ impl CurveScheme for Surface<'_> {
     fn tables(&self) -> CurveTables<'_> {
         match self {
             Surface::Shipped(s) => s.tables(),
+            Surface::Tables(t, _) => **t,
             #[cfg(feature = "compiler")]
             Surface::File(s) => s.tables(),
         }
@@ -156,6 +188,7 @@ impl CurveScheme for Surface<'_> {
     fn contexts(&self) -> CurveContexts<'_> {
         match self {
             Surface::Shipped(s) => s.contexts(),
+            Surface::Tables(..) => CurveContexts::NONE,
             #[cfg(feature = "compiler")]
             Surface::File(s) => s.contexts(),
         }
@@ -166,6 +199,7 @@ impl SurfaceScheme for Surface<'_> {
     fn surface(&self) -> SurfaceTables<'_> {
         match self {
             Surface::Shipped(s) => s.surface(),
+            Surface::Tables(_, s) => **s,
             #[cfg(feature = "compiler")]
             Surface::File(s) => s.surface(),
         }

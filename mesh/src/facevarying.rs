@@ -1,4 +1,4 @@
-//! Face-varying data (issue 16): texture coordinates per face corner, refined with the mesh,
+//! Face-varying data: texture coordinates per face corner, refined with the mesh,
 //! as OpenSubdiv's face-varying channels.
 //!
 //! A channel is a list of values and, per face corner, the index of its value: corners that

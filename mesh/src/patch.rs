@@ -112,7 +112,7 @@ const STACK_FACES: usize = 16;
 /// The same for a chain whose faces are not consecutive in the order: on a grid ordered along
 /// x a chain is a column of faces, each continuing its own runs of the output. Chains of 16
 /// (32 runs written at once) were slower there than no chains, 4 the best of 2 to 16
-/// (docs/benchmarks.md).
+/// (the history of docs/benchmarks.md).
 const STACK_FACES_APART: usize = 4;
 
 /// Default bytes of one strip of a large patch refined along a ([`Plan::strip_width`]): half
@@ -717,7 +717,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         // Every output point is written by the face that owns it: a buffer of the right
         // length from an earlier call is reused as it is (no zero-fill: 24 bytes a point
-        // written once more per call, 1.3× on the 256 × 256 torus, docs/benchmarks.md).
+        // written once more per call, 1.3× on the 256 × 256 torus, the history of docs/benchmarks.md).
         if self.output.len() != self.out_num.len() {
             self.output = vec![[T::default(); 3]; self.out_num.len()];
         }

@@ -4,7 +4,7 @@
 /// other in its own scoped thread (a worker's panic is raised again here). One share stays
 /// where the caller's data is: a single worker spawned for it ran the 256 × 256 torus 17 %
 /// (f64) and 41 % (f32) slower on this host, as fast when pinned to one CPU
-/// (docs/benchmarks.md).
+/// (the history of docs/benchmarks.md).
 pub(crate) fn in_threads<I: Send, R: Send>(
     items: impl Iterator<Item = I>,
     work: impl Fn(I) -> R + Sync,

@@ -56,7 +56,7 @@ pub struct Spectrum {
 }
 
 /// What takes a stationary 1-ring (EV P, radial neighbours R_k, diagonal neighbours D_k) to
-/// the EV's limit point and limit tangents (issue 16): the point `centre`·P + `radial`·Σ R_k +
+/// the EV's limit point and limit tangents: the point `centre`·P + `radial`·Σ R_k +
 /// `diagonal`·Σ D_k ([`EvCoefficients::limit_weights`]), the tangents Σ_k cos θk · R_k +
 /// `tangent` · cos θ(k + ½) · D_k and the same with sines ([`EvCoefficients::tangent_weight`]).
 /// Numeric (f64), as α is; tabulated per valence in generated code.
@@ -259,7 +259,7 @@ impl EvCoefficients {
         Err(EvError::NoRoot { n })
     }
 
-    /// The weights that take a stationary 1-ring to the EV's limit point (issue 16): the left
+    /// The weights that take a stationary 1-ring to the EV's limit point: the left
     /// eigenvector of eigenvalue 1 of the local subdivision matrix, which lies in Fourier
     /// index 0 (the limit is the same under rotation), so it is block 0's: (for the EV, for
     /// each radial neighbour, for each diagonal neighbour), summing to 1 over the 1 + 2n
@@ -290,7 +290,7 @@ impl EvCoefficients {
         [l[0] / total, l[1] / (nf * total), l[2] / (nf * total)]
     }
 
-    /// The weight c of the EV's limit tangents (issue 16): the left eigenvector of λ1 (Fourier
+    /// The weight c of the EV's limit tangents: the left eigenvector of λ1 (Fourier
     /// index 1) gives the two tangents Σ_k (cos θk · R_k + c cos θ(k + ½) · D_k) and the same
     /// with sines, θ = 2π/n, R_k the radial and D_k the diagonal neighbours in rotation order
     /// (D_k between R_k and R_{k+1}); the EV itself has weight 0. Refining the 1-ring scales

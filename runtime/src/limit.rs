@@ -1,4 +1,4 @@
-//! Points on the limit curve (issue 16): each control point taken to the point of the limit
+//! Points on the limit curve: each control point taken to the point of the limit
 //! curve it converges to, with the derivative there, by the exact limit masks the compiler
 //! derives (`lsubdiv_compiler::exact::limit`, [`crate::CurveTables::limit_weights`]).
 

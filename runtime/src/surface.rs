@@ -15,7 +15,7 @@ pub struct SurfaceTables<'a> {
     pub ring_weights: &'a [f64],
     /// α for valences 3, 4, 5, … (entry n − 3).
     pub alpha: &'a [f64],
-    /// The EV's limit data for the same valences ([`EvLimit`], issue 16).
+    /// The EV's limit data for the same valences ([`EvLimit`]).
     pub ev_limits: &'a [EvLimit],
     /// Stationary 1-ring stencils, for α beyond the table.
     pub ev: EvCoefficients,

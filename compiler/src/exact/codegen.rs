@@ -272,7 +272,7 @@ impl Codegen {
         let contained_from = Literal::usize_unsuffixed(st.contained_from);
         let mut doc = format!(
             "Surface data ([G] §4.2): σ, per word its EV ring weight, α for valences 3..={} \
-             and the EV's limit weights for the same valences (issue 16; larger ones by the same \
+             and the EV's limit weights for the same valences (larger ones by the same \
              solvers at run time), the EV child's 1-ring weights per step; \
              EV configuration stationary from step {}, masks contained from step {}.\n\n\
              The stationary 1-ring stencils (`ev`), exactly and as f64:\n\n\

@@ -25,7 +25,7 @@ pub struct Scheme {
     pub graph: Reach,
     /// One mask per word of `graph.words`, same order.
     pub masks: Vec<Mask>,
-    /// One limit mask per word of `graph.words` (issue 16, [`crate::exact::limit`]), same
+    /// One limit mask per word of `graph.words` ([`crate::exact::limit`]), same
     /// order; empty for the degrees without one.
     pub limits: Vec<LimitMask>,
 }

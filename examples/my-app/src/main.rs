@@ -1,58 +1,36 @@
-//! A user's program: the scheme of `schemes/my_scheme.toml`, compiled by `build.rs`, refines a
-//! closed 3D polygon and a quad mesh (an OBJ or PLY file, or the cube), and writes the mesh as
-//! OBJ.
+//! Refines an OBJ or PLY mesh (its creases, corners and holes, its texture coordinates) to the
+//! limit surface of a shipped scheme, and writes it with normals and texture coordinates.
 //!
-//! Usage: `my-app OUT.obj [IN.obj|IN.ply]`.
+//! Usage: `my-app IN.obj OUT.obj [SCHEME]` (default: fibonacci).
 
-use std::f64::consts::TAU;
-use std::path::PathBuf;
-
-lsubdiv::include_scheme!(my_scheme); // pub mod my_scheme { Scheme, TABLES, RHO, … }
-
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args_os().skip(1).map(PathBuf::from);
-    let output = args.next().ok_or("usage: my-app OUT.obj [IN.obj]")?;
-
-    // A closed polygon in 3D, every interval labelled by the axiom, refined four times.
-    let polygon: Vec<[f64; 3]> = (0..6)
-        .map(|i| {
-            let t = TAU * f64::from(i) / 6.0;
-            [t.cos(), t.sin(), if i % 2 == 0 { 0.3 } else { -0.3 }]
-        })
-        .collect();
-    let coarse = lsubdiv::Curve::with_axiom(&my_scheme::TABLES, polygon, true);
-    let fine = lsubdiv::refine(&my_scheme::Scheme, &coarse, 4)?;
-    let (before, after) = (coarse.points.len(), fine.points.len());
-    println!("polygon: {before} points → {after} points");
-
-    // A quad mesh of any topology, open or closed: read (OBJ or PLY, at most 1 GiB; errors
-    // name the file's line; creases, corners and holes from OBJ `t` tags) or built.
-    let (mesh, topology, features) = match args.next() {
-        Some(input) => {
-            let read = lsubdiv::read_mesh(&input, 1 << 30)?;
-            (read.mesh, read.topology, read.features)
-        }
-        None => {
-            let cube = lsubdiv::mesh::generators::cube();
-            let topology = lsubdiv::mesh::topology::Topology::build(&cube)?;
-            (cube, topology, Default::default())
-        }
+fn main() -> std::process::ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [input, output, scheme @ ..] = &args[..] else {
+        eprintln!("usage: my-app IN.obj OUT.obj [SCHEME]");
+        return std::process::ExitCode::from(2);
     };
-    let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let fine = lsubdiv::mesh::patch::subdivide_with::<_, f64>(
-        &my_scheme::Scheme,
-        &mesh,
-        &topology,
-        &features,
-        3,
-        threads,
-    )?;
-    lsubdiv::obj::write(&output, &fine)?; // whole or not at all
+    match refine(input, output, scheme.first().map_or("fibonacci", |s| s)) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}"); // file:line: what is wrong, and a hint
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn refine(input: &str, output: &str, scheme: &str) -> Result<(), lsubdiv::Error> {
+    let scheme = lsubdiv::Scheme::shipped(scheme)?;
+    let mesh = lsubdiv::Mesh::read(input)?;
+    let plan = lsubdiv::Refiner::new(&scheme, &mesh)
+        .steps(3)
+        .limit(true)
+        .build()?;
+    let fine = plan.refine()?;
+    fine.write(output)?; // positions, normals, texture coordinates: whole or not at all
+    let (faces, quads) = (mesh.faces().count(), fine.mesh.faces.len());
     println!(
-        "mesh: {} quads → {} quads, written to {}",
-        mesh.faces.len(),
-        fine.faces.len(),
-        output.display()
+        "{input}: {faces} faces → {quads} quads on {}'s limit surface",
+        scheme.name()
     );
     Ok(())
 }

@@ -1,52 +1,80 @@
-//! Runs `my-app` as a user would, on the built-in cube and on the cube as an OBJ file, and checks
-//! the OBJ it writes against counts predicted from the scheme's own tables (so any scheme works).
+//! Runs `my-app` as a user would on an OBJ file with a crease, a corner and texture coordinates,
+//! and checks what it writes: counts predicted from the scheme's own tables, a normal per vertex,
+//! texture coordinates per corner, the crease's vertices on the crease's limit curve, and the
+//! refusal of an unknown scheme.
 
-use std::path::Path;
-use std::process::Command;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
-lsubdiv::include_scheme!(my_scheme);
+/// A cube cut open at the top (five quads, one boundary loop), with a crease around its
+/// bottom, a sharp corner, and a texture layout.
+const BOX: &str = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\n\
+    v -1 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+    f 1/1 4/2 3/3 2/4\nf 1/1 2/2 6/3 5/4\nf 2/1 3/2 7/3 6/4\nf 3/1 4/2 8/3 7/4\nf 4/1 1/2 5/3 8/4\n\
+    t crease 2/1/0 0 1 10\nt crease 2/1/0 1 2 10\nt crease 2/1/0 2 3 10\nt crease 2/1/0 3 0 10\n\
+    t corner 1/1/0 6 10\n";
 
-/// Quads after three steps of the mesh `faces` quads: each face becomes n × n, n = |π³(axiom)|.
-fn expected_quads(faces: usize) -> u128 {
-    let n = my_scheme::TABLES.image_len(my_scheme::TABLES.axiom, 3);
-    faces as u128 * n * n
-}
-
-fn run(args: &[&Path]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_my-app"))
+fn run(args: &[&Path]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_my-app"))
         .args(args)
         .output()
-        .expect("my-app runs");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
+        .expect("my-app runs")
 }
 
-fn quads_in(path: &Path) -> u128 {
-    let text = std::fs::read_to_string(path).unwrap();
-    let parsed = lsubdiv::obj::parse(&path.display().to_string(), &text).expect("valid OBJ");
-    parsed.mesh.face_count() as u128
+fn scratch() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("my-app-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
 }
 
 #[test]
-fn refines_the_cube_and_an_obj_file() {
-    let dir = std::env::temp_dir().join(format!("my-app-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let out = dir.join("cube.obj");
-    let stdout = run(&[&out]);
-    assert!(stdout.contains("polygon: 6 points"), "{stdout}");
-    assert_eq!(quads_in(&out), expected_quads(6));
-
-    // The same cube as an OBJ file: the same output, to the byte.
-    let input = dir.join("in.obj");
-    let cube = lsubdiv::mesh::generators::cube();
-    std::fs::write(&input, lsubdiv::obj::format(&cube).unwrap()).unwrap();
-    let again = dir.join("again.obj");
-    run(&[&again, &input]);
-    assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&out).unwrap());
+fn refines_an_obj_with_creases_and_uvs_to_the_limit() {
+    let dir = scratch();
+    let input = dir.join("box.obj");
+    std::fs::write(&input, BOX).unwrap();
+    for (scheme, tables) in [
+        ("fibonacci", lsubdiv::generated::fibonacci::TABLES),
+        ("uniform-binary", lsubdiv::generated::uniform_binary::TABLES),
+    ] {
+        let output = dir.join(format!("{scheme}.obj"));
+        let out = run(&[&input, &output, Path::new(scheme)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(stdout.contains("5 faces"), "{stdout}");
+        let text = std::fs::read_to_string(&output).unwrap();
+        let count = |tag: &str| text.lines().filter(|l| l.starts_with(tag)).count();
+        // Three steps: each quad becomes n × n, n = |π³(axiom)|.
+        let n = tables.image_len(tables.axiom, 3) as usize;
+        assert_eq!(count("f "), 5 * n * n, "{scheme}");
+        assert_eq!(count("vn "), count("v "), "{scheme}: a normal per vertex");
+        assert!(count("vt ") > 0, "{scheme}: texture coordinates");
+        let corner = text.lines().find(|l| l.starts_with("f ")).unwrap();
+        assert_eq!(
+            corner.split(' ').nth(1).unwrap().split('/').count(),
+            3,
+            "{corner}"
+        );
+        // The bottom quad is bounded by infinitely sharp creases, so its (n + 1)² refined
+        // vertices come from its own corners: they stay at z = −1 (to rounding). Without the
+        // creases, none would.
+        let on_bottom = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("v "))
+            .filter(|l| l.split(' ').nth(2).unwrap().parse::<f64>().unwrap() < -1.0 + 1e-12)
+            .count();
+        assert_eq!(on_bottom, (n + 1) * (n + 1), "{scheme}: vertices at z = −1");
+    }
+    let unknown = run(&[&input, &dir.join("x.obj"), Path::new("fibonaci")]);
+    assert!(!unknown.status.success());
+    let stderr = String::from_utf8_lossy(&unknown.stderr);
+    assert!(
+        stderr.contains("no shipped scheme is called `fibonaci`"),
+        "{stderr}"
+    );
+    assert!(!dir.join("x.obj").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -28,7 +28,7 @@
 //! row. Of those rows only the tiles of points 0 and N' stay in the rows, and of point 0 only
 //! where the face wants it ([`Faces::wants_left`]). Before, the interior was packed from the
 //! rows afterwards: storing it as it is summed made the torus 7–27 % faster
-//! (docs/benchmarks.md).
+//! (the history of docs/benchmarks.md).
 //!
 //! Both are written on tiles of 32 values that the compiler turns into vectors: the kernel
 //! is compiled for AVX-512, AVX2 (both with fused multiply-add) and the baseline, chosen at
@@ -507,7 +507,7 @@ struct Band {
 /// summed row by row among the wanted-row tests, the compiler reloads them for every row
 /// and splits an f32 tile into 8 + 16 + 8 lanes (AVX-512, torus 256 × 256: f32 +16–18 %,
 /// Fibonacci f32 +20 %, Binary-Ternary +8 %, uniform binary f64 within noise; torus 64 × 64,
-/// four tiles a row: f64 +14 %, f32 +50 %; docs/benchmarks.md).
+/// four tiles a row: f64 +14 %, f32 +50 %; the history of docs/benchmarks.md).
 ///
 /// # Safety
 /// The CPU has AVX-512F where `WIDE`, else AVX2 and FMA.
@@ -788,7 +788,7 @@ lanes!(
 
 /// `a · b + c`, rounded once if `FUSED`. Call it from `#[inline(always)]` methods, never from
 /// a closure: a closure does not take the kernel's target features, and `mul_add` there is a
-/// library call (ten times slower, docs/benchmarks.md).
+/// library call (ten times slower, the history of docs/benchmarks.md).
 #[inline(always)]
 fn madd<T: Real, const FUSED: bool>(a: T, b: T, c: T) -> T {
     if FUSED {

@@ -5,7 +5,7 @@
 //! N = 1), and a face's step there — its patch loaded and stored, two passes with a transpose
 //! between, its ring handed on, its writers — costs several times its sums: refined once, the
 //! icosphere's faces (each at two EVs) took 200 ns each against OpenSubdiv's 47
-//! (docs/benchmarks.md). On a mesh whose faces are mostly such fans (a triangle mesh split
+//! (the history of docs/benchmarks.md). On a mesh whose faces are mostly such fans (a triangle mesh split
 //! into quads, open or closed, creased or not, with holes or not: a hole is refined like every
 //! face, its points only left out of the output mesh) those steps run level by level
 //! instead, every level stored whole in its numbering (`Numbering`): each face computes only

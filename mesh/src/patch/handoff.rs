@@ -4,7 +4,7 @@
 //! cannot give (its diagonal is missing; with contained masks it reaches only those and the EV
 //! child, \[G\] Prop. 4.8). Read from the neighbours' patches after the step, these were cache
 //! misses (a quarter of the time on a triangle mesh, every face at an EV, and 13 % on the open one:
-//! `perf`, docs/benchmarks.md). Here each face's worker pushes them into one small box right after
+//! `perf`, the history of docs/benchmarks.md). Here each face's worker pushes them into one small box right after
 //! the face's step, while both of its patches are in cache, and the EV children and the rings read
 //! the box in order. The same values are copied and summed in the same order: the same bits. A face
 //! with other phantoms (an edge sharp, a corner set by its kind) takes whole rows from its

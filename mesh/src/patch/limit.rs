@@ -1,4 +1,4 @@
-//! The limit surface at the refined vertices (issue 16): every output vertex taken to the
+//! The limit surface at the refined vertices: every output vertex taken to the
 //! point of the limit surface it converges to, with the unit normal there.
 //!
 //! **Patches.** Away from the vertices a rule sets, the surface is a tensor-product

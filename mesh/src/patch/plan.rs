@@ -107,7 +107,7 @@ impl Plan {
     fn pass_rows<T: Real>(&self, src: &[T], len: usize, first: usize, dst: &mut [T]) {
         match self.simd {
             // AVX-512 runs the AVX2 pass: compiled for AVX-512 it was slower on the cube
-            // (123–131 against 136–137 M vertices/s, docs/benchmarks.md).
+            // (123–131 against 136–137 M vertices/s, the history of docs/benchmarks.md).
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `Simd::Avx2` and `Simd::Avx512` are only handed out where the CPU has AVX2.
             Simd::Avx2 | Simd::Avx512 => unsafe { self.pass_avx2(src, len, first, dst) },

@@ -5,7 +5,7 @@
 //! and the connectivity only, so each step is built once, with the refiner, as a map of the
 //! level before ([`Stencil`], OpenSubdiv's stencil table), and a `refine` only sums it: on
 //! the icosphere every face is near an EV, and the scatter took 47 of Binary-Ternary's 77 ms
-//! there (docs/benchmarks.md). The sums keep the scatter's order and divisors: the same bits.
+//! there (the history of docs/benchmarks.md). The sums keep the scatter's order and divisors: the same bits.
 //!
 //! The last step scatters only the vertices near the EVs when some faces are far from them
 //! (`patch/near.rs`: those faces take the step by its 1D plan). On a mesh with features every

@@ -15,7 +15,7 @@ use super::Simd;
 
 /// Output size from which whole lines are written non-temporally: measured on the torus (an
 /// Intel host, 2 MiB of L2 a core), streaming is 15 % faster at 12.4 MB, even at 6.3 MB and
-/// 3 % slower at 3 MB (docs/benchmarks.md).
+/// 3 % slower at 3 MB (the history of docs/benchmarks.md).
 pub(super) const STREAM_BYTES: usize = 8 << 20;
 
 const LINE: usize = 64;
