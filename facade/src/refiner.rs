@@ -78,7 +78,7 @@ impl Default for Options {
 /// let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
 ///            f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nf 4 3 2 1\n";
 /// let mesh = lsubdiv::Mesh::parse("pyramid.obj", obj.as_bytes().to_vec())?;
-/// let plan = lsubdiv::Refiner::new(&scheme, &mesh).steps(3).limit(true).build()?;
+/// let plan = lsubdiv::Refiner::new(&scheme, &mesh).steps(4).limit(true).build()?;
 /// let fine = plan.refine()?;
 /// assert_eq!(fine.normals.as_ref().map(Vec::len), Some(fine.mesh.positions.len()));
 /// # Ok(())
@@ -271,7 +271,8 @@ impl<'s> Plan<'s> {
     /// How steps count, where the mesh took a Catmull–Clark step first.
     fn steps_note(&self) -> Option<String> {
         self.input.split.then(|| {
-            "steps of the scheme: --steps counts one more, the first Catmull–Clark step".into()
+            "steps of the scheme: the steps asked count one more, the first Catmull–Clark step"
+                .into()
         })
     }
 

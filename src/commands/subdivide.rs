@@ -287,8 +287,11 @@ pub fn refine_mesh(r: &Resolved, input: Checked, job: &MeshJob<'_>) -> Result<Re
 fn cli_error(name: &str, e: lsubdiv::Error) -> Error {
     use lsubdiv::mesh::facevarying::UvError;
     use lsubdiv::mesh::surface::SurfaceError;
+    // The library's note on how steps count, in the flag's words.
     let with_note = |m: String, note: Option<String>| match note {
-        Some(note) => format!("{m} ({note})"),
+        Some(_) => format!(
+            "{m} (steps of the scheme: --steps counts one more, the first Catmull–Clark step)"
+        ),
         None => m,
     };
     match e {

@@ -761,7 +761,7 @@ impl lsubdiv_runtime::CurveScheme for Scheme {
         }
     }
 }
-/// Surface data (\[G\] §4.2): σ, per word its EV ring weight, α for valences 3..=32 and the EV's limit weights for the same valences (issue 16; larger ones by the same solvers at run time), the EV child's 1-ring weights per step; EV configuration stationary from step 3, masks contained from step 0.
+/// Surface data (\[G\] §4.2): σ, per word its EV ring weight, α for valences 3..=32 and the EV's limit weights for the same valences (larger ones by the same solvers at run time), the EV child's 1-ring weights per step; EV configuration stationary from step 3, masks contained from step 0.
 ///
 /// The stationary 1-ring stencils (`ev`), exactly and as f64:
 ///

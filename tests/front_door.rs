@@ -1,0 +1,121 @@
+//! The library's front door and the command line are one refinement: `Scheme`, `Mesh::read`,
+//! `Refiner` and `Refined::write` give the bytes `lsubdiv subdivide` writes, steps counted
+//! alike (a polygon mesh's first Catmull–Clark step is one of them), with creases, texture
+//! coordinates and the limit; and what the library refuses, it refuses as an error a program
+//! can match.
+
+mod common;
+
+use common::cli::{lsubdiv, stderr, write};
+use lsubdiv::{Error, Mesh, Refiner, Scheme, UvRule};
+
+/// A pyramid over a square (four triangles and a quad) with a crease along two base edges, a
+/// corner, and a texture layout with a seam.
+const PYRAMID: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n\
+    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\nvt 0.5 0\n\
+    f 1/1 2/2 5/5\nf 2/2 3/3 5/5\nf 3/3 4/4 5/5\nf 4/4 1/6 5/5\nf 4/4 3/3 2/2 1/1\n\
+    t crease 2/1/0 0 1 2.5\nt crease 2/1/0 1 2 10\nt corner 1/1/0 3 10\n";
+
+#[test]
+fn the_library_writes_what_subdivide_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "pyramid.obj", PYRAMID);
+    let mesh = Mesh::read(&input).unwrap();
+    for (scheme, steps, limit, uv) in [
+        ("uniform-binary", 3, false, "linear"),
+        ("fibonacci", 4, true, "smooth"),
+        ("binary-ternary", 3, true, "corners-only"),
+    ] {
+        let cli = dir.path().join(format!("{scheme}-cli.obj"));
+        let o = lsubdiv(
+            &[
+                "subdivide",
+                scheme,
+                &input,
+                "--steps",
+                &steps.to_string(),
+                "--uv",
+                uv,
+                "-o",
+                cli.to_str().unwrap(),
+            ]
+            .into_iter()
+            .chain(limit.then_some("--limit"))
+            .collect::<Vec<_>>(),
+        );
+        assert!(o.status.success(), "{scheme}: {}", stderr(&o));
+        let rule = match uv {
+            "linear" => UvRule::Linear,
+            "smooth" => UvRule::Smooth,
+            _ => UvRule::CornersOnly,
+        };
+        let shipped = Scheme::shipped(scheme).unwrap();
+        let plan = Refiner::new(&shipped, &mesh)
+            .steps(steps)
+            .limit(limit)
+            .uv_rule(rule)
+            .build()
+            .unwrap();
+        let fine = plan.refine().unwrap();
+        assert_eq!(fine.normals.is_some(), limit, "{scheme}");
+        assert!(fine.uv.is_some(), "{scheme}");
+        let library = dir.path().join(format!("{scheme}-library.obj"));
+        fine.write(&library).unwrap();
+        assert_eq!(
+            std::fs::read(&library).unwrap(),
+            std::fs::read(&cli).unwrap(),
+            "{scheme}, {steps} steps, limit {limit}, --uv {uv}"
+        );
+        // A plan refines again alike.
+        assert_eq!(plan.refine().unwrap(), fine, "{scheme}");
+    }
+}
+
+#[test]
+fn refusals_are_errors_a_program_can_match() {
+    let mesh = Mesh::parse("pyramid.obj", PYRAMID.as_bytes().to_vec()).unwrap();
+    let fibonacci = Scheme::shipped("fibonacci").unwrap();
+    // A polygon mesh takes its first step as a Catmull–Clark step: zero steps is refused.
+    let e = Refiner::new(&fibonacci, &mesh)
+        .steps(0)
+        .build()
+        .unwrap_err();
+    assert!(
+        matches!(&e, Error::NoSteps { mesh } if mesh == "pyramid.obj"),
+        "{e}"
+    );
+    // Fibonacci's EV limit holds from its third step: 1 + 2 steps is too few.
+    let e = (Refiner::new(&fibonacci, &mesh).steps(3).limit(true).build()).unwrap_err();
+    assert!(matches!(&e, Error::NoLimit { .. }), "{e}");
+    assert!(e.to_string().starts_with("pyramid.obj: "), "{e}");
+    assert!(!e.to_string().contains("error:"), "{e}");
+    // A curves-only scheme, and a name that is no scheme.
+    let curve = Scheme::shipped("fibonacci-curve").unwrap();
+    let e = Refiner::new(&curve, &mesh).build().unwrap_err();
+    assert!(matches!(&e, Error::CurvesOnly { scheme, .. } if scheme == "fibonacci-curve"));
+    assert!(matches!(
+        Scheme::shipped("fibonaci"),
+        Err(Error::UnknownScheme { .. })
+    ));
+    // A bad file: its line.
+    let e = Mesh::parse("bad.obj", b"v 0 0 0\nf 1 2\n".to_vec()).unwrap_err();
+    match &e {
+        Error::File(d) => assert_eq!(d.at.as_ref().and_then(|at| at.line), Some(2), "{e}"),
+        e => panic!("{e}"),
+    }
+}
+
+#[test]
+fn a_scheme_file_refines_like_the_shipped_scheme_of_the_same_rules() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("schemes/fibonacci.toml").unwrap();
+    let path = write(dir.path(), "fib.toml", &text);
+    let file = Scheme::from_file(&path).unwrap();
+    let shipped = Scheme::shipped("fibonacci").unwrap();
+    let mesh = Mesh::parse("pyramid.obj", PYRAMID.as_bytes().to_vec()).unwrap();
+    let refine = |s: &Scheme| {
+        let plan = Refiner::new(s, &mesh).steps(4).limit(true).build().unwrap();
+        plan.refine().unwrap()
+    };
+    assert_eq!(refine(&file), refine(&shipped));
+}
