@@ -119,3 +119,69 @@ fn a_scheme_file_refines_like_the_shipped_scheme_of_the_same_rules() {
     };
     assert_eq!(refine(&file), refine(&shipped));
 }
+
+/// `text` with every `v` line's position moved by `f` (the k-th vertex, its position).
+fn moved(text: &str, f: impl Fn(usize, [f64; 3]) -> [f64; 3]) -> (String, Vec<[f64; 3]>) {
+    let mut k = 0;
+    let mut positions = Vec::new();
+    let lines: Vec<String> = text
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let p: Vec<f64> = rest.split(' ').map(|x| x.parse().unwrap()).collect();
+                let q = f(k, [p[0], p[1], p[2]]);
+                k += 1;
+                positions.push(q);
+                format!("v {:?} {:?} {:?}", q[0], q[1], q[2])
+            }
+            None => line.to_string(),
+        })
+        .collect();
+    (lines.join("\n") + "\n", positions)
+}
+
+#[test]
+fn frames_refine_new_positions_as_a_plan_of_the_moved_mesh_does() {
+    // Two cubes sharing a vertex (a non-manifold vertex: copies joined again), and the
+    // pyramid (its first step a Catmull–Clark step).
+    let bowtie = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+        v 2 1 1\nv 2 2 1\nv 1 2 1\nv 1 1 2\nv 2 1 2\nv 2 2 2\nv 1 2 2\n\
+        f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
+        f 7 11 10 9\nf 12 13 14 15\nf 7 9 13 12\nf 9 10 14 13\nf 10 11 15 14\nf 11 7 12 15\n";
+    let shipped = Scheme::shipped("binary-ternary").unwrap();
+    for (name, text, limit) in [
+        ("bowtie.obj", bowtie, false),
+        ("bowtie.obj", bowtie, true),
+        ("pyramid.obj", PYRAMID, false),
+        ("pyramid.obj", PYRAMID, true),
+    ] {
+        let mesh = Mesh::parse(name, text.as_bytes().to_vec()).unwrap();
+        let plan = (Refiner::new(&shipped, &mesh).steps(3).limit(limit))
+            .build()
+            .unwrap();
+        let mut frames = plan.frames().unwrap();
+        // The positions as read: the plan's own refinement.
+        let fine = plan.refine().unwrap();
+        let first = frames.refine(mesh.positions()).unwrap();
+        assert_eq!(first.positions, fine.mesh.positions, "{name}");
+        assert_eq!(first.normals, fine.normals, "{name}");
+        assert_eq!(frames.faces(), &fine.mesh.faces[..], "{name}");
+        assert_eq!(frames.uv(), fine.uv.as_ref(), "{name}");
+        // A frame that bends the mesh: what a plan of the bent mesh gives.
+        let (text2, bent) = moved(text, |k, p| {
+            [p[0] + 0.1 * p[2] * p[2], p[1], p[2] + 0.01 * k as f64]
+        });
+        let mesh2 = Mesh::parse(name, text2.into_bytes()).unwrap();
+        let plan2 = (Refiner::new(&shipped, &mesh2).steps(3).limit(limit))
+            .build()
+            .unwrap();
+        let want = plan2.refine().unwrap();
+        let got = frames.refine(&bent).unwrap();
+        assert_eq!(got.positions, want.mesh.positions, "{name}, limit {limit}");
+        assert_eq!(got.normals, want.normals, "{name}, limit {limit}");
+        assert_eq!(got.approximate, want.approximate, "{name}, limit {limit}");
+        // A frame of the wrong size is refused, naming both counts.
+        let e = frames.refine(&bent[1..]).unwrap_err();
+        assert!(e.to_string().contains("positions for a mesh of"), "{e}");
+    }
+}

@@ -65,7 +65,7 @@ pub use lsubdiv_mesh::facevarying::UvRule;
 #[doc(inline)]
 pub use lsubdiv_mesh::features::Boundary;
 pub use mesh_file::{read as read_mesh, Mesh};
-pub use refiner::{Limit, Options, Plan, Refined, Refiner};
+pub use refiner::{Frame, Frames, Limit, Options, Plan, Refined, Refiner};
 pub use scheme::Scheme;
 
 mod error;

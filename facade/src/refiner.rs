@@ -9,11 +9,11 @@
 
 use crate::error::Error;
 use crate::mesh_data::Extras;
-use crate::mesh_file::{Checked, Mesh};
+use crate::mesh_file::{Checked, Mesh, Parsed};
 use crate::scheme::{Scheme, Surface};
 use lsubdiv_mesh::facevarying::{Layout, Points, QuadUv, UvRule};
 use lsubdiv_mesh::features::Boundary;
-use lsubdiv_mesh::patch::{limit_available, limit_with, subdivide_with, Refined as Fine};
+use lsubdiv_mesh::patch::{self, limit_available, limit_with, subdivide_with, Refined as Fine};
 use lsubdiv_mesh::surface::SurfaceError;
 use lsubdiv_mesh::QuadMesh;
 use std::path::Path;
@@ -160,7 +160,9 @@ impl<'a> Refiner<'a> {
             parsed.uv_rule = rule;
         }
         let checked = parsed.check(mesh.name()).map_err(Error::File)?;
-        Plan::new(scheme, mesh.name(), checked, options)
+        let mut plan = Plan::new(scheme, mesh.name(), checked, options)?;
+        plan.source = Some(mesh.parsed());
+        Ok(plan)
     }
 }
 
@@ -179,6 +181,8 @@ pub struct Plan<'s> {
     limit_refused: Option<String>,
     /// The texture layout refined by a smooth rule.
     layout: Option<Layout>,
+    /// The mesh as read, for frames of a mesh whose first step is a Catmull–Clark step.
+    source: Option<&'s Parsed>,
 }
 
 impl std::fmt::Debug for Plan<'_> {
@@ -223,6 +227,7 @@ impl<'s> Plan<'s> {
             limit: false,
             limit_refused: None,
             layout,
+            source: None,
         };
         // Whether the limit is available, before refining: refused, or left out where it is
         // only wanted if available.
@@ -344,11 +349,37 @@ impl<'s> Plan<'s> {
         // The texture coordinates (which do not scale) by the rule they were read with, to the
         // layout's limit where the positions went to theirs.
         let limit = !normals.is_empty();
+        let uv = self.refine_uv(limit)?;
+        let fine = Fine {
+            mesh: QuadMesh { positions, faces },
+            normals,
+            approximate,
+        };
+        // A mesh that was not a 2-manifold: the refined copies of each point joined again.
+        let fine = match &self.input.weld {
+            Some(weld) if self.options.join => weld.apply(&m.faces, &features.holes, fine),
+            _ => fine,
+        };
+        Ok(Refined {
+            normals: limit.then_some(fine.normals),
+            mesh: fine.mesh,
+            approximate: fine.approximate,
+            uv,
+            limit_refused: self.limit_refused.clone(),
+        })
+    }
+
+    /// The texture coordinates (which do not scale), refined by the rule they were read with,
+    /// to the layout's limit with `limit`, if the mesh has some and the plan refines them.
+    fn refine_uv(&self, limit: bool) -> Result<Option<QuadUv>, Error> {
+        let (m, topology, features) =
+            (&self.input.mesh, &self.input.topology, &self.input.features);
+        let (steps, threads) = (self.steps, self.options.threads);
         let uv_error = |error| Error::Uv {
             mesh: self.name.clone(),
             error,
         };
-        let uv = match (&self.input.uv, &self.layout) {
+        Ok(match (&self.input.uv, &self.layout) {
             (_, Some(layout)) => Some(
                 layout
                     .refine(&self.scheme, limit, steps, threads)
@@ -371,23 +402,66 @@ impl<'s> Plan<'s> {
                 )
             }
             _ => None,
+        })
+    }
+
+    /// The plan applied frame after frame ([`Frames`]): new positions of the mesh's vertices,
+    /// the same topology, each frame one refinement with what the plan derived kept.
+    pub fn frames(&self) -> Result<Frames<'_, 's>, Error> {
+        let (topology, features) = (&self.input.topology, &self.input.features);
+        let refiner = patch::Frames::new(
+            &self.scheme,
+            topology,
+            features,
+            self.steps,
+            self.options.threads,
+        )
+        .map_err(|e| self.refused(e))?;
+        let lift = match (self.input.split, &self.input.weld, self.source) {
+            (true, _, Some(source)) => Lift::Split(source),
+            (true, _, None) => {
+                return Err(self.refused(SurfaceError::Unsupported(
+                    "frames of a mesh with faces other than quads need the mesh as read: \
+                     build the plan with `Refiner`"
+                        .into(),
+                )))
+            }
+            (false, Some(weld), _) => Lift::Points(weld.points()),
+            (false, None, _) => Lift::Same,
         };
-        let fine = Fine {
-            mesh: QuadMesh { positions, faces },
-            normals,
-            approximate,
+        let vertices = match lift {
+            Lift::Split(source) => source.mesh.positions.len(),
+            Lift::Points(points) => self.source.map_or_else(
+                || points.iter().map(|&p| p as usize + 1).max().unwrap_or(0),
+                |s| s.mesh.positions.len(),
+            ),
+            Lift::Same => self.input.mesh.positions.len(),
         };
-        // A mesh that was not a 2-manifold: the refined copies of each point joined again.
-        let fine = match &self.input.weld {
-            Some(weld) if self.options.join => weld.apply(&m.faces, &features.holes, fine),
-            _ => fine,
+        let faces = refiner.faces().to_vec();
+        let join = match &self.input.weld {
+            Some(weld) if self.options.join => {
+                let holes = &features.holes;
+                let (index, kept) =
+                    weld.join(&self.input.mesh.faces, holes, refiner.vertices(), &faces);
+                Some(Join { index, kept })
+            }
+            _ => None,
         };
-        Ok(Refined {
-            normals: limit.then_some(fine.normals),
-            mesh: fine.mesh,
-            approximate: fine.approximate,
-            uv,
-            limit_refused: self.limit_refused.clone(),
+        let faces = match &join {
+            Some(j) => faces
+                .iter()
+                .map(|q| q.map(|v| j.index[v as usize]))
+                .collect(),
+            None => faces,
+        };
+        Ok(Frames {
+            plan: self,
+            refiner,
+            lift,
+            vertices,
+            faces,
+            join,
+            uv: self.refine_uv(self.limit)?,
         })
     }
 }
@@ -430,5 +504,127 @@ impl Refined {
             crate::obj::write_with(path, &self.mesh, self.extras())
         }
         .map_err(Error::File)
+    }
+}
+
+/// Where each vertex the refiner takes comes from in a frame of the mesh's vertices.
+enum Lift<'p> {
+    /// They are the mesh's vertices.
+    Same,
+    /// Copies of the mesh's vertices where it is not a 2-manifold: the vertex each stands for.
+    Points(&'p [u32]),
+    /// The first, Catmull–Clark step of the mesh as read.
+    Split(&'p Parsed),
+}
+
+/// Where the mesh is not a 2-manifold, the refined copies of each point joined again
+/// (`Weld::join`): per refined vertex its index among the kept, and the kept ones.
+struct Join {
+    index: Vec<u32>,
+    kept: Vec<u32>,
+}
+
+/// A [`Plan`] applied frame after frame (OpenSubdiv's primvar refiner on an animation): the
+/// refiner, the refined quads, the joins and the texture coordinates are derived once; each
+/// [`Frames::refine`] is one refinement (and limit) of new positions.
+pub struct Frames<'p, 's> {
+    plan: &'p Plan<'s>,
+    refiner: patch::Frames<'p, Surface<'s>, f64>,
+    lift: Lift<'p>,
+    /// Positions a frame has: the mesh's vertices.
+    vertices: usize,
+    faces: Vec<[u32; 4]>,
+    join: Option<Join>,
+    uv: Option<QuadUv>,
+}
+
+/// One frame refined: its positions (on the limit surface with normals where the plan takes
+/// the limit), faces and texture coordinates being the [`Frames`]'.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// The refined positions.
+    pub positions: Vec<[f64; 3]>,
+    /// The unit limit normals, on the limit surface.
+    pub normals: Option<Vec<[f64; 3]>>,
+    /// On the limit surface, the vertices whose limit normal is not derived in closed form.
+    pub approximate: Vec<u32>,
+}
+
+impl Frames<'_, '_> {
+    /// The refined quads, the same for every frame.
+    pub fn faces(&self) -> &[[u32; 4]] {
+        &self.faces
+    }
+
+    /// The refined texture coordinates, the same for every frame.
+    pub fn uv(&self) -> Option<&QuadUv> {
+        self.uv.as_ref()
+    }
+
+    /// Refines `positions`, one per vertex of the mesh, in its order: the plan's refinement of
+    /// the mesh with these positions, bit for bit.
+    pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<Frame, Error> {
+        let plan = self.plan;
+        let name = plan.name.as_str();
+        if positions.len() != self.vertices {
+            return Err(Error::File(lsubdiv_io::Error::in_file(
+                name,
+                format!(
+                    "a frame of {} positions for a mesh of {} vertices",
+                    positions.len(),
+                    self.vertices
+                ),
+            )));
+        }
+        crate::points::finite("vertex", positions).map_err(Error::File)?;
+        let lifted: std::borrow::Cow<'_, [[f64; 3]]> = match self.lift {
+            Lift::Same => positions.into(),
+            Lift::Points(points) => points.iter().map(|&p| positions[p as usize]).collect(),
+            Lift::Split(source) => {
+                let mut parsed = source.clone();
+                parsed.mesh.positions = positions.to_vec();
+                parsed.features.boundary = plan.input.features.boundary;
+                parsed.uv_rule = plan.input.uv_rule;
+                let checked = parsed.check(name).map_err(Error::File)?;
+                checked.mesh.positions.into()
+            }
+        };
+        let (refiner, limit) = (&mut self.refiner, plan.limit);
+        let (rest, positions) = crate::scale::refine_scaled(name, &lifted, |scaled| {
+            let at = scaled.as_deref().unwrap_or(&lifted);
+            // A refusal comes out beside no positions (nothing to scale back).
+            Ok(if limit {
+                match refiner.limit(at) {
+                    Ok(l) => (Ok((Some(l.normals), l.approximate)), l.positions),
+                    Err(e) => (Err(e), Vec::new()),
+                }
+            } else {
+                match refiner.refine(at) {
+                    Ok(p) => (Ok((None, Vec::new())), p),
+                    Err(e) => (Err(e), Vec::new()),
+                }
+            })
+        })
+        .map_err(Error::File)?;
+        let (normals, approximate) = rest.map_err(|e| plan.refused(e))?;
+        Ok(match &self.join {
+            None => Frame {
+                positions,
+                normals,
+                approximate,
+            },
+            Some(Join { index, kept }) => {
+                let pick = |values: &[[f64; 3]]| kept.iter().map(|&v| values[v as usize]).collect();
+                let mut approximate: Vec<u32> =
+                    approximate.iter().map(|&v| index[v as usize]).collect();
+                approximate.sort_unstable();
+                approximate.dedup();
+                Frame {
+                    positions: pick(&positions),
+                    normals: normals.as_deref().map(pick),
+                    approximate,
+                }
+            }
+        })
     }
 }

@@ -63,6 +63,7 @@ mod composed;
 mod cut;
 mod direct;
 mod footprint;
+mod frames;
 mod handoff;
 mod limit;
 mod near;
@@ -77,6 +78,7 @@ use blend::Blend;
 use composed::{Composed, Faces, Rows};
 use cut::{Cut, Ghosts};
 pub use footprint::{footprint, output_counts, Footprint};
+pub use frames::Frames;
 use handoff::{CornerPoint, Handoff, Offsets};
 pub use limit::{limit_available, SurfaceLimit};
 use near::Near;
@@ -1481,26 +1483,19 @@ pub fn limit_with<S: SurfaceScheme + Sync, T: Real>(
         steps,
         threads,
         |r, faces| {
+            let limit = r.limit()?;
+            let kept = used(&faces, limit.positions.len(), r.base.features.has_holes());
             let SurfaceLimit {
                 positions,
                 normals,
                 approximate,
-            } = r.limit()?;
-            let kept = used(&faces, positions.len(), r.base.features.has_holes());
-            let approximate = match &kept {
-                Some(map) => approximate
-                    .into_iter()
-                    .map(|v| map[v as usize])
-                    .filter(|&v| v != u32::MAX)
-                    .collect(),
-                None => approximate,
-            };
+            } = kept_limit(&kept, limit);
             Ok(Refined {
                 mesh: QuadMesh {
-                    positions: keep(&kept, positions),
+                    positions,
                     faces: renumbered(&kept, faces),
                 },
-                normals: keep(&kept, normals),
+                normals,
                 approximate,
             })
         },
@@ -1545,6 +1540,22 @@ pub(crate) fn renumbering(indices: impl Iterator<Item = u32>, len: usize) -> Vec
         *m = next as u32;
     }
     map
+}
+
+/// A limit with the vertices [`used`] keeps, renumbered.
+fn kept_limit<T>(map: &Option<Vec<u32>>, limit: SurfaceLimit<T>) -> SurfaceLimit<T> {
+    let approximate = match map {
+        Some(map) => (limit.approximate.into_iter())
+            .map(|v| map[v as usize])
+            .filter(|&v| v != u32::MAX)
+            .collect(),
+        None => limit.approximate,
+    };
+    SurfaceLimit {
+        positions: keep(map, limit.positions),
+        normals: keep(map, limit.normals),
+        approximate,
+    }
 }
 
 /// The entries of the vertices [`used`] keeps.
