@@ -346,10 +346,12 @@ pub struct Refiner<'s, S, T> {
     /// other (read and written in order, level by level).
     fans: [Vec<T>; 2],
     /// Wall time of the phases of the last `refine`.
+    #[cfg_attr(not(feature = "tuning"), allow(dead_code))]
     phase_seconds: Phases,
     /// One scratch per worker, kept across steps and calls (no fresh pages per step).
     scratch: Vec<Scratch<T>>,
     /// Worker time per depth-first step of the last `refine`.
+    #[cfg_attr(not(feature = "tuning"), allow(dead_code))]
     level_seconds: Vec<f64>,
 }
 
@@ -542,6 +544,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.out_num.len()
     }
 
+    #[cfg(feature = "tuning")]
     /// Scratch per strip of a step of a large patch (default 512 KiB, half this machine's
     /// L2): smaller strips use less memory, and 1 makes every strip one point wide.
     /// The output does not depend on it.
@@ -549,6 +552,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.strip_bytes = bytes;
     }
 
+    #[cfg(feature = "tuning")]
     /// Output size in bytes from which the faces' interiors (and an ordinary face's edges) go
     /// out in whole cache lines with non-temporal stores (default 8 MiB: larger than the
     /// caches a core writes into, where reading a line before writing it costs as much as
@@ -557,6 +561,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         self.stream_bytes = bytes;
     }
 
+    #[cfg(feature = "tuning")]
     /// Ordinary faces refined as one stack at most (default: the chains' length, 16, or 4 for
     /// faces not consecutive in the order; 1: each face alone). Faces each on the one before
     /// (`Base::stacks`, `Base::chains`) share their start rows in the composed kernel, so
@@ -642,11 +647,13 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
             + self.near.as_ref().map_or(0, Near::bytes)
     }
 
+    #[cfg(feature = "tuning")]
     /// Wall time of the phases of the last `refine`.
     pub fn phase_seconds(&self) -> Phases {
         self.phase_seconds
     }
 
+    #[cfg(feature = "tuning")]
     /// Time of each depth-first step of the last `refine` (after [`Refiner::reference_steps`]):
     /// the level-by-level steps first ([`Refiner::level_steps`], wall time each), then the
     /// others summed over the workers, so with several threads they exceed the wall time: the
