@@ -552,7 +552,9 @@ mod cli {
             out.to_str().unwrap(),
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
-        let got = lsubdiv::read_mesh(&out, u64::MAX).unwrap().mesh;
+        let got = lsubdiv::mesh_file::read_checked(&out, u64::MAX)
+            .unwrap()
+            .mesh;
         let r = lsubdiv_cli::resolve("fibonacci").unwrap();
         let s = lsubdiv::generic::GenericSurface::new(
             lsubdiv::compiler::exact::Scheme::build(r.ls).unwrap(),
@@ -590,7 +592,12 @@ mod cli {
             out2.to_str().unwrap(),
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
-        assert_ne!(lsubdiv::read_mesh(&out2, u64::MAX).unwrap().mesh, got);
+        assert_ne!(
+            lsubdiv::mesh_file::read_checked(&out2, u64::MAX)
+                .unwrap()
+                .mesh,
+            got
+        );
     }
 
     #[test]

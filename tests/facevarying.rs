@@ -340,7 +340,7 @@ fn subdivide_refines_texture_coordinates() {
         })
         .collect();
     // The library's linear refinement of the same channel.
-    let read = lsubdiv::mesh_file::parse("strip.obj", strip.as_bytes().to_vec()).unwrap();
+    let read = lsubdiv::mesh_file::parse_checked("strip.obj", strip.as_bytes().to_vec()).unwrap();
     let s = surface("uniform-binary");
     let uv = read.uv.as_ref().unwrap();
     let want: QuadUv = refine_uv(

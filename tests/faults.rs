@@ -39,7 +39,7 @@ fn subdivide(dir: &Path, input: &str, scheme: &str, steps: &str) -> QuadMesh {
         steps,
     ]);
     assert!(o.status.success(), "{input}: {}", stderr(&o));
-    lsubdiv::read_mesh(&out, u64::MAX)
+    lsubdiv::mesh_file::read_checked(&out, u64::MAX)
         .unwrap_or_else(|e| panic!("{input}: lsubdiv refuses its own output: {e}"))
         .mesh
 }

@@ -770,7 +770,7 @@ fn subdivide_writes_limit_positions_and_normals() {
         "{face}"
     );
     // The positions are the library's limit.
-    let mesh = lsubdiv::mesh_file::parse("cube.obj", cube.as_bytes().to_vec()).unwrap();
+    let mesh = lsubdiv::mesh_file::parse_checked("cube.obj", cube.as_bytes().to_vec()).unwrap();
     let s = surface("fibonacci");
     let lim = lsubdiv::mesh::patch::limit_with::<_, f64>(
         &s,

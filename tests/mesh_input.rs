@@ -141,15 +141,15 @@ fn what_subdivide_writes_as_ply_reads_back() {
             let o = lsubdiv(&args);
             assert!(o.status.success(), "{}", stderr(&o));
         }
-        let from_obj = lsubdiv::read_mesh(&obj, u64::MAX).unwrap();
-        let from_ply = lsubdiv::read_mesh(&ply, u64::MAX).unwrap();
+        let from_obj = lsubdiv::mesh_file::read_checked(&obj, u64::MAX).unwrap();
+        let from_ply = lsubdiv::mesh_file::read_checked(&ply, u64::MAX).unwrap();
         assert!(from_ply.warnings.is_empty(), "{:?}", from_ply.warnings);
         assert_eq!(from_ply.mesh, from_obj.mesh, "{steps} steps");
         // `--binary`: a binary PLY of the same mesh, bit for bit: 24 bytes a vertex, 17 a quad.
         assert!(std::fs::read(&bin)
             .unwrap()
             .starts_with(b"ply\nformat binary_little_endian 1.0\n"));
-        let from_bin = lsubdiv::read_mesh(&bin, u64::MAX).unwrap();
+        let from_bin = lsubdiv::mesh_file::read_checked(&bin, u64::MAX).unwrap();
         assert!(from_bin.warnings.is_empty(), "{:?}", from_bin.warnings);
         assert_eq!(from_bin.mesh, from_ply.mesh, "{steps} steps");
         let bytes = std::fs::read(&bin).unwrap();
@@ -483,7 +483,7 @@ fn textured_files_refine_as_the_plain_ones_with_their_uvs() {
                 })
                 .collect();
             assert!(without_uv.as_bytes() == expected, "{k}-{name}");
-            let read = lsubdiv::mesh_file::parse(name, text.into_bytes()).unwrap();
+            let read = lsubdiv::mesh_file::parse_checked(name, text.into_bytes()).unwrap();
             let back = read.uv.expect("texture coordinates");
             let at = |uv: &lsubdiv::mesh::facevarying::QuadUv| -> Vec<[f64; 2]> {
                 uv.faces

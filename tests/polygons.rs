@@ -113,7 +113,7 @@ fn subdivide_takes_the_first_step_by_catmull_clark_then_the_scheme() {
             out.to_str().unwrap(),
         ])
     };
-    let read = || lsubdiv::read_mesh(&out, u64::MAX).unwrap();
+    let read = || lsubdiv::mesh_file::read_checked(&out, u64::MAX).unwrap();
     // One step: exactly the reference step, whatever the scheme.
     let reference = catmull_clark_polygons(&p, &faces);
     for scheme in ["uniform-binary", "binary-ternary"] {
@@ -173,8 +173,8 @@ fn subdivide_takes_the_first_step_by_catmull_clark_then_the_scheme() {
     for f in &tf {
         ply += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
     }
-    let from_ply = lsubdiv::mesh_file::parse("t.ply", ply.into_bytes()).unwrap();
-    let from_obj = lsubdiv::mesh_file::parse("t.obj", obj(&tp, &tf).into_bytes()).unwrap();
+    let from_ply = lsubdiv::mesh_file::parse_checked("t.ply", ply.into_bytes()).unwrap();
+    let from_obj = lsubdiv::mesh_file::parse_checked("t.obj", obj(&tp, &tf).into_bytes()).unwrap();
     assert!(from_ply.split && from_obj.split);
     assert_eq!(bits(&from_ply.mesh), bits(&from_obj.mesh));
 }
@@ -184,10 +184,10 @@ fn errors_on_polygon_meshes_name_the_files_faces() {
     let (p, mut faces) = tetrahedron();
     // An open tetrahedron (the last face removed) is an open mesh: read and split.
     faces.pop();
-    let open = lsubdiv::mesh_file::parse("t.obj", obj(&p, &faces).into_bytes()).unwrap();
+    let open = lsubdiv::mesh_file::parse_checked("t.obj", obj(&p, &faces).into_bytes()).unwrap();
     assert!(open.split && !open.topology.is_closed());
     // An index out of range, at its face's line.
-    let e = lsubdiv::mesh_file::parse(
+    let e = lsubdiv::mesh_file::parse_checked(
         "t.obj",
         obj(&p, &[vec![0, 1, 2], vec![0, 1, 7]]).into_bytes(),
     )
@@ -195,7 +195,7 @@ fn errors_on_polygon_meshes_name_the_files_faces() {
     assert!(e.to_string().starts_with("t.obj:6: error:"), "{e}");
     // A vertex twice in a face is a degenerate edge, refined as OpenSubdiv refines it.
     let repeated = obj(&p, &[vec![0, 1, 0], vec![0, 1, 2]]);
-    let read = lsubdiv::mesh_file::parse("t.obj", repeated.into_bytes()).unwrap();
+    let read = lsubdiv::mesh_file::parse_checked("t.obj", repeated.into_bytes()).unwrap();
     assert!(read.weld.is_some() && read.split);
     // Two tetrahedra sharing vertex 1 only: a non-manifold vertex, each fan on its own.
     let (mut p2, mut f2) = tetrahedron();
@@ -210,7 +210,7 @@ fn errors_on_polygon_meshes_name_the_files_faces() {
                 .collect(),
         );
     }
-    let read = lsubdiv::mesh_file::parse("t.obj", obj(&p2, &f2).into_bytes()).unwrap();
+    let read = lsubdiv::mesh_file::parse_checked("t.obj", obj(&p2, &f2).into_bytes()).unwrap();
     assert!(
         (read.warnings.iter()).any(|w| w.contains("1 non-manifold vertex")),
         "{:?}",

@@ -64,7 +64,7 @@ pub use lsubdiv_io::{write_atomic, write_atomic_with, Error as Diagnostic, Locat
 pub use lsubdiv_mesh::facevarying::UvRule;
 #[doc(inline)]
 pub use lsubdiv_mesh::features::Boundary;
-pub use mesh_file::{read as read_mesh, Mesh};
+pub use mesh_file::Mesh;
 pub use refiner::{Frame, Frames, Limit, Options, Plan, Refined, Refiner};
 pub use scheme::Scheme;
 

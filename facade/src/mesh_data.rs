@@ -80,7 +80,7 @@ pub struct Parsed {
     pub warnings: Vec<String>,
 }
 
-/// A mesh ready to refine: read by [`crate::mesh_file::read`] or [`crate::mesh_file::parse`], a
+/// A mesh ready to refine: read by [`crate::mesh_file::read_checked`] or [`crate::mesh_file::parse_checked`], a
 /// 2-manifold the topology accepts, with its topology (build it once, pass it along), its
 /// features and the reader's warnings. A file with faces that are not quads is taken one
 /// Catmull–Clark step ([`lsubdiv_mesh::polygon`], boundaries and features included), the first
@@ -317,10 +317,10 @@ impl Places {
             TopologyError::TooLarge { .. } => "split the mesh into parts",
             TopologyError::RepeatedVertex { .. } => "a face lists each of its corners once",
             TopologyError::NonManifoldEdge { .. } | TopologyError::NonManifoldVertex { .. } => {
-                "a file's non-manifold places are separated when it is read (mesh_file::read)"
+                "a file's non-manifold places are separated when it is read (mesh_file::read_checked)"
             }
             TopologyError::IsolatedVertex { .. } => {
-                "a file's unused vertices are dropped when it is read (mesh_file::read)"
+                "a file's unused vertices are dropped when it is read (mesh_file::read_checked)"
             }
             TopologyError::LowValence { .. } => "an interior vertex needs two faces",
         };
@@ -482,7 +482,7 @@ impl Extras<'_> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::mesh_file::parse;
+    use crate::mesh_file::parse_checked as parse;
     use lsubdiv_mesh::features::Boundary;
     use lsubdiv_mesh::generators::torus;
 

@@ -1,11 +1,12 @@
-//! Mesh files as every command reads them: one entry point ([`read`], [`parse`]) that takes OBJ
+//! Mesh files: [`Mesh`], a file as read (OBJ or PLY by content, [`read_faces`]), and the
+//! first stage of a refinement plan ([`read_checked`], [`parse_checked`]) that takes OBJ
 //! or PLY by content and checks what it read ([`crate::mesh_data`]).
 
 pub use crate::mesh_data::{Checked, Extras, Parsed};
 use lsubdiv_io::Error;
 use std::path::Path;
 
-/// The formats [`parse`] reads.
+/// The formats [`read_faces`] reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     /// Wavefront OBJ ([`crate::obj`]).
@@ -35,7 +36,7 @@ impl Format {
 /// [`Format::of`], then the topology (2-manifold, closed or open, interior valences ≥ 3; faces other than quads taken one
 /// Catmull–Clark step), every error
 /// placed at its line, or element and byte offset in a binary PLY.
-pub fn parse(file: &str, bytes: Vec<u8>) -> Result<Checked, Error> {
+pub fn parse_checked(file: &str, bytes: Vec<u8>) -> Result<Checked, Error> {
     read_faces(file, bytes)?.check(file)
 }
 
@@ -107,9 +108,9 @@ impl Mesh {
     }
 }
 
-/// Reads a quad mesh (closed or open, with its OBJ tags) from an OBJ or PLY file ([`parse`]) of at most `max` bytes
+/// Reads a quad mesh (closed or open, with its OBJ tags) from an OBJ or PLY file ([`parse_checked`]) of at most `max` bytes
 /// ([`lsubdiv_compiler::read_bytes`]: a pipe or device is read only to the bound).
-pub fn read(path: &Path, max: u64) -> Result<Checked, Error> {
+pub fn read_checked(path: &Path, max: u64) -> Result<Checked, Error> {
     let bytes = lsubdiv_io::read_bytes(path, max)?;
-    parse(&path.display().to_string(), bytes)
+    parse_checked(&path.display().to_string(), bytes)
 }

@@ -466,7 +466,7 @@ pub fn write_with(path: &Path, mesh: &QuadMesh, extras: Extras<'_>) -> Result<()
 }
 
 /// OBJ text: a comment line, `v` lines at full round-trip f64 precision (`{:?}` of f64), then
-/// `f` lines (1-based). A non-finite coordinate (which [`parse`] would reject) is refused
+/// `f` lines (1-based). A non-finite coordinate (which [`parse()`] would reject) is refused
 /// instead ([`crate::points::finite`]).
 pub fn format(mesh: &QuadMesh) -> Result<String, Error> {
     format_with(mesh, Extras::default())

@@ -1312,7 +1312,7 @@ mod tests {
 
     /// Parses and checks `bytes` as `t.ply`.
     fn read(bytes: &[u8]) -> Result<Checked, Error> {
-        crate::mesh_file::parse("t.ply", bytes.to_vec())
+        crate::mesh_file::parse_checked("t.ply", bytes.to_vec())
     }
 
     /// `text` with its 1-based line `line` replaced by `new`.

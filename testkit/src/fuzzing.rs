@@ -155,7 +155,7 @@ pub fn check_ply(data: &[u8]) -> Outcome {
             lsubdiv::ply::binary(mesh, true).expect("finite"),
         ),
     ] {
-        let back = lsubdiv::mesh_file::parse(PLY_FILE, bytes)
+        let back = lsubdiv::mesh_file::parse_checked(PLY_FILE, bytes)
             .unwrap_or_else(|e| panic!("{how} PLY written by lsubdiv does not read back: {e}"));
         assert_eq!(back.mesh.faces, mesh.faces, "{how}");
         assert_eq!(bits(&back.mesh), bits(mesh), "{how}");
