@@ -1,46 +1,53 @@
 //! lsubdiv: exact non-uniform B-spline subdivision schemes from L-systems, for programs.
 //!
-//! The facade re-exports the four crates: [`compiler`] (exact, build-time), [`runtime`] (tiny,
-//! what generated code links against), [`mesh`] (the mesh refiner: topology, features, the
-//! polygon step, patches, limits, face-varying data) and [`generated`] (the shipped schemes,
-//! compiled); it adds the dynamic path ([`generic`]: tables computed at run time from any
-//! scheme file) and file formats.
-//!
-//! # Quick start: a scheme file at run time
+//! The front door: a [`Scheme`] (shipped, chosen by name; compiled by your build script; or a
+//! scheme file compiled at run time with the `compiler` feature), a [`Mesh`] as a file holds
+//! it, and a [`Refiner`] that builds a [`Plan`] once and refines with it: positions, the limit
+//! surface with normals, texture coordinates ([`Refined`], written whole by
+//! [`Refined::write`]), frame after frame for an animation ([`Plan::frames`]). Errors are an
+//! enum a program can match ([`Error`]).
 //!
 //! ```
-//! use lsubdiv::compiler::exact::{scheme, Scheme};
-//! use lsubdiv::generic::GenericScheme;
-//! use lsubdiv::{Curve, CurveScheme};
-//!
-//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
-//! # let dir = std::env::temp_dir().join(format!("lsubdiv-doc-{}", std::process::id()));
-//! # std::fs::create_dir_all(&dir)?;
-//! let path = dir.join("golden.toml");
-//! std::fs::write(&path, "name = \"golden\"\ndegree = 3\naxiom = \"L\"\n[rules]\nL = \"LS\"\nS = \"L\"\n")?;
-//! // Exact compilation (errors name file, line and column), then run-time tables.
-//! let mut golden = GenericScheme::new(Scheme::build(scheme::load(&path)?)?)?;
-//! let hexagon: Vec<[f64; 3]> = (0..6)
-//!     .map(|k| {
-//!         let a = k as f64 * std::f64::consts::TAU / 6.0;
-//!         [a.cos(), a.sin(), 0.0]
-//!     })
-//!     .collect();
-//! let coarse = Curve::with_axiom(&golden.tables(), hexagon, true);
-//! golden.prepare(&coarse)?; // masks of words the axiom never makes, if the labels have any
-//! let fine = lsubdiv::refine(&golden, &coarse, 4)?;
-//! assert!(fine.points.len() > 6 * 4);
-//! # std::fs::remove_dir_all(&dir)?;
+//! # fn main() -> Result<(), lsubdiv::Error> {
+//! let scheme = lsubdiv::Scheme::shipped("fibonacci")?;
+//! let cube = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\n\
+//!             v -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
+//!             t crease 2/1/0 0 1 10\n";
+//! let mesh = lsubdiv::Mesh::parse("cube.obj", cube.as_bytes().to_vec())?;
+//! let plan = lsubdiv::Refiner::new(&scheme, &mesh).steps(3).limit(true).build()?;
+//! let fine = plan.refine()?;
+//! assert_eq!(fine.normals.map(|n| n.len()), Some(fine.mesh.positions.len()));
 //! # Ok(())
 //! # }
 //! ```
+//!
+//! Curves refine with [`Scheme::refine_curve`] (the shipped schemes with their specialised
+//! kernels):
+//!
+//! ```
+//! use lsubdiv::{Curve, CurveScheme, Scheme};
+//!
+//! let golden = Scheme::shipped("fibonacci-curve")?;
+//! let square = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+//! let coarse = Curve::with_axiom(&golden.tables(), square, true);
+//! let fine = golden.refine_curve(&coarse, 4)?;
+//! assert!(fine.points.len() > 4 * 4);
+//! # Ok::<(), lsubdiv::Error>(())
+//! ```
+//!
+//! Below the front door, the facade re-exports the crates it is made of: [`runtime`] (tiny, what
+//! generated code links against), [`mesh`] (the mesh refiner: topology, features, the polygon
+//! step, patches, limits, face-varying data), [`generated`] (the shipped schemes, compiled) and,
+//! with the `compiler` feature, `compiler` (the exact pipeline) and `generic` (tables computed
+//! at run time from a scheme file, masks added on demand); and file formats ([`obj`], [`ply`],
+//! [`points`]) whose errors name the file's line.
 //!
 //! # Compiled schemes
 //!
 //! A crate that depends on `lsubdiv` alone (and on `lsubdiv-compiler` in its build script)
 //! compiles a scheme in `build.rs` (`lsubdiv_compiler::compile(&["schemes/my.toml"])`) and
 //! includes it with [`include_scheme!`]: `lsubdiv::include_scheme!(my);` then
-//! `lsubdiv::refine(&my::Scheme, &curve, steps)`. The shipped schemes are in [`generated`].
+//! `Scheme::compiled(&my::Scheme)`.
 
 #[cfg(feature = "compiler")]
 #[doc(inline)]

@@ -109,7 +109,7 @@ impl Mesh {
 }
 
 /// Reads a quad mesh (closed or open, with its OBJ tags) from an OBJ or PLY file ([`parse_checked`]) of at most `max` bytes
-/// ([`lsubdiv_compiler::read_bytes`]: a pipe or device is read only to the bound).
+/// ([`lsubdiv_io::read_bytes`]: a pipe or device is read only to the bound).
 pub fn read_checked(path: &Path, max: u64) -> Result<Checked, Error> {
     let bytes = lsubdiv_io::read_bytes(path, max)?;
     parse_checked(&path.display().to_string(), bytes)
