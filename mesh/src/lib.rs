@@ -4,10 +4,11 @@
 //! 2-manifolds ([`nonmanifold`]), the first, Catmull–Clark step of polygon meshes
 //! ([`polygon`]), the patch refiner ([`patch`]: plan, kernels, limit surface), the reference
 //! driver it is checked against ([`surface`]) and face-varying data ([`facevarying`]), with
-//! generators of test meshes ([`generators`]).
+//! generators of test meshes (`generators`, with the feature of that name).
 
 pub mod facevarying;
 pub mod features;
+#[cfg(any(test, feature = "generators"))]
 pub mod generators;
 mod grid;
 mod mesh;
