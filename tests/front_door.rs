@@ -148,17 +148,27 @@ fn frames_refine_new_positions_as_a_plan_of_the_moved_mesh_does() {
         v 2 1 1\nv 2 2 1\nv 1 2 1\nv 1 1 2\nv 2 1 2\nv 2 2 2\nv 1 2 2\n\
         f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
         f 7 11 10 9\nf 12 13 14 15\nf 7 9 13 12\nf 9 10 14 13\nf 10 11 15 14\nf 11 7 12 15\n";
+    // Two pyramids apex to apex: triangles (a Catmull–Clark step first) at a non-manifold
+    // vertex (separated, then joined).
+    let twins = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nv 0 0 2\nv 1 0 2\nv 1 1 2\n\
+        v 0 1 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\nf 4 3 2 1\n\
+        f 7 6 5\nf 8 7 5\nf 9 8 5\nf 6 9 5\nf 6 7 8 9\n";
     let shipped = Scheme::shipped("binary-ternary").unwrap();
     for (name, text, limit) in [
         ("bowtie.obj", bowtie, false),
         ("bowtie.obj", bowtie, true),
         ("pyramid.obj", PYRAMID, false),
         ("pyramid.obj", PYRAMID, true),
+        ("twins.obj", twins, false),
+        ("twins.obj", twins, true),
     ] {
         let mesh = Mesh::parse(name, text.as_bytes().to_vec()).unwrap();
         let plan = (Refiner::new(&shipped, &mesh).steps(3).limit(limit))
             .build()
             .unwrap();
+        let input = plan.input();
+        assert_eq!(input.split, name != "bowtie.obj", "{name}");
+        assert_eq!(input.weld.is_some(), name != "pyramid.obj", "{name}");
         let mut frames = plan.frames().unwrap();
         // The positions as read: the plan's own refinement.
         let fine = plan.refine().unwrap();

@@ -13,7 +13,9 @@ use crate::mesh_file::{Checked, Mesh, Parsed};
 use crate::scheme::{Scheme, Surface};
 use lsubdiv_mesh::facevarying::{Layout, Points, QuadUv, UvRule};
 use lsubdiv_mesh::features::Boundary;
+use lsubdiv_mesh::nonmanifold::separate;
 use lsubdiv_mesh::patch::{self, limit_available, limit_with, subdivide_with, Refined as Fine};
+use lsubdiv_mesh::polygon::{PolyMesh, SplitPlan};
 use lsubdiv_mesh::surface::SurfaceError;
 use lsubdiv_mesh::QuadMesh;
 use std::path::Path;
@@ -405,6 +407,28 @@ impl<'s> Plan<'s> {
         })
     }
 
+    /// The first step of frames of `source` (the mesh as read), as the check took it
+    /// ([`Parsed::check`]): the mesh separated where it is not a 2-manifold, then the step's
+    /// plan.
+    fn split_lift(&self, source: &Parsed) -> Result<SplitLift, Error> {
+        let internal = |e: String| Error::File(lsubdiv_io::Error::internal(None, e));
+        let mut features = source.features.clone();
+        features.boundary = self.input.features.boundary;
+        let separated = separate(&source.mesh, &features).map_err(|e| internal(e.to_string()))?;
+        let (mut polygons, features, origin) = match separated {
+            Some(s) => (s.mesh, s.features, Some(s.origin)),
+            None => (source.mesh.clone(), features, None),
+        };
+        let plan = SplitPlan::new(&polygons, &features).map_err(|e| internal(format!("{e:?}")))?;
+        polygons.positions = Vec::new();
+        Ok(SplitLift {
+            plan,
+            polygons,
+            origin,
+            vertices: source.mesh.positions.len(),
+        })
+    }
+
     /// The plan applied frame after frame ([`Frames`]): new positions of the mesh's vertices,
     /// the same topology, each frame one refinement with what the plan derived kept.
     pub fn frames(&self) -> Result<Frames<'_, 's>, Error> {
@@ -418,7 +442,7 @@ impl<'s> Plan<'s> {
         )
         .map_err(|e| self.refused(e))?;
         let lift = match (self.input.split, &self.input.weld, self.source) {
-            (true, _, Some(source)) => Lift::Split(source),
+            (true, _, Some(source)) => Lift::Split(Box::new(self.split_lift(source)?)),
             (true, _, None) => {
                 return Err(self.refused(SurfaceError::Unsupported(
                     "frames of a mesh with faces other than quads need the mesh as read: \
@@ -429,8 +453,8 @@ impl<'s> Plan<'s> {
             (false, Some(weld), _) => Lift::Points(weld.points()),
             (false, None, _) => Lift::Same,
         };
-        let vertices = match lift {
-            Lift::Split(source) => source.mesh.positions.len(),
+        let vertices = match &lift {
+            Lift::Split(split) => split.vertices,
             Lift::Points(points) => self.source.map_or_else(
                 || points.iter().map(|&p| p as usize + 1).max().unwrap_or(0),
                 |s| s.mesh.positions.len(),
@@ -514,7 +538,20 @@ enum Lift<'p> {
     /// Copies of the mesh's vertices where it is not a 2-manifold: the vertex each stands for.
     Points(&'p [u32]),
     /// The first, Catmull–Clark step of the mesh as read.
-    Split(&'p Parsed),
+    Split(Box<SplitLift>),
+}
+
+/// The first, Catmull–Clark step of a frame: the step's plan, made once for the mesh as read
+/// (separated where it is not a 2-manifold), and where each of its polygons' vertices comes
+/// from.
+struct SplitLift {
+    plan: SplitPlan,
+    /// The polygons the step takes (their connectivity; no positions).
+    polygons: PolyMesh,
+    /// Each of their vertices' vertex of the mesh as read, where it was separated.
+    origin: Option<Vec<u32>>,
+    /// The vertices of the mesh as read.
+    vertices: usize,
 }
 
 /// Where the mesh is not a 2-manifold, the refined copies of each point joined again
@@ -577,16 +614,15 @@ impl Frames<'_, '_> {
             )));
         }
         crate::points::finite("vertex", positions).map_err(Error::File)?;
-        let lifted: std::borrow::Cow<'_, [[f64; 3]]> = match self.lift {
+        let lifted: std::borrow::Cow<'_, [[f64; 3]]> = match &self.lift {
             Lift::Same => positions.into(),
             Lift::Points(points) => points.iter().map(|&p| positions[p as usize]).collect(),
-            Lift::Split(source) => {
-                let mut parsed = source.clone();
-                parsed.mesh.positions = positions.to_vec();
-                parsed.features.boundary = plan.input.features.boundary;
-                parsed.uv_rule = plan.input.uv_rule;
-                let checked = parsed.check(name).map_err(Error::File)?;
-                checked.mesh.positions.into()
+            Lift::Split(split) => {
+                let polygons: std::borrow::Cow<'_, [[f64; 3]]> = match &split.origin {
+                    Some(origin) => origin.iter().map(|&v| positions[v as usize]).collect(),
+                    None => positions.into(),
+                };
+                split.plan.positions(&split.polygons, &polygons).into()
             }
         };
         let (refiner, limit) = (&mut self.refiner, plan.limit);

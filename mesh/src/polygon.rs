@@ -147,6 +147,7 @@ fn face_edges(face: &[u32]) -> impl Iterator<Item = [u32; 2]> + '_ {
 }
 
 /// The edges of a polygon mesh in order of first appearance (face by face, corner by corner).
+#[derive(Clone, Debug)]
 struct Edges {
     /// Edge number by endpoints, smaller first.
     index: HashMap<[u32; 2], u32>,
@@ -249,202 +250,257 @@ pub fn check_features<'a>(
     features.validate(vertices, count, |e| edges.contains(&e))
 }
 
+/// The first Catmull–Clark step of a polygon mesh as a plan: its connectivity, sharpness and
+/// vertex rules derived once ([`SplitPlan::new`]), the positions of any frame of the same mesh
+/// computed from them ([`SplitPlan::positions`], the same operations in the same order as
+/// [`catmull_clark`], which is both).
+#[derive(Clone, Debug)]
+pub struct SplitPlan {
+    edges: Edges,
+    /// Each edge's sharpness at this step.
+    sharpness: Vec<Sharpness>,
+    /// Each vertex's corner sharpness.
+    corner: Vec<Sharpness>,
+    /// Per vertex and level (this step, its child's): its sharp edges' count and the other
+    /// ends of the first two.
+    sharp_ends: Vec<[(usize, [u32; 2]); 2]>,
+    /// Per vertex, the transition weight's sum and count.
+    transition: Vec<(f32, u32)>,
+    triangles: Triangles,
+}
+
+impl SplitPlan {
+    /// The plan of `m`'s first step with `features`; errors as [`catmull_clark`]'s.
+    pub fn new(m: &PolyMesh, features: &Features) -> Result<SplitPlan, SplitError> {
+        let nv = m.positions.len();
+        let nf = m.face_count();
+        if nf == 0 {
+            return Err(TopologyError::NoFaces.into());
+        }
+        for (f, face) in m.faces().enumerate() {
+            check_corners(f as u32, face, nv)?;
+        }
+        let edges = Edges::of(m);
+        let ne = edges.ends.len();
+        if nv + ne + nf > u32::MAX as usize || m.corners.len() > (u32::MAX / 4) as usize {
+            return Err(TopologyError::TooLarge {
+                vertices: nv + ne + nf,
+                faces: m.corners.len(),
+            }
+            .into());
+        }
+        if let Some(e) = edges.faces.iter().position(|f| f.len() > 2) {
+            return Err(TopologyError::NonManifoldEdge {
+                edge: edges.ends[e],
+                faces: edges.faces[e].len(),
+                face: edges.faces[e][2],
+            }
+            .into());
+        }
+        features.validate(nv, nf, |e| edges.index.contains_key(&e))?;
+        edges.check_fans(m)?;
+        let edge_of = |[a, b]: [u32; 2]| edges.index[&[a.min(b), a.max(b)]];
+        // Sharpness: boundary edges infinitely sharp, creases and corners by their tags, and
+        // under edge-and-corner a boundary vertex with one face (not a fin) a corner.
+        let mut sharpness: Vec<Sharpness> = (edges.faces.iter())
+            .map(|f| {
+                if f.len() == 1 {
+                    Sharpness::INFINITE
+                } else {
+                    Sharpness::SMOOTH
+                }
+            })
+            .collect();
+        for &(e, s) in &features.creases {
+            let e = &mut sharpness[edge_of(e) as usize];
+            if !e.is_infinite() {
+                *e = s;
+            }
+        }
+        // Each edge's children's sharpness at its two ends ([`Features::children`]).
+        let children = features.edge_children(&sharpness, |[a, b]| {
+            let e = edge_of([a, b]) as usize;
+            Some((e, edges.ends[e][0] == a))
+        });
+        let mut corner = vec![Sharpness::SMOOTH; nv];
+        for &(v, s) in &features.corners {
+            corner[v as usize] = s;
+        }
+        let mut faces_at = vec![0usize; nv];
+        for &v in &m.corners {
+            faces_at[v as usize] += 1;
+        }
+        let by_boundary = features.corner_by_boundary();
+        for (v, &faces) in faces_at.iter().enumerate() {
+            if by_boundary(v as u32, faces) {
+                corner[v] = Sharpness::INFINITE;
+            }
+        }
+        // Per vertex and level (this step's sharpness, the children's): its sharp edges' count
+        // and the other ends of the first two; the transition weight's sum and count.
+        let mut sharp_ends = vec![[(0usize, [0u32; 2]); 2]; nv];
+        let mut transition: Vec<(f32, u32)> = (corner.iter())
+            .map(|c| match c.is_sharp() && !c.decremented().is_sharp() {
+                true => (c.value(), 1),
+                false => (0.0, 0),
+            })
+            .collect();
+        for ((&[a, b], s), child) in edges.ends.iter().zip(&sharpness).zip(&children) {
+            for (end, (v, other)) in [(a, b), (b, a)].into_iter().enumerate() {
+                for (level, s) in [*s, child[end]].into_iter().enumerate() {
+                    let e = &mut sharp_ends[v as usize][level];
+                    if s.is_sharp() {
+                        if e.0 < 2 {
+                            e.1[e.0] = other;
+                        }
+                        e.0 += 1;
+                    }
+                }
+                // `ComputeFractionalWeightAtVertex`: the sharp edges that end at v (uniform: those
+                // of sharpness ≤ 1).
+                let ends = match features.creasing {
+                    Creasing::Uniform => s.value() <= 1.0,
+                    Creasing::Chaikin => !child[end].is_sharp(),
+                };
+                if s.is_sharp() && ends {
+                    let t = &mut transition[v as usize];
+                    *t = (t.0 + s.value(), t.1 + 1);
+                }
+            }
+        }
+        Ok(SplitPlan {
+            edges,
+            sharpness,
+            corner,
+            sharp_ends,
+            transition,
+            triangles: features.triangles,
+        })
+    }
+
+    /// The step's points for the positions `points` of the mesh `m` the plan was made for: its
+    /// vertices' points, then one per edge, then one per face.
+    pub fn positions(&self, m: &PolyMesh, points: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let SplitPlan {
+            edges,
+            sharpness,
+            corner,
+            sharp_ends,
+            transition,
+            triangles,
+        } = self;
+        let nv = points.len();
+        let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+        let scale = |a: [f64; 3], s: f64| [a[0] * s, a[1] * s, a[2] * s];
+        let face_points: Vec<[f64; 3]> = m
+            .faces()
+            .map(|face| {
+                let sum = face
+                    .iter()
+                    .fold([0.0; 3], |s, &v| add(s, points[v as usize]));
+                scale(sum, 1.0 / face.len() as f64)
+            })
+            .collect();
+        // With the smooth-triangle rule, the face weight of an edge beside a triangle.
+        let triangle_weight = |faces: &[u32]| {
+            let tri = |f: u32| m.offsets[f as usize + 1] - m.offsets[f as usize] == 3;
+            let weight = |f: u32| if tri(f) { 0.47 } else { 0.25 };
+            (*triangles == Triangles::Smooth && faces.iter().any(|&f| tri(f)))
+                .then(|| 0.5 * (weight(faces[0]) + weight(faces[1])))
+        };
+        let edge_points: Vec<[f64; 3]> = (edges.ends.iter().zip(&edges.faces).zip(sharpness))
+            .map(|((&[a, b], faces), s)| {
+                let ends = add(points[a as usize], points[b as usize]);
+                let w = s.weight();
+                if w >= 1.0 {
+                    return scale(ends, 0.5);
+                }
+                let sides = add(
+                    face_points[faces[0] as usize],
+                    face_points[faces[1] as usize],
+                );
+                let smooth = match triangle_weight(faces) {
+                    None => scale(add(ends, sides), 0.25),
+                    // `assignSmoothMaskForEdge` with TRI_SUB_SMOOTH: both faces weigh the mean.
+                    Some(fw) => add(scale(ends, 0.5 * (1.0 - 2.0 * fw)), scale(sides, fw)),
+                };
+                // Sharpness below 1: w of the crease rule (`ComputeEdgeVertexMask`).
+                add(scale(ends, 0.5 * w), scale(smooth, 1.0 - w))
+            })
+            .collect();
+        // Per vertex: the sum of its faces' points, of its edges' midpoints, and the counts.
+        let mut q = vec![([0.0; 3], 0usize); nv];
+        for (f, face) in m.faces().enumerate() {
+            for &v in face {
+                let s = &mut q[v as usize];
+                *s = (add(s.0, face_points[f]), s.1 + 1);
+            }
+        }
+        let mut r = vec![([0.0; 3], 0usize); nv];
+        for &[a, b] in &edges.ends {
+            let mid = scale(add(points[a as usize], points[b as usize]), 0.5);
+            for v in [a, b] {
+                let s = &mut r[v as usize];
+                *s = (add(s.0, mid), s.1 + 1);
+            }
+        }
+        let mut positions: Vec<[f64; 3]> = (0..nv)
+            .map(|v| {
+                let (p, (qs, nq), (rs, n)) = (points[v], q[v], r[v]);
+                // The vertex's rule at a level (0: this step, 1: its child's), OpenSubdiv's
+                // `Sdc::Crease::DetermineVertexVertexRule`.
+                let rule = |level: usize| match sharp_ends[v][level] {
+                    _ if [corner[v], corner[v].decremented()][level].is_sharp() => {
+                        VertexRule::Corner
+                    }
+                    (3.., _) => VertexRule::Corner,
+                    (2, _) => VertexRule::Crease,
+                    _ => VertexRule::Smooth,
+                };
+                let child = |level: usize| match (rule(level), sharp_ends[v][level]) {
+                    (VertexRule::Corner, _) => p,
+                    (VertexRule::Crease, (_, [a, b])) => {
+                        let ends = add(points[a as usize], points[b as usize]);
+                        scale(add(ends, scale(p, 6.0)), 0.125)
+                    }
+                    _ if n == 0 => p,
+                    _ => {
+                        let n_f = n as f64;
+                        let qm = scale(qs, 1.0 / nq as f64);
+                        let rm = scale(rs, 1.0 / n_f);
+                        scale(add(add(qm, scale(rm, 2.0)), scale(p, n_f - 3.0)), 1.0 / n_f)
+                    }
+                };
+                let (parent, next) = (rule(0), rule(1));
+                if parent == VertexRule::Smooth || parent == next {
+                    return child(0);
+                }
+                // The rule changes: `ComputeFractionalWeightAtVertex` of the two.
+                let (sum, count) = transition[v];
+                let w = if count == 0 {
+                    0.0
+                } else {
+                    f64::from((sum / count as f32).min(1.0))
+                };
+                add(scale(child(0), w), scale(child(1), 1.0 - w))
+            })
+            .collect();
+        positions.extend(edge_points);
+        positions.extend(face_points);
+        positions
+    }
+}
+
 /// One Catmull–Clark step of a 2-manifold polygon mesh with boundaries, creases, corners and
 /// holes (the rules of the [module](self)). Errors name the input's faces, vertices and edges:
 /// an index out of range, a vertex twice in a face, an edge with more than two faces, a vertex
 /// whose faces form several fans, and features that do not fit ([`Features::validate`]).
 pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitError> {
-    let nv = m.positions.len();
-    let nf = m.face_count();
-    if nf == 0 {
-        return Err(TopologyError::NoFaces.into());
-    }
-    for (f, face) in m.faces().enumerate() {
-        check_corners(f as u32, face, nv)?;
-    }
-    let edges = Edges::of(m);
+    let plan = SplitPlan::new(m, features)?;
+    let positions = plan.positions(m, &m.positions);
+    let (nv, nf, edges) = (m.positions.len(), m.face_count(), &plan.edges);
     let ne = edges.ends.len();
-    if nv + ne + nf > u32::MAX as usize || m.corners.len() > (u32::MAX / 4) as usize {
-        return Err(TopologyError::TooLarge {
-            vertices: nv + ne + nf,
-            faces: m.corners.len(),
-        }
-        .into());
-    }
-    if let Some(e) = edges.faces.iter().position(|f| f.len() > 2) {
-        return Err(TopologyError::NonManifoldEdge {
-            edge: edges.ends[e],
-            faces: edges.faces[e].len(),
-            face: edges.faces[e][2],
-        }
-        .into());
-    }
-    features.validate(nv, nf, |e| edges.index.contains_key(&e))?;
-    edges.check_fans(m)?;
     let edge_of = |[a, b]: [u32; 2]| edges.index[&[a.min(b), a.max(b)]];
-    // Sharpness: boundary edges infinitely sharp, creases and corners by their tags, and
-    // under edge-and-corner a boundary vertex with one face (not a fin) a corner.
-    let mut sharpness: Vec<Sharpness> = (edges.faces.iter())
-        .map(|f| {
-            if f.len() == 1 {
-                Sharpness::INFINITE
-            } else {
-                Sharpness::SMOOTH
-            }
-        })
-        .collect();
-    for &(e, s) in &features.creases {
-        let e = &mut sharpness[edge_of(e) as usize];
-        if !e.is_infinite() {
-            *e = s;
-        }
-    }
-    // Each edge's children's sharpness at its two ends ([`Features::children`]).
-    let children = features.edge_children(&sharpness, |[a, b]| {
-        let e = edge_of([a, b]) as usize;
-        Some((e, edges.ends[e][0] == a))
-    });
-    let mut corner = vec![Sharpness::SMOOTH; nv];
-    for &(v, s) in &features.corners {
-        corner[v as usize] = s;
-    }
-    let mut faces_at = vec![0usize; nv];
-    for &v in &m.corners {
-        faces_at[v as usize] += 1;
-    }
-    let by_boundary = features.corner_by_boundary();
-    for (v, &faces) in faces_at.iter().enumerate() {
-        if by_boundary(v as u32, faces) {
-            corner[v] = Sharpness::INFINITE;
-        }
-    }
-    let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-    let scale = |a: [f64; 3], s: f64| [a[0] * s, a[1] * s, a[2] * s];
-    let face_points: Vec<[f64; 3]> = m
-        .faces()
-        .map(|face| {
-            let sum = face
-                .iter()
-                .fold([0.0; 3], |s, &v| add(s, m.positions[v as usize]));
-            scale(sum, 1.0 / face.len() as f64)
-        })
-        .collect();
-    // With the smooth-triangle rule, the face weight of an edge beside a triangle.
-    let triangle_weight = |faces: &[u32]| {
-        let tri = |f: u32| m.offsets[f as usize + 1] - m.offsets[f as usize] == 3;
-        let weight = |f: u32| if tri(f) { 0.47 } else { 0.25 };
-        (features.triangles == Triangles::Smooth && faces.iter().any(|&f| tri(f)))
-            .then(|| 0.5 * (weight(faces[0]) + weight(faces[1])))
-    };
-    let edge_points: Vec<[f64; 3]> = (edges.ends.iter().zip(&edges.faces).zip(&sharpness))
-        .map(|((&[a, b], faces), s)| {
-            let ends = add(m.positions[a as usize], m.positions[b as usize]);
-            let w = s.weight();
-            if w >= 1.0 {
-                return scale(ends, 0.5);
-            }
-            let sides = add(
-                face_points[faces[0] as usize],
-                face_points[faces[1] as usize],
-            );
-            let smooth = match triangle_weight(faces) {
-                None => scale(add(ends, sides), 0.25),
-                // `assignSmoothMaskForEdge` with TRI_SUB_SMOOTH: both faces weigh the mean.
-                Some(fw) => add(scale(ends, 0.5 * (1.0 - 2.0 * fw)), scale(sides, fw)),
-            };
-            // Sharpness below 1: w of the crease rule (`ComputeEdgeVertexMask`).
-            add(scale(ends, 0.5 * w), scale(smooth, 1.0 - w))
-        })
-        .collect();
-    // Per vertex: the sum of its faces' points, of its edges' midpoints, and the counts.
-    let mut q = vec![([0.0; 3], 0usize); nv];
-    for (f, face) in m.faces().enumerate() {
-        for &v in face {
-            let s = &mut q[v as usize];
-            *s = (add(s.0, face_points[f]), s.1 + 1);
-        }
-    }
-    let mut r = vec![([0.0; 3], 0usize); nv];
-    for &[a, b] in &edges.ends {
-        let mid = scale(add(m.positions[a as usize], m.positions[b as usize]), 0.5);
-        for v in [a, b] {
-            let s = &mut r[v as usize];
-            *s = (add(s.0, mid), s.1 + 1);
-        }
-    }
-    // Per vertex and level (this step's sharpness, the children's): its sharp edges' count
-    // and the other ends of the first two; the transition weight's sum and count.
-    let mut sharp_ends = vec![[(0usize, [0u32; 2]); 2]; nv];
-    let mut transition: Vec<(f32, u32)> = (corner.iter())
-        .map(|c| match c.is_sharp() && !c.decremented().is_sharp() {
-            true => (c.value(), 1),
-            false => (0.0, 0),
-        })
-        .collect();
-    for ((&[a, b], s), child) in edges.ends.iter().zip(&sharpness).zip(&children) {
-        for (end, (v, other)) in [(a, b), (b, a)].into_iter().enumerate() {
-            for (level, s) in [*s, child[end]].into_iter().enumerate() {
-                let e = &mut sharp_ends[v as usize][level];
-                if s.is_sharp() {
-                    if e.0 < 2 {
-                        e.1[e.0] = other;
-                    }
-                    e.0 += 1;
-                }
-            }
-            // `ComputeFractionalWeightAtVertex`: the sharp edges that end at v (uniform: those
-            // of sharpness ≤ 1).
-            let ends = match features.creasing {
-                Creasing::Uniform => s.value() <= 1.0,
-                Creasing::Chaikin => !child[end].is_sharp(),
-            };
-            if s.is_sharp() && ends {
-                let t = &mut transition[v as usize];
-                *t = (t.0 + s.value(), t.1 + 1);
-            }
-        }
-    }
-    let mut positions: Vec<[f64; 3]> = (0..nv)
-        .map(|v| {
-            let (p, (qs, nq), (rs, n)) = (m.positions[v], q[v], r[v]);
-            // The vertex's rule at a level (0: this step, 1: its child's), OpenSubdiv's
-            // `Sdc::Crease::DetermineVertexVertexRule`.
-            let rule = |level: usize| match sharp_ends[v][level] {
-                _ if [corner[v], corner[v].decremented()][level].is_sharp() => VertexRule::Corner,
-                (3.., _) => VertexRule::Corner,
-                (2, _) => VertexRule::Crease,
-                _ => VertexRule::Smooth,
-            };
-            let child = |level: usize| match (rule(level), sharp_ends[v][level]) {
-                (VertexRule::Corner, _) => p,
-                (VertexRule::Crease, (_, [a, b])) => {
-                    let ends = add(m.positions[a as usize], m.positions[b as usize]);
-                    scale(add(ends, scale(p, 6.0)), 0.125)
-                }
-                _ if n == 0 => p,
-                _ => {
-                    let n_f = n as f64;
-                    let qm = scale(qs, 1.0 / nq as f64);
-                    let rm = scale(rs, 1.0 / n_f);
-                    scale(add(add(qm, scale(rm, 2.0)), scale(p, n_f - 3.0)), 1.0 / n_f)
-                }
-            };
-            let (parent, next) = (rule(0), rule(1));
-            if parent == VertexRule::Smooth || parent == next {
-                return child(0);
-            }
-            // The rule changes: `ComputeFractionalWeightAtVertex` of the two.
-            let (sum, count) = transition[v];
-            let w = if count == 0 {
-                0.0
-            } else {
-                f64::from((sum / count as f32).min(1.0))
-            };
-            add(scale(child(0), w), scale(child(1), 1.0 - w))
-        })
-        .collect();
-    positions.extend(edge_points);
-    positions.extend(face_points);
     let mut faces = Vec::with_capacity(m.corners.len());
     let mut face_of = Vec::with_capacity(m.corners.len());
     for f in 0..nf {
@@ -462,7 +518,7 @@ pub fn catmull_clark(m: &PolyMesh, features: &Features) -> Result<Split, SplitEr
     Ok(Split {
         mesh: QuadMesh { positions, faces },
         face_of,
-        edges: edges.ends,
+        edges: plan.edges.ends,
         features,
     })
 }
