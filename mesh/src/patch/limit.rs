@@ -51,6 +51,7 @@ pub struct SurfaceLimit<T = f64> {
 
 type V3 = [f64; 3];
 
+#[inline(always)]
 fn cross(a: V3, b: V3) -> V3 {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -59,6 +60,7 @@ fn cross(a: V3, b: V3) -> V3 {
     ]
 }
 
+#[inline(always)]
 fn unit(a: V3) -> V3 {
     let len = a.iter().map(|x| x * x).sum::<f64>().sqrt();
     if len > 0.0 && len.is_finite() {
@@ -68,6 +70,7 @@ fn unit(a: V3) -> V3 {
     }
 }
 
+#[inline(always)]
 fn add(a: &mut V3, b: V3, w: f64) {
     for (x, y) in a.iter_mut().zip(b) {
         *x += w * y;

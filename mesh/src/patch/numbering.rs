@@ -113,6 +113,7 @@ impl Numbering {
     }
 
     /// The index of point (x, y) of face f, and whether face f writes it.
+    #[inline]
     pub(super) fn index(&self, f: usize, x: i64, y: i64) -> (usize, bool) {
         let n = self.n;
         let k = (n - 1) as usize;
