@@ -6,34 +6,6 @@
 use lsubdiv::{Mesh, Refiner, Scheme};
 use std::time::Instant;
 
-/// A torus of `rows` × `cols` quads as OBJ text.
-fn torus(rows: usize, cols: usize) -> String {
-    let mut s = String::new();
-    for i in 0..rows {
-        for j in 0..cols {
-            let (u, v) = (
-                std::f64::consts::TAU * i as f64 / rows as f64,
-                std::f64::consts::TAU * j as f64 / cols as f64,
-            );
-            let r = 2.0 + v.cos();
-            s += &format!("v {} {} {}\n", r * u.cos(), r * u.sin(), v.sin());
-        }
-    }
-    let at = |i: usize, j: usize| (i % rows) * cols + (j % cols) + 1;
-    for i in 0..rows {
-        for j in 0..cols {
-            s += &format!(
-                "f {} {} {} {}\n",
-                at(i, j),
-                at(i + 1, j),
-                at(i + 1, j + 1),
-                at(i, j + 1)
-            );
-        }
-    }
-    s
-}
-
 /// Median seconds of `runs` calls of `f`.
 fn median(runs: usize, mut f: impl FnMut()) -> f64 {
     let mut t: Vec<f64> = (0..runs)
@@ -49,9 +21,11 @@ fn median(runs: usize, mut f: impl FnMut()) -> f64 {
 
 fn main() {
     let scheme = Scheme::shipped("uniform-binary").expect("shipped");
+    let torus = lsubdiv::mesh::generators::torus(128, 128);
+    let torus_obj = lsubdiv::obj::format(&torus).expect("finite");
     let mut cases = vec![(
         "torus 128 × 128, 3 steps".to_string(),
-        Mesh::parse("torus.obj", torus(128, 128).into_bytes()).expect("torus"),
+        Mesh::parse("torus.obj", torus_obj.into_bytes()).expect("torus"),
         3,
     )];
     let model = std::path::Path::new("../shared/models/armadillo.obj");
