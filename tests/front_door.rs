@@ -195,3 +195,41 @@ fn frames_refine_new_positions_as_a_plan_of_the_moved_mesh_does() {
         assert!(e.to_string().contains("positions for a mesh of"), "{e}");
     }
 }
+
+#[test]
+fn frames_refine_into_f32_as_the_mesh_refiner_does() {
+    use lsubdiv::mesh::patch::subdivide_with;
+    use lsubdiv::Frames;
+    let cube = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\n\
+        v -1 1 1\nf 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n\
+        t crease 2/1/0 0 1 1.5\n";
+    let mesh = Mesh::parse("cube.obj", cube.as_bytes().to_vec()).unwrap();
+    let shipped = Scheme::shipped("fibonacci").unwrap();
+    let plan = Refiner::new(&shipped, &mesh).steps(3).build().unwrap();
+    let mut frames: Frames<f32> = plan.frames_in().unwrap();
+    let in_f64 = plan.refine().unwrap().mesh.positions;
+    for scale in [1.0, 1e30] {
+        let positions: Vec<[f64; 3]> = mesh
+            .positions()
+            .iter()
+            .map(|p| p.map(|x| scale * x))
+            .collect();
+        let frame = frames.refine(&positions).unwrap();
+        // The f32 path of the mesh refiner, on the checked mesh, unscaled input.
+        if scale == 1.0 {
+            let input = plan.input();
+            let fib = lsubdiv::generated::AnySurface::Fibonacci;
+            let direct =
+                subdivide_with::<_, f32>(&fib, &input.mesh, &input.topology, &input.features, 3, 1)
+                    .unwrap();
+            assert_eq!(frame.positions, direct.positions);
+        }
+        // Huge coordinates are refined scaled to magnitude 1 and come back finite.
+        for (p, q) in frame.positions.iter().zip(&in_f64) {
+            for (a, b) in p.iter().zip(q) {
+                let (a, b) = (f64::from(*a) / scale, *b);
+                assert!((a - b).abs() < 1e-5, "{scale}: {a} against {b}");
+            }
+        }
+    }
+}

@@ -16,6 +16,7 @@ use lsubdiv_mesh::features::Boundary;
 use lsubdiv_mesh::nonmanifold::separate;
 use lsubdiv_mesh::patch::{self, limit_available, limit_with, subdivide_with, Refined as Fine};
 use lsubdiv_mesh::polygon::{PolyMesh, SplitPlan};
+use lsubdiv_mesh::real::Real;
 use lsubdiv_mesh::surface::SurfaceError;
 use lsubdiv_mesh::QuadMesh;
 use std::path::Path;
@@ -432,6 +433,13 @@ impl<'s> Plan<'s> {
     /// The plan applied frame after frame ([`Frames`]): new positions of the mesh's vertices,
     /// the same topology, each frame one refinement with what the plan derived kept.
     pub fn frames(&self) -> Result<Frames<'_, 's>, Error> {
+        self.frames_in()
+    }
+
+    /// [`Plan::frames`] refining into `T`, f64 or f32 (`let frames: Frames<f32> =
+    /// plan.frames_in()?`): f32 halves the output's memory and moves faster; the input
+    /// positions stay f64.
+    pub fn frames_in<T: Real>(&self) -> Result<Frames<'_, 's, T>, Error> {
         let (topology, features) = (&self.input.topology, &self.input.features);
         let refiner = patch::Frames::new(
             &self.scheme,
@@ -564,9 +572,9 @@ struct Join {
 /// A [`Plan`] applied frame after frame (OpenSubdiv's primvar refiner on an animation): the
 /// refiner, the refined quads, the joins and the texture coordinates are derived once; each
 /// [`Frames::refine`] is one refinement (and limit) of new positions.
-pub struct Frames<'p, 's> {
+pub struct Frames<'p, 's, T = f64> {
     plan: &'p Plan<'s>,
-    refiner: patch::Frames<'p, Surface<'s>, f64>,
+    refiner: patch::Frames<'p, Surface<'s>, T>,
     lift: Lift<'p>,
     /// Positions a frame has: the mesh's vertices.
     vertices: usize,
@@ -578,16 +586,16 @@ pub struct Frames<'p, 's> {
 /// One frame refined: its positions (on the limit surface with normals where the plan takes
 /// the limit), faces and texture coordinates being the [`Frames`]'.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Frame {
+pub struct Frame<T = f64> {
     /// The refined positions.
-    pub positions: Vec<[f64; 3]>,
+    pub positions: Vec<[T; 3]>,
     /// The unit limit normals, on the limit surface.
-    pub normals: Option<Vec<[f64; 3]>>,
+    pub normals: Option<Vec<[T; 3]>>,
     /// On the limit surface, the vertices whose limit normal is not derived in closed form.
     pub approximate: Vec<u32>,
 }
 
-impl Frames<'_, '_> {
+impl<T: Real> Frames<'_, '_, T> {
     /// The refined quads, the same for every frame.
     pub fn faces(&self) -> &[[u32; 4]] {
         &self.faces
@@ -600,7 +608,7 @@ impl Frames<'_, '_> {
 
     /// Refines `positions`, one per vertex of the mesh, in its order: the plan's refinement of
     /// the mesh with these positions, bit for bit.
-    pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<Frame, Error> {
+    pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<Frame<T>, Error> {
         let plan = self.plan;
         let name = plan.name.as_str();
         if positions.len() != self.vertices {
@@ -650,7 +658,7 @@ impl Frames<'_, '_> {
                 approximate,
             },
             Some(Join { index, kept }) => {
-                let pick = |values: &[[f64; 3]]| kept.iter().map(|&v| values[v as usize]).collect();
+                let pick = |values: &[[T; 3]]| kept.iter().map(|&v| values[v as usize]).collect();
                 let mut approximate: Vec<u32> =
                     approximate.iter().map(|&v| index[v as usize]).collect();
                 approximate.sort_unstable();

@@ -10,6 +10,7 @@
 //! outputs are bit for bit those of the unscaled computation.
 
 use lsubdiv_io::Error;
+use lsubdiv_mesh::real::Real;
 
 /// Largest |coordinate| refined unscaled is below 2^`UNSCALED`, smallest above 2^-`UNSCALED`.
 const UNSCALED: i32 = 500;
@@ -51,13 +52,14 @@ pub fn copy_bytes<const D: usize>(points: &[[f64; D]], with: u128) -> u128 {
 }
 
 /// Refines `points` by `refine`, which is given the points scaled to magnitude 1 when they are
-/// outside the unscaled range (`None`: refine them as they are); refuses (naming `what`, the input's scale and the f64 limit) a result
-/// that is not finite once scaled back.
-pub fn refine_scaled<const D: usize, R>(
+/// outside the unscaled range (`None`: refine them as they are) and refines them into `T` (f64
+/// or f32); refuses (naming `what`, the input's scale and `T`'s limit) a result that is not
+/// finite once scaled back.
+pub fn refine_scaled<const D: usize, R, T: Real>(
     what: &str,
     points: &[[f64; D]],
-    refine: impl FnOnce(Option<Vec<[f64; D]>>) -> Result<(R, Vec<[f64; D]>), Error>,
-) -> Result<(R, Vec<[f64; D]>), Error> {
+    refine: impl FnOnce(Option<Vec<[f64; D]>>) -> Result<(R, Vec<[T; D]>), Error>,
+) -> Result<(R, Vec<[T; D]>), Error> {
     let max = largest(points);
     let e = exponent(max);
     let (rest, mut out) = if e == 0 {
@@ -67,12 +69,17 @@ pub fn refine_scaled<const D: usize, R>(
             points.iter().map(|p| p.map(|x| ldexp(x, -e))).collect(),
         ))?
     };
-    let reached = largest(&out);
+    let reached = out
+        .iter()
+        .flatten()
+        .fold(0.0, |m: f64, x| m.max(x.to_f64().abs()));
     if e != 0 {
-        out.iter_mut()
-            .for_each(|p| p.iter_mut().for_each(|x| *x = ldexp(*x, e)));
+        out.iter_mut().for_each(|p| {
+            p.iter_mut()
+                .for_each(|x| *x = T::from_f64(ldexp(x.to_f64(), e)))
+        });
     }
-    if out.iter().flatten().all(|x| x.is_finite()) {
+    if out.iter().flatten().all(|x| x.to_f64().is_finite()) {
         return Ok((rest, out));
     }
     // `reached` is the scaled result's magnitude: finite unless the refinement itself failed.
@@ -85,8 +92,9 @@ pub fn refine_scaled<const D: usize, R>(
         "is not finite".to_string()
     };
     Err(Error::input(format!(
-        "{what}: the refined result {magnitude}, beyond the largest f64 ({:e}); the input's largest |coordinate| is {max:e}; scale the input down",
-        f64::MAX
+        "{what}: the refined result {magnitude}, beyond the largest {} ({:e}); the input's largest |coordinate| is {max:e}; scale the input down",
+        T::NAME,
+        T::MAX
     )))
 }
 

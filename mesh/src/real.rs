@@ -25,9 +25,15 @@ pub trait Real:
     /// `self · a + b` with one rounding. Only where the CPU fuses it (the FMA paths of
     /// `patch`): elsewhere it is a slow library call.
     fn mul_add(self, a: Self, b: Self) -> Self;
+    /// The type's name (`f64`, `f32`), for messages.
+    const NAME: &'static str;
+    /// Its largest finite value.
+    const MAX: f64;
 }
 
 impl Real for f64 {
+    const NAME: &'static str = "f64";
+    const MAX: f64 = f64::MAX;
     #[inline(always)]
     fn from_f64(x: f64) -> Self {
         x
@@ -43,6 +49,8 @@ impl Real for f64 {
 }
 
 impl Real for f32 {
+    const NAME: &'static str = "f32";
+    const MAX: f64 = f32::MAX as f64;
     #[inline(always)]
     fn from_f64(x: f64) -> Self {
         x as f32
