@@ -206,7 +206,7 @@ fn frames_refine_into_f32_as_the_mesh_refiner_does() {
     let mesh = Mesh::parse("cube.obj", cube.as_bytes().to_vec()).unwrap();
     let shipped = Scheme::shipped("fibonacci").unwrap();
     let plan = Refiner::new(&shipped, &mesh).steps(3).build().unwrap();
-    let mut frames: Frames<f32> = plan.frames_in().unwrap();
+    let mut frames: Frames<'_, '_, f32> = plan.frames_in().unwrap();
     let in_f64 = plan.refine().unwrap().mesh.positions;
     for scale in [1.0, 1e30] {
         let positions: Vec<[f64; 3]> = mesh

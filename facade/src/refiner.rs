@@ -436,7 +436,7 @@ impl<'s> Plan<'s> {
         self.frames_in()
     }
 
-    /// [`Plan::frames`] refining into `T`, f64 or f32 (`let frames: Frames<f32> =
+    /// [`Plan::frames`] refining into `T`, f64 or f32 (`let frames: Frames<'_, '_, f32> =
     /// plan.frames_in()?`): f32 halves the output's memory and moves faster; the input
     /// positions stay f64.
     pub fn frames_in<T: Real>(&self) -> Result<Frames<'_, 's, T>, Error> {
