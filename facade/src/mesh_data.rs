@@ -109,6 +109,14 @@ pub struct Checked {
     pub weld: Option<Weld>,
 }
 
+impl Checked {
+    /// The file's point each vertex of the mesh stands for, where it was separated
+    /// ([`Weld::points`]); none where the vertices are the file's own.
+    pub fn points(&self) -> Points<'_> {
+        Points(self.weld.as_ref().map_or(&[], Weld::points))
+    }
+}
+
 /// `n` and the noun, singular for one: `1 vertex`, `8 vertices`.
 pub(crate) fn counted(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })

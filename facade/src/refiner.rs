@@ -11,9 +11,9 @@ use crate::error::Error;
 use crate::mesh_data::Extras;
 use crate::mesh_file::{Checked, Mesh, Parsed};
 use crate::scheme::{Scheme, Surface};
-use lsubdiv_mesh::facevarying::{Layout, Points, QuadUv, UvRule};
+use lsubdiv_mesh::facevarying::{Layout, QuadUv, UvRule};
 use lsubdiv_mesh::features::Boundary;
-use lsubdiv_mesh::nonmanifold::separate;
+use lsubdiv_mesh::nonmanifold::{separate, Joined};
 use lsubdiv_mesh::patch::{self, limit_available, limit_with, subdivide_with, Refined as Fine};
 use lsubdiv_mesh::polygon::{PolyMesh, SplitPlan};
 use lsubdiv_mesh::real::Real;
@@ -211,9 +211,14 @@ impl<'s> Plan<'s> {
         let steps = Plan::scheme_steps(name, &input, options.steps)?;
         let layout = match (&input.uv, options.uv) {
             (Some(uv), true) if input.uv_rule.is_smooth() => {
-                let points = Points(input.weld.as_ref().map_or(&[], |w| w.points()));
-                let layout = Layout::new(&input.mesh, &input.features, uv, input.uv_rule, points)
-                    .map_err(|error| Error::Uv {
+                let layout = Layout::new(
+                    &input.mesh,
+                    &input.features,
+                    uv,
+                    input.uv_rule,
+                    input.points(),
+                )
+                .map_err(|error| Error::Uv {
                     mesh: name.to_string(),
                     error,
                 })?;
@@ -389,7 +394,7 @@ impl<'s> Plan<'s> {
                     .map_err(uv_error)?,
             ),
             (Some(uv), None) if self.options.uv => {
-                let points = Points(self.input.weld.as_ref().map_or(&[], |w| w.points()));
+                let points = self.input.points();
                 Some(
                     lsubdiv_mesh::facevarying::refine_uv(
                         &self.scheme,
@@ -473,17 +478,12 @@ impl<'s> Plan<'s> {
         let join = match &self.input.weld {
             Some(weld) if self.options.join => {
                 let holes = &features.holes;
-                let (index, kept) =
-                    weld.join(&self.input.mesh.faces, holes, refiner.vertices(), &faces);
-                Some(Join { index, kept })
+                Some(weld.join(&self.input.mesh.faces, holes, refiner.vertices(), &faces))
             }
             _ => None,
         };
         let faces = match &join {
-            Some(j) => faces
-                .iter()
-                .map(|q| q.map(|v| j.index[v as usize]))
-                .collect(),
+            Some(joined) => joined.faces(&faces),
             None => faces,
         };
         Ok(Frames {
@@ -562,13 +562,6 @@ struct SplitLift {
     vertices: usize,
 }
 
-/// Where the mesh is not a 2-manifold, the refined copies of each point joined again
-/// (`Weld::join`): per refined vertex its index among the kept, and the kept ones.
-struct Join {
-    index: Vec<u32>,
-    kept: Vec<u32>,
-}
-
 /// A [`Plan`] applied frame after frame (OpenSubdiv's primvar refiner on an animation): the
 /// refiner, the refined quads, the joins and the texture coordinates are derived once; each
 /// [`Frames::refine`] is one refinement (and limit) of new positions.
@@ -579,7 +572,8 @@ pub struct Frames<'p, 's, T = f64> {
     /// Positions a frame has: the mesh's vertices.
     vertices: usize,
     faces: Vec<[u32; 4]>,
-    join: Option<Join>,
+    /// Where the mesh is not a 2-manifold, the refined copies of each point joined again.
+    join: Option<Joined>,
     uv: Option<QuadUv>,
 }
 
@@ -657,18 +651,11 @@ impl<T: Real> Frames<'_, '_, T> {
                 normals,
                 approximate,
             },
-            Some(Join { index, kept }) => {
-                let pick = |values: &[[T; 3]]| kept.iter().map(|&v| values[v as usize]).collect();
-                let mut approximate: Vec<u32> =
-                    approximate.iter().map(|&v| index[v as usize]).collect();
-                approximate.sort_unstable();
-                approximate.dedup();
-                Frame {
-                    positions: pick(&positions),
-                    normals: normals.as_deref().map(pick),
-                    approximate,
-                }
-            }
+            Some(joined) => Frame {
+                positions: joined.values(&positions),
+                normals: normals.as_deref().map(|n| joined.values(n)),
+                approximate: joined.vertices(&approximate),
+            },
         })
     }
 }

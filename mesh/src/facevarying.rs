@@ -473,12 +473,9 @@ impl PolyUv {
             if let Some(s) = &separated {
                 let weld = Weld::after_split(&s.origin, &s.edge_origin, &split);
                 let faces = &split.mesh.faces;
-                let (index, kept) = weld.join(faces, &[], split.mesh.positions.len(), faces);
-                quads.positions = kept
-                    .iter()
-                    .map(|&v| split.mesh.positions[v as usize])
-                    .collect();
-                quads.faces = faces.iter().map(|q| q.map(|v| index[v as usize])).collect();
+                let joined = weld.join(faces, &[], split.mesh.positions.len(), faces);
+                quads.positions = joined.values(&split.mesh.positions);
+                quads.faces = joined.faces(faces);
             }
             return Ok(QuadUv {
                 values: quads.positions.iter().map(|p| [p[0], p[1]]).collect(),

@@ -501,15 +501,14 @@ impl Weld {
     /// not a hole, in order, row by row from the face's first corner along its first edge
     /// (`patch::Refiner::faces`). Each point on a shared vertex or on an edge between two
     /// shared vertices is named by the points it stands for and its place along the edge; the
-    /// first refined vertex of each name stays. Returns, per refined vertex, its index among
-    /// the kept ones, and the kept ones' old indices.
+    /// first refined vertex of each name stays ([`Joined`]).
     pub fn join(
         &self,
         base: &[[u32; 4]],
         holes: &[u32],
         vertices: usize,
         faces: &[[u32; 4]],
-    ) -> (Vec<u32>, Vec<u32>) {
+    ) -> Joined {
         let mut hole = vec![false; base.len()];
         for &h in holes {
             hole[h as usize] = true;
@@ -520,7 +519,10 @@ impl Weld {
             .unwrap_or(0);
         let mut rep: Vec<u32> = (0..vertices as u32).collect();
         if n == 0 || n * n * kept_faces != faces.len() {
-            return (rep.clone(), rep);
+            return Joined {
+                index: rep.clone(),
+                kept: rep,
+            };
         }
         let mut first: HashMap<(u32, u32, usize), u32> = HashMap::new();
         let live = base.iter().enumerate().filter(|(f, _)| !hole[*f]);
@@ -578,7 +580,7 @@ impl Weld {
         for v in 0..vertices {
             index[v] = index[rep[v] as usize];
         }
-        (index, kept)
+        Joined { index, kept }
     }
 
     /// `fine`, a refinement of the quad mesh `base` with hole faces `holes`, with the copies
@@ -589,25 +591,50 @@ impl Weld {
             normals,
             approximate,
         } = fine;
-        let (index, kept) = self.join(base, holes, mesh.positions.len(), &mesh.faces);
-        let pick = |values: &[[T; 3]]| kept.iter().map(|&v| values[v as usize]).collect();
-        let mut approximate: Vec<u32> = approximate.iter().map(|&v| index[v as usize]).collect();
-        approximate.sort_unstable();
-        approximate.dedup();
+        let joined = self.join(base, holes, mesh.positions.len(), &mesh.faces);
         Refined {
             normals: if normals.is_empty() {
                 normals
             } else {
-                pick(&normals)
+                joined.values(&normals)
             },
             mesh: QuadMesh {
-                positions: pick(&mesh.positions),
-                faces: (mesh.faces.iter())
-                    .map(|q| q.map(|v| index[v as usize]))
-                    .collect(),
+                positions: joined.values(&mesh.positions),
+                faces: joined.faces(&mesh.faces),
             },
-            approximate,
+            approximate: joined.vertices(&approximate),
         }
+    }
+}
+
+/// A refinement's copies joined ([`Weld::join`]): per refined vertex its index among the kept
+/// ones, and the kept ones' indices in the refinement.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joined {
+    index: Vec<u32>,
+    kept: Vec<u32>,
+}
+
+impl Joined {
+    /// Per-vertex values (positions, normals) of the kept vertices.
+    pub fn values<X: Copy>(&self, values: &[X]) -> Vec<X> {
+        self.kept.iter().map(|&v| values[v as usize]).collect()
+    }
+
+    /// Quads in the kept vertices' numbering.
+    pub fn faces(&self, faces: &[[u32; 4]]) -> Vec<[u32; 4]> {
+        faces
+            .iter()
+            .map(|q| q.map(|v| self.index[v as usize]))
+            .collect()
+    }
+
+    /// Vertices in the kept vertices' numbering, ascending, each once.
+    pub fn vertices(&self, vertices: &[u32]) -> Vec<u32> {
+        let mut joined: Vec<u32> = vertices.iter().map(|&v| self.index[v as usize]).collect();
+        joined.sort_unstable();
+        joined.dedup();
+        joined
     }
 }
 

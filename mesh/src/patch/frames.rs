@@ -66,10 +66,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Frames<'s, S, T> {
     /// The frame `positions` (one per base vertex) refined.
     pub fn refine(&mut self, positions: &[[f64; 3]]) -> Result<Vec<[T; 3]>, SurfaceError> {
         let fine = self.refiner.refine(positions)?;
-        Ok(match &self.kept {
-            None => fine.to_vec(),
-            Some(_) => keep(&self.kept, fine.to_vec()),
-        })
+        Ok(keep(&self.kept, fine.to_vec()))
     }
 
     /// The frame `positions` refined, then taken to the limit surface with normals.
