@@ -21,10 +21,19 @@ impl Format {
     /// case; then a wrong first line is reported as such), OBJ otherwise. The content decides
     /// first, so standard input and pipes need no name.
     pub fn of(file: &str, bytes: &[u8]) -> Format {
-        let named_ply = Path::new(file)
+        if Format::named(Path::new(file)) == Format::Ply || crate::ply::has_magic(bytes) {
+            Format::Ply
+        } else {
+            Format::Obj
+        }
+    }
+
+    /// The format a file's name says: PLY when it ends in `.ply` (any case), OBJ otherwise.
+    pub fn named(path: &Path) -> Format {
+        if path
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-        if named_ply || crate::ply::has_magic(bytes) {
+            .is_some_and(|e| e.eq_ignore_ascii_case("ply"))
+        {
             Format::Ply
         } else {
             Format::Obj

@@ -9,7 +9,7 @@
 
 use crate::error::Error;
 use crate::mesh_data::Extras;
-use crate::mesh_file::{Checked, Mesh, Parsed};
+use crate::mesh_file::{Checked, Format, Mesh, Parsed};
 use crate::scheme::{Scheme, Surface};
 use lsubdiv_mesh::facevarying::{Layout, QuadUv, UvRule};
 use lsubdiv_mesh::features::Boundary;
@@ -527,13 +527,9 @@ impl Refined {
     /// PLY (ASCII) for a name ending in `.ply`, OBJ otherwise.
     pub fn write(&self, path: impl AsRef<Path>) -> Result<(), Error> {
         let path = path.as_ref();
-        let ply = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-        if ply {
-            crate::ply::write_with(path, &self.mesh, self.extras(), false)
-        } else {
-            crate::obj::write_with(path, &self.mesh, self.extras())
+        match Format::named(path) {
+            Format::Ply => crate::ply::write_with(path, &self.mesh, self.extras(), false),
+            Format::Obj => crate::obj::write_with(path, &self.mesh, self.extras()),
         }
         .map_err(Error::File)
     }
