@@ -802,3 +802,57 @@ fn subdivide_writes_limit_positions_and_normals() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("still sharp"), "{}", stderr(&o));
 }
+
+/// The limit pass's result does not depend on how it runs: every SIMD path this CPU has, one to
+/// three threads, bit for bit (from the same refined points), on meshes with more faces than a worker takes at once (EVs of
+/// valence 3, a hole and an open boundary, infinitely and semi-sharp creases).
+#[test]
+fn the_limit_is_the_same_on_every_path_and_thread_count() {
+    use lsubdiv::mesh::features::{Features, Sharpness};
+    use lsubdiv::mesh::generators::{cube_with_creased_top, grid_cube, grid_with_hole};
+    use lsubdiv::mesh::patch::{Refiner, Simd};
+    use lsubdiv::mesh::surface::SurfaceScheme;
+    use lsubdiv::mesh::topology::Topology;
+    let (top, top_features) = cube_with_creased_top(Sharpness::steps(1));
+    let meshes = [
+        ("grid cube", grid_cube(10), Features::default()),
+        (
+            "grid with a hole",
+            grid_with_hole(25).0,
+            grid_with_hole(25).1,
+        ),
+        ("cube with a semi-sharp top", top, top_features),
+    ];
+    for name in EV_SCHEMES {
+        let s = surface(name);
+        let steps = s.surface().stationary_from().max(2);
+        for (label, mesh, features) in &meshes {
+            let topo = Topology::build(mesh).unwrap();
+            // Refined on the baseline path (the FMA paths refine to other bits), the limit
+            // taken on each.
+            let refined = |threads: usize| {
+                let mut r =
+                    Refiner::<_, f64>::with_features(&s, &topo, features, steps, threads).unwrap();
+                r.set_simd(Simd::Baseline);
+                r.refine(&mesh.positions).unwrap();
+                r
+            };
+            let one = refined(1).limit().unwrap();
+            assert!(
+                topo.face_count() > 512 || label.starts_with("cube"),
+                "{label}"
+            );
+            for threads in 1..=3 {
+                let mut r = refined(threads);
+                for simd in Simd::available() {
+                    r.set_simd(simd);
+                    assert!(
+                        r.limit().unwrap() == one,
+                        "{name} on the {label}: {} on {threads} threads",
+                        simd.name()
+                    );
+                }
+            }
+        }
+    }
+}
