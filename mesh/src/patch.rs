@@ -54,7 +54,7 @@ use crate::real::Real;
 use crate::surface::{SurfaceError, SurfaceScheme, SurfaceVisitor};
 use crate::threads::in_threads;
 use crate::topology::{Topology, TopologyError};
-use lsubdiv_runtime::curve::rewrite;
+use lsubdiv_runtime::curve::{rewrite, CurveTables};
 use std::time::Instant;
 
 mod base;
@@ -215,6 +215,71 @@ impl Layout {
         } else {
             (3, 3 * self.side)
         }
+    }
+}
+
+/// How a refinement runs, decided from the label words and the base mesh before anything is
+/// built: what the [`Refiner`] builds and what [`footprint()`] counts.
+struct Schedule {
+    /// W_0 = ω, …, W_steps.
+    words: Vec<Vec<u8>>,
+    /// Steps before this one run by the reference driver: masks not yet contained (with EVs),
+    /// a ring that does not sustain itself, or N' = 1 with EVs.
+    first: usize,
+    /// The 1D plans of the depth-first steps, from step `first` on.
+    plans: Vec<Plan>,
+    /// How many of those run level by level (a mesh of small fans, `patch/direct.rs`).
+    lead: usize,
+}
+
+impl Schedule {
+    fn new(
+        t: &CurveTables<'_>,
+        contained_from: usize,
+        base: &Base<'_>,
+        steps: usize,
+    ) -> Result<Schedule, SurfaceError> {
+        let [omega] = t.axiom else {
+            return Err(SurfaceError::Axiom);
+        };
+        let lookup = t.word_index();
+        let mut words = vec![vec![*omega]];
+        for s in 0..steps {
+            let mut next = Vec::new();
+            rewrite(t, &words[s], &mut next);
+            words.push(next);
+        }
+        let special = !base.special.is_empty();
+        let mut first = if base.needs_containment {
+            contained_from.min(steps)
+        } else {
+            0
+        };
+        let mut plans = Vec::new();
+        for (s, w) in words.iter().enumerate().take(steps).skip(first) {
+            let plan = Plan::new(t, &lookup, w, i64::from(s + 1 < steps))?;
+            if plan.complete && (plan.n_new >= 2 || !special) {
+                plans.push(plan);
+            } else {
+                plans.clear();
+                first = s + 1;
+            }
+        }
+        let fan_faces = (0..base.topo.face_count() as u32)
+            .filter(|&f| !base.ordinary(f))
+            .count();
+        let lead = direct::leading(base, fan_faces, plans.iter().map(|p| p.n_new));
+        Ok(Schedule {
+            words,
+            first,
+            plans,
+            lead,
+        })
+    }
+
+    /// The level the patches start from.
+    fn start_level(&self) -> usize {
+        self.first + self.lead
     }
 }
 
@@ -403,7 +468,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         let base = Base::new(topo, resolved, steps)?;
         let plain = base.features.is_plain();
-        let lookup = t.word_index();
         // Output quads index vertices with u32: refuse a result that would not fit, before
         // building anything.
         let (out_v, out_f) = output_counts(
@@ -418,35 +482,19 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 faces: usize::try_from(out_f).unwrap_or(usize::MAX),
             }));
         }
-        let mut words = vec![vec![*omega]];
-        for s in 0..steps {
-            let mut next = Vec::new();
-            rewrite(&t, &words[s], &mut next);
-            words.push(next);
-        }
-        // Depth-first steps start after the last step that cannot run that way: masks not yet
-        // contained (with EVs), a ring that does not sustain itself, or N' = 1 with EVs.
-        let special = !base.special.is_empty();
-        let mut first = if base.needs_containment {
-            st.contained_from.min(steps)
-        } else {
-            0
-        };
-        let mut plans = Vec::new();
-        for (s, w) in words.iter().enumerate().take(steps).skip(first) {
-            let plan = Plan::new(&t, &lookup, w, i64::from(s + 1 < steps))?;
-            if plan.complete && (plan.n_new >= 2 || !special) {
-                plans.push(plan);
-            } else {
-                plans.clear();
-                first = s + 1;
-            }
-        }
+        let schedule = Schedule::new(&t, st.contained_from, &base, steps)?;
+        let start_level = schedule.start_level();
+        let Schedule {
+            words,
+            first,
+            mut plans,
+            lead,
+        } = schedule;
         // Those steps run by the reference driver: on a mesh with features each level cut
         // open along its sharp edges and extended by ghost faces ([`Cut`], [`Ghosts`]), a
         // sharpness below 1 at a step blending the step cut along it with the step without it.
         let mut near = (first > 0 && plain)
-            .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
+            .then(|| Near::new(&t, &t.word_index(), &base, &words[first - 1]))
             .flatten();
         let reference = (first > 0)
             .then(|| {
@@ -459,7 +507,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let nf = topo.face_count();
         let (ordinary, fan_faces): (Vec<u32>, Vec<u32>) =
             (0..nf as u32).partition(|&f| base.ordinary(f));
-        let lead = direct::leading(&base, fan_faces.len(), plans.iter().map(|p| p.n_new));
         let direct: Vec<direct::Step> = (first..)
             .zip(plans.drain(..lead))
             .map(|(k, plan)| {
@@ -467,7 +514,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
                 direct::Step::new(&base, plan, (words[k].len() as i64, k), ring)
             })
             .collect();
-        let start_level = first + lead;
         let start_num = Numbering::new(base.topo, words[start_level].len() as i64);
         let out_num = start_num.with_n(words[steps].len() as i64);
         let m = ring_layout(start_num.n, true);

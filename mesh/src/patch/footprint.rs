@@ -4,7 +4,7 @@
 
 use super::cut::{Ghost, LAYERS};
 use super::numbering::FaceNumbering;
-use super::{direct, handoff, reference, Base, FaceRules};
+use super::{handoff, reference, Base, FaceRules, Schedule};
 use crate::features::{Features, Resolved, VertexRule};
 use crate::topology::Topology;
 use lsubdiv_runtime::curve::CurveTables;
@@ -85,6 +85,10 @@ pub fn footprint(
     let base = Resolved::new(topo, features)
         .ok()
         .and_then(|r| Base::new(topo, r, steps).ok());
+    // The refiner's own schedule (without one, it refuses: the conservative split below).
+    let schedule = base
+        .as_ref()
+        .and_then(|b| Schedule::new(t, contained_from, b, steps).ok());
     let (vertices, quads) = match &base {
         Some(b) if b.features.has_holes() => written_counts(topo, &b.features, n(steps)),
         _ => output_counts(v0, e0, f0, n(steps)),
@@ -95,18 +99,12 @@ pub fn footprint(
             .count() as u128,
         None => f0,
     };
-    let first = if base.as_ref().is_some_and(|b| !b.needs_containment) {
-        0
-    } else {
-        contained_from.min(steps)
+    // The steps run by the reference driver, those level by level (`patch/direct.rs`), and
+    // the level the patches start from.
+    let (first, lead, start_level) = match &schedule {
+        Some(s) => (s.first, s.lead, s.start_level()),
+        None => (contained_from.min(steps), 0, contained_from.min(steps)),
     };
-    // The depth-first steps run level by level (`patch/direct.rs`), and the level the
-    // patches start from.
-    let lead = base.as_ref().map_or(0, |b| {
-        let sides = (first..steps).map(|s| i64::try_from(n(s + 1)).unwrap_or(i64::MAX));
-        direct::leading(b, usize::try_from(fan_faces).unwrap_or(usize::MAX), sides)
-    });
-    let start_level = first + lead;
     let point = 3 * scalar_bytes;
     // Points of a patch with its ring after s steps.
     let side = |s: usize| {
