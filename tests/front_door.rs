@@ -233,3 +233,35 @@ fn frames_refine_into_f32_as_the_mesh_refiner_does() {
         }
     }
 }
+
+/// Per-vertex values of any dimension go through the plan as positions do: three values are
+/// the positions' bits; values that are an affine function of the positions refine to the same
+/// function of the refined positions (the masks sum to one), with the limit too; each further
+/// coordinate is refined on its own.
+#[test]
+fn frames_refine_values_of_any_dimension() {
+    let shipped = Scheme::shipped("binary-ternary").unwrap();
+    let mesh = Mesh::parse("pyramid.obj", PYRAMID.as_bytes().to_vec()).unwrap();
+    for limit in [false, true] {
+        let plan = (Refiner::new(&shipped, &mesh).steps(3).limit(limit))
+            .build()
+            .unwrap();
+        let mut frames = plan.frames().unwrap();
+        let positions = frames.refine(mesh.positions()).unwrap().positions;
+        assert_eq!(frames.refine_values(mesh.positions()).unwrap(), positions);
+        let affine = |p: &[f64; 3]| [2.0 * p[0] - p[2] + 1.0, 0.5 * p[1], -3.0, p[0] + p[1]];
+        let values: Vec<[f64; 4]> = mesh.positions().iter().map(affine).collect();
+        let refined = frames.refine_values(&values).unwrap();
+        assert_eq!(refined.len(), positions.len());
+        for (got, p) in refined.iter().zip(&positions) {
+            for (a, b) in got.iter().zip(affine(p)) {
+                assert!((a - b).abs() < 1e-12, "limit {limit}: {got:?} against {p:?}");
+            }
+        }
+        let one: Vec<[f64; 1]> = values.iter().map(|v| [v[3]]).collect();
+        let alone = frames.refine_values(&one).unwrap();
+        assert!(alone.iter().zip(&refined).all(|(a, b)| a[0] == b[3]));
+        let none: Vec<[f64; 0]> = vec![[]; values.len()];
+        assert_eq!(frames.refine_values(&none).unwrap().len(), positions.len());
+    }
+}

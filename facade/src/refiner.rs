@@ -654,4 +654,29 @@ impl<T: Real> Frames<'_, '_, T> {
             },
         })
     }
+
+    /// Refines per-vertex values of any dimension D (colours, weights, a blend shape), one per
+    /// vertex of the mesh, as [`Frames::refine`] refines positions — the same steps, taken to
+    /// the limit where the plan takes the limit — three coordinates at a time: each
+    /// coordinate's refinement is linear in that coordinate alone.
+    pub fn refine_values<const D: usize>(
+        &mut self,
+        values: &[[f64; D]],
+    ) -> Result<Vec<[T; D]>, Error> {
+        let mut refined: Vec<[T; D]> = Vec::new();
+        for first in (0..D.max(1)).step_by(3) {
+            let coordinate = |v: &[f64; D], i: usize| v.get(first + i).copied().unwrap_or(0.0);
+            let three: Vec<[f64; 3]> = (values.iter())
+                .map(|v| std::array::from_fn(|i| coordinate(v, i)))
+                .collect();
+            let frame = self.refine(&three)?;
+            refined.resize(frame.positions.len(), [T::default(); D]);
+            for (to, from) in refined.iter_mut().zip(&frame.positions) {
+                for (i, &x) in from.iter().enumerate().take(D.saturating_sub(first)) {
+                    to[first + i] = x;
+                }
+            }
+        }
+        Ok(refined)
+    }
 }
