@@ -255,7 +255,10 @@ fn frames_refine_values_of_any_dimension() {
         assert_eq!(refined.len(), positions.len());
         for (got, p) in refined.iter().zip(&positions) {
             for (a, b) in got.iter().zip(affine(p)) {
-                assert!((a - b).abs() < 1e-12, "limit {limit}: {got:?} against {p:?}");
+                assert!(
+                    (a - b).abs() < 1e-12,
+                    "limit {limit}: {got:?} against {p:?}"
+                );
             }
         }
         let one: Vec<[f64; 1]> = values.iter().map(|v| [v[3]]).collect();

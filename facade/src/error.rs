@@ -80,6 +80,10 @@ pub enum Error {
 }
 
 impl Error {
+    /// Why [`Error::NoSteps`] is refused (its `Display` puts the mesh's name first).
+    pub const NO_STEPS: &'static str = "the mesh has faces that are not quads: its first step is \
+        a Catmull–Clark step, so it takes at least one step";
+
     /// How to fix it, when there is a hint.
     pub fn hint(&self) -> Option<&str> {
         match self {
@@ -113,11 +117,7 @@ impl fmt::Display for Error {
             Error::CurvesOnly { scheme, why } => {
                 write!(f, "`{scheme}` refines curves only: {}", why.message)?
             }
-            Error::NoSteps { mesh } => write!(
-                f,
-                "{mesh}: the mesh has faces that are not quads: its first step is a \
-                 Catmull–Clark step, so it takes at least one step"
-            )?,
+            Error::NoSteps { mesh } => write!(f, "{mesh}: {}", Error::NO_STEPS)?,
             Error::NoLimit { mesh, why, note } => {
                 write!(f, "{mesh}: {why}")?;
                 if let Some(note) = note {

@@ -297,11 +297,9 @@ fn cli_error(name: &str, e: lsubdiv::Error) -> Error {
     match e {
         lsubdiv::Error::File(d) | lsubdiv::Error::Scheme(d) => d,
         lsubdiv::Error::CurvesOnly { why, .. } => *why,
-        lsubdiv::Error::NoSteps { .. } => Error::in_file(
-            name,
-            "the mesh has faces that are not quads: its first step is a Catmull–Clark step, so it takes at least one step",
-        )
-        .with_hint("use --steps 1 or more"),
+        lsubdiv::Error::NoSteps { .. } => {
+            Error::in_file(name, lsubdiv::Error::NO_STEPS).with_hint("use --steps 1 or more")
+        }
         lsubdiv::Error::NoLimit { why, note, .. } => Error::in_file(name, with_note(why, note))
             .with_hint("take the steps it names, or leave out --limit"),
         lsubdiv::Error::Uv { error, .. } => {
