@@ -242,6 +242,20 @@ impl Schedule {
         let [omega] = t.axiom else {
             return Err(SurfaceError::Axiom);
         };
+        // Output quads index vertices with u32: refuse a result that would not fit, before
+        // building anything (the words grow with the output's side).
+        let (out_v, out_f) = output_counts(
+            base.topo.vertex_count() as u128,
+            base.topo.edge_count() as u128,
+            base.topo.face_count() as u128,
+            t.image_len(&[*omega], steps),
+        );
+        if out_v > u128::from(u32::MAX) || out_f > u128::from(u32::MAX) {
+            return Err(SurfaceError::Topology(TopologyError::TooLarge {
+                vertices: usize::try_from(out_v).unwrap_or(usize::MAX),
+                faces: usize::try_from(out_f).unwrap_or(usize::MAX),
+            }));
+        }
         let lookup = t.word_index();
         let mut words = vec![vec![*omega]];
         for s in 0..steps {
@@ -455,9 +469,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
     ) -> Result<Self, SurfaceError> {
         let t = scheme.tables();
         let st = scheme.surface();
-        let [omega] = t.axiom else {
-            return Err(SurfaceError::Axiom);
-        };
         let resolved = Resolved::new(topo, features).map_err(SurfaceError::Features)?;
         if resolved.chaikin() && steps > 1 {
             return Err(SurfaceError::Unsupported(
@@ -468,20 +479,6 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         }
         let base = Base::new(topo, resolved, steps)?;
         let plain = base.features.is_plain();
-        // Output quads index vertices with u32: refuse a result that would not fit, before
-        // building anything.
-        let (out_v, out_f) = output_counts(
-            base.topo.vertex_count() as u128,
-            base.topo.edge_count() as u128,
-            base.topo.face_count() as u128,
-            t.image_len(&[*omega], steps),
-        );
-        if out_v > u128::from(u32::MAX) || out_f > u128::from(u32::MAX) {
-            return Err(SurfaceError::Topology(TopologyError::TooLarge {
-                vertices: usize::try_from(out_v).unwrap_or(usize::MAX),
-                faces: usize::try_from(out_f).unwrap_or(usize::MAX),
-            }));
-        }
         let schedule = Schedule::new(&t, st.contained_from, &base, steps)?;
         let start_level = schedule.start_level();
         let Schedule {
