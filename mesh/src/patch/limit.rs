@@ -477,15 +477,18 @@ impl Weights {
     }
 }
 
-/// A worker's buffers for one face: its patch as loaded (point-major), the same by coordinate
-/// (then x, then y: [`Weights::patch_len`] each), and per coordinate the limit point and unit
-/// normal at each point as [`Weights`] lays them out.
+/// A worker's buffers, kept from face to face and round to round: a face's patch as loaded
+/// (point-major), the same by coordinate (then x, then y: [`Weights::patch_len`] each), per
+/// coordinate the limit point and unit normal at each point as [`Weights`] lays them out, and
+/// the side points of the worker's faces.
 #[derive(Default)]
 struct Scratch {
     patch: Vec<f64>,
     by_coordinate: Vec<f64>,
     positions: Vec<f64>,
     normals: Vec<f64>,
+    /// The face's side and corner points, for the sum in face order.
+    sides: Vec<Side>,
 }
 
 /// A point on a face's sides or corners: its index, its limit point where this face writes it,
@@ -563,6 +566,8 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
         let inside = ((num.n - 1) * (num.n - 1)) as usize;
         let nf = self.base.topo.face_count();
         let round = FACES_PER_WORKER * self.threads;
+        // Each worker's buffers, kept from round to round.
+        let mut scratch: Vec<Scratch> = (0..self.threads).map(|_| Scratch::default()).collect();
         for first in (0..nf).step_by(round) {
             let last = (first + round).min(nf);
             let (from, to) = (num.interior(first), num.interior(last));
@@ -580,10 +585,11 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                     (faces, p, n)
                 })
                 .collect();
-            let sides = in_threads(work.into_iter(), |(faces, p, n)| {
-                self.face_limits(weights, faces, (p, n), (special, exact))
+            let workers = work.len();
+            in_threads(work.into_iter().zip(&mut scratch), |((faces, p, n), s)| {
+                self.face_limits(weights, faces, (p, n), (special, exact), s)
             });
-            for (i, position, normal) in sides.into_iter().flatten() {
+            for &(i, position, normal) in scratch[..workers].iter().flat_map(|s| &s.sides) {
                 if let Some(p) = position {
                     positions[i] = p;
                 }
@@ -594,14 +600,15 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
 
     /// [`Refiner::patch_limits`] for one worker's `faces`: the points inside them written into
     /// `inside` (positions, normals; from the first face's first inside point on), the others
-    /// returned in order.
+    /// into `scratch.sides`, in order.
     fn face_limits(
         &self,
         weights: &Weights,
         faces: Range<usize>,
         inside: (&mut [V3], &mut [V3]),
         (special, exact): (&[bool], &[bool]),
-    ) -> Vec<Side> {
+        scratch: &mut Scratch,
+    ) {
         let (base, num, k) = (
             &self.base,
             &self.out_num,
@@ -613,19 +620,19 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
         let output = self.positions();
         let offset = num.interior(faces.start);
         let k_inside = (n - 1) as usize;
-        let mut scratch = Scratch::default();
         scratch.patch.resize(m * m * 3, 0.0);
         scratch.by_coordinate.resize(stride * 3, 0.0);
         scratch.positions.resize(3 * len, 0.0);
         scratch.normals.resize(3 * len, 0.0);
-        let mut sides = Vec::with_capacity(faces.len() * 4 * n as usize);
+        scratch.sides.clear();
+        let Scratch {
+            patch,
+            by_coordinate,
+            positions,
+            normals,
+            sides,
+        } = scratch;
         for f in faces {
-            let Scratch {
-                patch,
-                by_coordinate,
-                positions,
-                normals,
-            } = &mut scratch;
             patch.fill(0.0);
             num.gather(base, f as u32, |x, y, i| {
                 let j = layout.at(x, y);
@@ -663,7 +670,10 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                     let (pos, normal) = point(x, y);
                     let i = row + (x - 1) as usize;
                     inside.0[i] = pos;
-                    add(&mut inside.1[i], normal, 1.0);
+                    // `add` to the zero the normal starts from, without reading it: a first
+                    // touch that writes (a read would map the zero page, and the write after it
+                    // copy it, flushing every thread's TLB).
+                    inside.1[i] = normal.map(|x| 0.0 + 1.0 * x);
                 }
             }
             // The sides and corners, in the same order (y, then x).
@@ -686,6 +696,5 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
                 }
             }
         }
-        sides
     }
 }
