@@ -1,7 +1,8 @@
 //! A plan reused frame after frame (`lsubdiv::Plan::frames`) against a plan built for each
 //! frame, through the front door, on a quad torus and on a triangle model: per frame, the
 //! refinement alone, the limit, and a single shot (plan built, then refined), alternated in
-//! one run, medians, with the ratios printed. One thread. `cargo bench --bench frames`.
+//! one run, medians, with the ratios printed; on one thread and on two. `cargo bench --bench
+//! frames`.
 
 use lsubdiv::{Mesh, Refiner, Scheme};
 use std::time::Instant;
@@ -33,13 +34,13 @@ fn main() {
         Ok(mesh) => cases.push(("armadillo (triangles), 2 steps".into(), mesh, 2)),
         Err(_) => println!("note: {} absent, triangle case skipped", model.display()),
     }
-    println!("| mesh | refine / frame (ms) | limit / frame (ms) | single shot (ms) | single shot ÷ frame | limit ÷ refine |");
-    println!("|---|---:|---:|---:|---:|---:|");
-    for (what, mesh, steps) in &cases {
+    println!("| mesh | threads | refine / frame (ms) | limit / frame (ms) | single shot (ms) | single shot ÷ frame | limit ÷ refine |");
+    println!("|---|---:|---:|---:|---:|---:|---:|");
+    for ((what, mesh, steps), threads) in cases.iter().flat_map(|c| [(c, 1), (c, 2)]) {
         let build = |limit: bool| {
             Refiner::new(&scheme, mesh)
                 .steps(*steps)
-                .threads(1)
+                .threads(threads)
                 .uv(false)
                 .limit(limit)
                 .build()
@@ -71,7 +72,7 @@ fn main() {
         };
         let (r, l, s) = (mid(&mut refine), mid(&mut limit), mid(&mut single));
         println!(
-            "| {what} | {r:.1} | {l:.1} | {s:.1} | {:.2} | {:.2} |",
+            "| {what} | {threads} | {r:.1} | {l:.1} | {s:.1} | {:.2} | {:.2} |",
             s / r,
             l / r
         );
