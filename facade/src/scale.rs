@@ -27,8 +27,11 @@ fn ldexp(x: f64, e: i32) -> f64 {
 }
 
 /// Largest |coordinate| of `points` (0 for none).
-pub fn largest<const D: usize>(points: &[[f64; D]]) -> f64 {
-    points.iter().flatten().fold(0.0, |m, x| m.max(x.abs()))
+pub fn largest<const D: usize, T: Real>(points: &[[T; D]]) -> f64 {
+    points
+        .iter()
+        .flatten()
+        .fold(0.0, |m: f64, x| m.max(x.to_f64().abs()))
 }
 
 /// The binary exponent that brings a largest |coordinate| `max` to [1, 2), or 0 when `max` is
@@ -69,10 +72,7 @@ pub fn refine_scaled<const D: usize, R, T: Real>(
             points.iter().map(|p| p.map(|x| ldexp(x, -e))).collect(),
         ))?
     };
-    let reached = out
-        .iter()
-        .flatten()
-        .fold(0.0, |m: f64, x| m.max(x.to_f64().abs()));
+    let reached = largest(&out);
     if e != 0 {
         out.iter_mut().for_each(|p| {
             p.iter_mut()

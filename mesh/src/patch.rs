@@ -220,7 +220,9 @@ impl Layout {
 
 /// How a refinement runs, decided from the label words and the base mesh before anything is
 /// built: what the [`Refiner`] builds and what [`footprint()`] counts.
-struct Schedule {
+struct Schedule<'t> {
+    /// Each word of the tables by its letters.
+    lookup: std::collections::HashMap<&'t [u8], u32>,
     /// W_0 = ω, …, W_steps.
     words: Vec<Vec<u8>>,
     /// Steps before this one run by the reference driver: masks not yet contained (with EVs),
@@ -232,13 +234,13 @@ struct Schedule {
     lead: usize,
 }
 
-impl Schedule {
+impl<'t> Schedule<'t> {
     fn new(
-        t: &CurveTables<'_>,
+        t: &CurveTables<'t>,
         contained_from: usize,
         base: &Base<'_>,
         steps: usize,
-    ) -> Result<Schedule, SurfaceError> {
+    ) -> Result<Schedule<'t>, SurfaceError> {
         let [omega] = t.axiom else {
             return Err(SurfaceError::Axiom);
         };
@@ -284,6 +286,7 @@ impl Schedule {
             .count();
         let lead = direct::leading(base, fan_faces, plans.iter().map(|p| p.n_new));
         Ok(Schedule {
+            lookup,
             words,
             first,
             plans,
@@ -482,6 +485,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         let schedule = Schedule::new(&t, st.contained_from, &base, steps)?;
         let start_level = schedule.start_level();
         let Schedule {
+            lookup,
             words,
             first,
             mut plans,
@@ -491,7 +495,7 @@ impl<'s, S: SurfaceScheme + Sync, T: Real> Refiner<'s, S, T> {
         // open along its sharp edges and extended by ghost faces ([`Cut`], [`Ghosts`]), a
         // sharpness below 1 at a step blending the step cut along it with the step without it.
         let mut near = (first > 0 && plain)
-            .then(|| Near::new(&t, &t.word_index(), &base, &words[first - 1]))
+            .then(|| Near::new(&t, &lookup, &base, &words[first - 1]))
             .flatten();
         let reference = (first > 0)
             .then(|| {

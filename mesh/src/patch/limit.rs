@@ -235,8 +235,8 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
 
         // The vertices a rule sets, on the refiner's threads: positions first (the fallback
         // normals read the limit positions of their neighbours).
-        let ruled: Vec<u32> = (0..nv).filter(|&v| special[v as usize]).collect();
-        let per = ruled.len().div_ceil(self.threads).max(1);
+        let by_rule: Vec<u32> = (0..nv).filter(|&v| special[v as usize]).collect();
+        let per = by_rule.len().div_ceil(self.threads).max(1);
         let vertex = VertexPass {
             topo,
             features,
@@ -246,7 +246,7 @@ impl<S: SurfaceScheme + Sync, T: Real> Refiner<'_, S, T> {
             exact: &exact,
             crease: masks[0].0,
         };
-        let found = in_threads(ruled.chunks(per), |vs| {
+        let found = in_threads(by_rule.chunks(per), |vs| {
             let mut cache = Vec::new();
             vs.iter()
                 .map(|&v| vertex.limit(v, &st, &mut cache))
